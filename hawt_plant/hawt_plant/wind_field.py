@@ -1,0 +1,35 @@
+"""The interface every inflow model of the plant implements.
+
+Frame (OpenFAST inertial convention): origin on the tower centreline at ground
+level, x downwind, z up, y = z × x (to the left when looking downwind).
+A wind field gives the undisturbed inflow; the tower's own disturbance (tower
+shadow) is applied by the rotor model, which knows where the tower is.
+"""
+from typing import Protocol
+
+import numpy as np
+
+__all__ = ["WindField"]
+
+
+class WindField(Protocol):
+    """Undisturbed inflow sampled at points of the rotor, at a time.
+
+    Implementations are deterministic: the same arguments give the same result.
+    """
+
+    @property
+    def mean_speed(self) -> float:
+        """Mean longitudinal speed at hub height [m/s]; used for the initial operating point."""
+
+    @property
+    def hub_height(self) -> float:
+        """Reference height the field's mean speed refers to [m]."""
+
+    def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """Wind velocity at the points (x, y, z) [m] at time t [s].
+
+        Returns an array of shape ``(3,) + x.shape``: the components (u, v, w)
+        along (x, y, z) [m/s]. Frozen turbulence is convected downwind at the
+        mean speed, so a point at x sees the field of time ``t - x / mean_speed``.
+        """
