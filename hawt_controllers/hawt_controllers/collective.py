@@ -1,0 +1,438 @@
+"""NREL 5 MW baseline controller: generator torque (regions 1–3) and gain-scheduled PI pitch.
+
+Jonkman, Butterfield, Musial & Scott (2009), NREL/TP-500-38060, chapter 7, step
+for step as in J. Jonkman's baseline DISCON (OpenFAST
+``reg_tests/5MW_Baseline/ServoData/Source/DISCON_ITIBarge.f90``):
+
+1. Generator speed low-pass: ``ω_f ← (1 − α) ω + α ω_f``, ``α = exp(−ω_c dt)``,
+   ω_c = 0.25 Hz (:class:`~hawt_controllers.filters.ExponentialLowPass`).
+2. Torque, from ω_f and the previous pitch command θ_prev (:func:`torque_demand`):
+   region 3 (ω_f >= ω_rt or θ_prev >= θ_3): T = P_rated/ω_f (constant power);
+   region 1 (ω_f <= ω_ci): T = 0; region 1½: linear ramp to k·ω_2²;
+   region 2: T = k ω_f²; region 2½: induction-generator line of slip s through
+   (ω_rt, P_rated/ω_rt). Then T <= T_max, then |dT/dt| <= 15 kN·m/s.
+3. Pitch: GK = 1/(1 + θ_prev/θ_K); e = ω_f − ω_ref;
+   θ = GK·(K_P e + K_I ∫e dt), with the integral clamped so that
+   GK·K_I∫e stays in [θ_min, θ_max] (anti-windup), the sum clamped to
+   [θ_min, θ_max], then rate-limited to ±θ̇_max from the measured pitch and
+   clamped again.
+
+The integrator is a :class:`~hawt_controllers.pi.PIController` holding K_I·∫e
+(output units before GK) with limits [θ_min/GK, θ_max/GK]: that is exactly
+Jonkman's clamp of ∫e to [θ_min/(GK K_I), θ_max/(GK K_I)].
+
+Deviations from the DISCON, both outside its normal operation: the torque is
+clamped below at 0 (the DISCON has no lower limit; it only matters for a
+negative filtered speed), and at ω_f <= 0 in region 3 the torque is T_max
+instead of a division by zero. The DISCON's sample-and-hold at PC_DT/VS_DT is
+not reproduced: the controller runs at every call.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from ._validation import finite_array, require_finite, require_positive, require_time_step
+from .exceptions import ConfigurationError
+from .filters import ExponentialLowPass
+from .limits import PitchLimits, limit_pitch
+from .pi import PIController
+from .saturation import BoxSaturation
+
+__all__ = [
+    "BaselineCollectiveConfig",
+    "BaselineCollectiveController",
+    "CollectiveOutput",
+    "DEFAULT_BASELINE_FILE",
+    "TorqueRegion",
+    "gain_correction_factor",
+    "load_baseline_config",
+    "torque_demand",
+]
+
+DEFAULT_BASELINE_FILE = Path(__file__).resolve().parent / "data" / "nrel5mw_baseline.yaml"
+
+
+class TorqueRegion(enum.IntEnum):
+    """Torque-control region; values equal ``hawt_msgs/CollectivePitch.region`` (15 = 1½, 25 = 2½)."""
+
+    REGION_1 = 1
+    REGION_1_5 = 15
+    REGION_2 = 2
+    REGION_2_5 = 25
+    REGION_3 = 3
+
+
+@dataclass(frozen=True)
+class BaselineCollectiveConfig:
+    """Tuning of the baseline controller; SI units, generator (high-speed) shaft side.
+
+    The values for the NREL 5 MW come from ``data/nrel5mw_baseline.yaml``
+    (:func:`load_baseline_config`); DISCON names in brackets.
+
+    Attributes
+    ----------
+    generator_speed_corner_frequency : float
+        Speed filter corner ω_c [rad/s] [CornerFreq].
+    rated_generator_speed : float
+        Pitch-controller reference ω_ref [rad/s] [PC_RefSpd].
+    proportional_gain : float
+        K_P at zero pitch [s] [PC_KP].
+    integral_gain : float
+        K_I at zero pitch [-] [PC_KI]; > 0.
+    gain_doubling_pitch : float
+        θ_K [rad] [PC_KK]: the pitch at which the pitch sensitivity has doubled.
+    min_pitch, max_pitch : float
+        Pitch limits [rad] [PC_MinPit, PC_MaxPit].
+    max_pitch_rate : float
+        |θ̇| limit [rad/s] [PC_MaxRat].
+    cut_in_generator_speed : float
+        Region 1 → 1½ [rad/s] [VS_CtInSp].
+    region2_start_generator_speed : float
+        Region 1½ → 2 [rad/s] [VS_Rgn2Sp].
+    region2_torque_constant : float
+        k in T = k ω² [N·m/(rad/s)²] [VS_Rgn2K].
+    region25_generator_speed : float
+        ω_rt, rated speed of the region 2½ line and region-3 threshold [rad/s] [VS_RtGnSp].
+    rated_generator_power : float
+        P_rated, mechanical at the generator [W] [VS_RtPwr].
+    region25_slip : float
+        Slip of the region 2½ induction-generator line [-] [VS_SlPc/100].
+    region3_min_pitch : float
+        θ_3: at or above this previous pitch command the torque is region 3 [rad] [VS_Rgn3MP].
+    max_generator_torque : float
+        T_max [N·m] [VS_MaxTq].
+    max_torque_rate : float
+        |dT/dt| limit [N·m/s] [VS_MaxRat].
+    """
+
+    generator_speed_corner_frequency: float
+    rated_generator_speed: float
+    proportional_gain: float
+    integral_gain: float
+    gain_doubling_pitch: float
+    min_pitch: float
+    max_pitch: float
+    max_pitch_rate: float
+    cut_in_generator_speed: float
+    region2_start_generator_speed: float
+    region2_torque_constant: float
+    region25_generator_speed: float
+    rated_generator_power: float
+    region25_slip: float
+    region3_min_pitch: float
+    max_generator_torque: float
+    max_torque_rate: float
+
+    def __post_init__(self) -> None:
+        self.validate()
+
+    @property
+    def synchronous_generator_speed(self) -> float:
+        """Zero-torque speed of the region 2½ line, ω_rt/(1 + s) [rad/s] [VS_SySp]."""
+        return self.region25_generator_speed / (1.0 + self.region25_slip)
+
+    @property
+    def region15_slope(self) -> float:
+        """Torque/speed slope of region 1½ [N·m/(rad/s)] [VS_Slope15]."""
+        w2 = self.region2_start_generator_speed
+        return self.region2_torque_constant * w2 * w2 / (w2 - self.cut_in_generator_speed)
+
+    @property
+    def region25_slope(self) -> float:
+        """Torque/speed slope of region 2½ [N·m/(rad/s)] [VS_Slope25]."""
+        w_rt = self.region25_generator_speed
+        return (self.rated_generator_power / w_rt) / (w_rt - self.synchronous_generator_speed)
+
+    @property
+    def region2_end_generator_speed(self) -> float:
+        """Region 2 → 2½, where k ω² meets the 2½ line [rad/s] [VS_TrGnSp]."""
+        k, slope, w_sync = self.region2_torque_constant, self.region25_slope, self.synchronous_generator_speed
+        if k == 0.0:
+            return w_sync
+        return (slope - math.sqrt(slope * (slope - 4.0 * k * w_sync))) / (2.0 * k)
+
+    @property
+    def rated_torque(self) -> float:
+        """P_rated/ω_ref [N·m] (43 093.55 N·m for the NREL 5 MW)."""
+        return self.rated_generator_power / self.rated_generator_speed
+
+    @property
+    def pitch_limits(self) -> PitchLimits:
+        """The pitch angle and rate limits as a :class:`~hawt_controllers.limits.PitchLimits`."""
+        return PitchLimits(self.min_pitch, self.max_pitch, self.max_pitch_rate)
+
+    def validate(self) -> None:
+        """Refuse a tuning the law cannot run, naming the field (the DISCON's own checks).
+
+        Raises
+        ------
+        ConfigurationError
+            NaN/inf anywhere; non-positive corner frequency, reference speed,
+            K_I, θ_K, rates, slip; region speeds out of order; region 2 torque
+            above rated; T_max below rated torque; min_pitch >= max_pitch.
+        """
+        for f in fields(self):
+            require_finite(f.name, getattr(self, f.name))
+        for name in (
+            "generator_speed_corner_frequency",
+            "rated_generator_speed",
+            "integral_gain",
+            "gain_doubling_pitch",
+            "max_pitch_rate",
+            "region25_generator_speed",
+            "region25_slip",
+            "max_torque_rate",
+        ):
+            require_positive(name, getattr(self, name))
+        if self.proportional_gain < 0.0:
+            raise ConfigurationError("proportional_gain", f"must be >= 0, found {self.proportional_gain}")
+        for name in ("cut_in_generator_speed", "region2_torque_constant", "rated_generator_power"):
+            if getattr(self, name) < 0.0:
+                raise ConfigurationError(name, f"must be >= 0, found {getattr(self, name)}")
+        if self.min_pitch <= -self.gain_doubling_pitch:
+            raise ConfigurationError(
+                "min_pitch", f"must be > -gain_doubling_pitch ({-self.gain_doubling_pitch}) for GK to exist"
+            )
+        if self.min_pitch >= self.max_pitch:
+            raise ConfigurationError("min_pitch", f"must be < max_pitch ({self.max_pitch}), found {self.min_pitch}")
+        if self.region2_start_generator_speed <= self.cut_in_generator_speed:
+            raise ConfigurationError(
+                "region2_start_generator_speed",
+                f"must be > cut_in_generator_speed ({self.cut_in_generator_speed}), "
+                f"found {self.region2_start_generator_speed}",
+            )
+        w_rt = self.region25_generator_speed
+        if self.region2_torque_constant * w_rt * w_rt > self.rated_generator_power / w_rt:
+            raise ConfigurationError(
+                "region2_torque_constant", "k·ω_rt² must not exceed the rated torque P_rated/ω_rt"
+            )
+        if self.region2_end_generator_speed < self.region2_start_generator_speed:
+            raise ConfigurationError(
+                "region25_slip",
+                f"region 2 would end at {self.region2_end_generator_speed:.6g} rad/s, "
+                f"before it starts at {self.region2_start_generator_speed} rad/s",
+            )
+        if self.max_generator_torque < self.rated_generator_power / w_rt:
+            raise ConfigurationError(
+                "max_generator_torque", f"must be >= P_rated/ω_rt = {self.rated_generator_power / w_rt:.6g} N·m"
+            )
+
+
+def load_baseline_config(path: str | Path = DEFAULT_BASELINE_FILE) -> BaselineCollectiveConfig:
+    """Read a :class:`BaselineCollectiveConfig` from a YAML file (default: the NREL 5 MW one).
+
+    The file has ``source`` (text naming where the values come from) and
+    ``parameters`` (one key per config field, SI units).
+
+    Raises
+    ------
+    ConfigurationError
+        Naming a missing or unknown parameter, or the file if it lacks ``parameters``.
+    """
+    with open(path, encoding="utf-8") as stream:
+        document = yaml.safe_load(stream)
+    if not isinstance(document, dict) or not isinstance(document.get("parameters"), dict):
+        raise ConfigurationError(str(path), "expected a mapping with a 'parameters' mapping")
+    values = document["parameters"]
+    names = {f.name for f in fields(BaselineCollectiveConfig)}
+    for key in values:
+        if key not in names:
+            raise ConfigurationError(key, f"unknown parameter in {path}")
+    for name in names:
+        if name not in values:
+            raise ConfigurationError(name, f"missing from {path}")
+    return BaselineCollectiveConfig(**{name: float(values[name]) for name in names})
+
+
+def gain_correction_factor(pitch: float, gain_doubling_pitch: float) -> float:
+    """GK(θ) = 1/(1 + θ/θ_K), Jonkman et al. (2009) ch. 7 pitch gain schedule.
+
+    Examples
+    --------
+    >>> gain_correction_factor(0.1099965, 0.1099965)
+    0.5
+    """
+    return 1.0 / (1.0 + pitch / gain_doubling_pitch)
+
+
+def torque_demand(
+    config: BaselineCollectiveConfig, generator_speed_filtered: float, previous_pitch_command: float
+) -> tuple[float, TorqueRegion]:
+    """Generator torque of the baseline law before the rate limit, and its region.
+
+    Parameters
+    ----------
+    config : BaselineCollectiveConfig
+        Tuning.
+    generator_speed_filtered : float
+        ω_f [rad/s].
+    previous_pitch_command : float
+        θ_prev [rad]; at or above ``region3_min_pitch`` the law is region 3.
+
+    Returns
+    -------
+    torque : float
+        T [N·m], in [0, max_generator_torque].
+    region : TorqueRegion
+    """
+    w = float(generator_speed_filtered)
+    c = config
+    if w >= c.region25_generator_speed or previous_pitch_command >= c.region3_min_pitch:
+        region = TorqueRegion.REGION_3
+        torque = c.rated_generator_power / w if w > 0.0 else c.max_generator_torque
+    elif w <= c.cut_in_generator_speed:
+        region, torque = TorqueRegion.REGION_1, 0.0
+    elif w < c.region2_start_generator_speed:
+        region, torque = TorqueRegion.REGION_1_5, c.region15_slope * (w - c.cut_in_generator_speed)
+    elif w < c.region2_end_generator_speed:
+        region, torque = TorqueRegion.REGION_2, c.region2_torque_constant * w * w
+    else:
+        region, torque = TorqueRegion.REGION_2_5, c.region25_slope * (w - c.synchronous_generator_speed)
+    return min(max(torque, 0.0), c.max_generator_torque), region
+
+
+@dataclass(frozen=True)
+class CollectiveOutput:
+    """One step of the baseline controller (fields of ``hawt_msgs/CollectivePitch`` and flags).
+
+    Attributes
+    ----------
+    pitch : float
+        Collective pitch demand [rad].
+    generator_torque : float
+        Generator torque demand, HSS [N·m].
+    generator_speed_filtered : float
+        ω_f [rad/s].
+    region : TorqueRegion
+        Torque region of this step.
+    wind_speed_estimate : float
+        NaN: the baseline has no estimator [m/s].
+    gain_factor : float
+        GK used this step [-].
+    pitch_saturated : bool
+        Pitch angle clamp, integrator clamp or rate limit active (true below
+        rated, where the integrator rests on min_pitch).
+    torque_saturated : bool
+        Maximum torque or torque rate limit active.
+    """
+
+    pitch: float
+    generator_torque: float
+    generator_speed_filtered: float
+    region: TorqueRegion
+    wind_speed_estimate: float
+    gain_factor: float
+    pitch_saturated: bool
+    torque_saturated: bool
+
+
+class BaselineCollectiveController:
+    """The NREL 5 MW baseline controller with explicit state (see the module notes).
+
+    Parameters
+    ----------
+    config : BaselineCollectiveConfig
+        Tuning, e.g. ``load_baseline_config()``.
+
+    Attributes
+    ----------
+    speed_filter : ExponentialLowPass
+        Generator-speed filter state.
+    pitch_integrator : PIController
+        K_I·∫e state (rad, before the gain factor GK).
+    pitch_command : float or None
+        Previous pitch command θ_prev [rad] (sets GK and region 3).
+    torque_command : float or None
+        Previous torque command [N·m] (for the rate limit).
+    """
+
+    def __init__(self, config: BaselineCollectiveConfig) -> None:
+        config.validate()
+        self.config = config
+        self.speed_filter = ExponentialLowPass(config.generator_speed_corner_frequency)
+        self.pitch_integrator = PIController()
+        self.pitch_command: float | None = None
+        self.torque_command: float | None = None
+
+    def reset(self, generator_speed: float, pitch: float, generator_torque: float | None = None) -> None:
+        """Bumpless start at a measured operating point, as the DISCON's first call.
+
+        Parameters
+        ----------
+        generator_speed : float
+            Measured generator speed [rad/s]; the filter starts there.
+        pitch : float
+            Measured collective pitch [rad]; the integrator is set so that the
+            pitch command stays there at zero speed error.
+        generator_torque : float, optional
+            Torque currently applied [N·m]; if None, the first step's torque
+            law value is taken without rate limit.
+        """
+        pitch = float(finite_array("pitch", pitch))
+        self.speed_filter.reset(generator_speed)
+        self.pitch_command = pitch
+        self.pitch_integrator.reset(pitch / gain_correction_factor(pitch, self.config.gain_doubling_pitch))
+        self.torque_command = None if generator_torque is None else float(finite_array("generator_torque", generator_torque))
+
+    def step(self, generator_speed: float, measured_pitch: float, dt: float) -> CollectiveOutput:
+        """Advance the controller by one sample.
+
+        Parameters
+        ----------
+        generator_speed : float
+            Measured generator speed, HSS [rad/s].
+        measured_pitch : float
+            Measured collective pitch [rad] (mean over the blades, which holds
+            no IPC part for harmonics n not multiple of B); the rate limit is
+            measured from it, as in the DISCON.
+        dt : float
+            Time since the previous step [s].
+
+        Returns
+        -------
+        CollectiveOutput
+        """
+        c = self.config
+        generator_speed = float(finite_array("generator_speed", generator_speed))
+        measured_pitch = float(finite_array("measured_pitch", measured_pitch))
+        dt = require_time_step(dt)
+        if self.pitch_command is None:
+            self.reset(generator_speed, measured_pitch)
+        speed = self.speed_filter.step(generator_speed, dt)
+
+        torque, region = torque_demand(c, speed, self.pitch_command)
+        torque_saturated = torque >= c.max_generator_torque
+        if self.torque_command is not None:
+            step = c.max_torque_rate * dt
+            limited = min(max(torque, self.torque_command - step), self.torque_command + step)
+            torque_saturated = torque_saturated or limited != torque
+            torque = limited
+        self.torque_command = torque
+
+        gain = gain_correction_factor(self.pitch_command, c.gain_doubling_pitch)
+        demand = gain * self.pitch_integrator.update(
+            speed - c.rated_generator_speed,
+            dt,
+            kp=c.proportional_gain,
+            ki=c.integral_gain,
+            saturation=BoxSaturation(c.min_pitch / gain, c.max_pitch / gain),
+        )
+        limited = limit_pitch(np.array([float(demand)]), np.array([measured_pitch]), dt, c.pitch_limits)
+        self.pitch_command = float(limited.pitch[0])
+        return CollectiveOutput(
+            pitch=self.pitch_command,
+            generator_torque=torque,
+            generator_speed_filtered=speed,
+            region=region,
+            wind_speed_estimate=math.nan,
+            gain_factor=gain,
+            pitch_saturated=bool(self.pitch_integrator.saturated or limited.flags),
+            torque_saturated=torque_saturated,
+        )

@@ -1,0 +1,125 @@
+"""Per-blade pitch angle and rate limits of the summed (collective + IPC) command.
+
+Order as in ROSCO ``PitchControl`` (anchor_windcontrol notes §1.2): saturate each
+blade's demand to [min_angle, max_angle], then limit its rate relative to the
+previous value, then saturate again (so a previous value outside the range is
+pulled back in). Flags say which blades were limited; their values equal the
+``PitchCommand.FLAG_*`` bits of hawt_msgs.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ._validation import finite_array, require_finite, require_positive, require_time_step
+from .exceptions import ConfigurationError, InputError
+
+__all__ = ["LimitFlag", "LimitedPitch", "PitchLimits", "limit_pitch"]
+
+
+class LimitFlag(enum.IntFlag):
+    """Saturation bits; values equal ``hawt_msgs/PitchCommand`` FLAG_ANGLE_SATURATED / FLAG_RATE_SATURATED."""
+
+    NONE = 0
+    ANGLE_SATURATED = 1
+    RATE_SATURATED = 2
+
+
+@dataclass(frozen=True)
+class PitchLimits:
+    """Pitch actuator limits.
+
+    Attributes
+    ----------
+    min_angle : float
+        Lowest pitch [rad] (NREL 5 MW: 0).
+    max_angle : float
+        Highest pitch [rad] (NREL 5 MW: 1.570796 = 90°).
+    max_rate : float
+        Largest |pitch rate| [rad/s] (NREL 5 MW baseline: 0.1396263 = 8°/s).
+    """
+
+    min_angle: float
+    max_angle: float
+    max_rate: float
+
+    def __post_init__(self) -> None:
+        self.validate()
+
+    def validate(self) -> None:
+        """Raise :class:`ConfigurationError` naming the bad field."""
+        low = require_finite("min_angle", self.min_angle)
+        high = require_finite("max_angle", self.max_angle)
+        if low >= high:
+            raise ConfigurationError("min_angle", f"must be < max_angle ({high}), found {low}")
+        require_positive("max_rate", self.max_rate)
+
+
+class LimitedPitch(NamedTuple):
+    """Result of :func:`limit_pitch`.
+
+    Attributes
+    ----------
+    pitch : ndarray, shape (B,)
+        Limited pitch per blade [rad].
+    angle_saturated : ndarray of bool, shape (B,)
+        Blades whose demand was outside [min_angle, max_angle].
+    rate_saturated : ndarray of bool, shape (B,)
+        Blades whose rate limit was active.
+    """
+
+    pitch: np.ndarray
+    angle_saturated: np.ndarray
+    rate_saturated: np.ndarray
+
+    @property
+    def flags(self) -> LimitFlag:
+        """OR of the flags over all blades."""
+        flags = LimitFlag.NONE
+        if self.angle_saturated.any():
+            flags |= LimitFlag.ANGLE_SATURATED
+        if self.rate_saturated.any():
+            flags |= LimitFlag.RATE_SATURATED
+        return flags
+
+
+def limit_pitch(demand: ArrayLike, previous: ArrayLike, dt: float, limits: PitchLimits) -> LimitedPitch:
+    """Apply angle and rate limits to a per-blade pitch demand.
+
+    Parameters
+    ----------
+    demand : array_like, shape (B,)
+        Requested pitch per blade [rad] (collective + IPC).
+    previous : array_like, shape (B,)
+        Pitch the rate is measured from [rad]: the previous command (ROSCO) or
+        the measured pitch (Jonkman 2009). The caller passes the result back in
+        at the next step, like scipy's ``zi``/``zf``.
+    dt : float
+        Time since ``previous`` [s].
+    limits : PitchLimits
+        Angle and rate limits.
+
+    Returns
+    -------
+    LimitedPitch
+        ``pitch`` with ``min_angle <= pitch <= max_angle`` and
+        ``|pitch − previous| <= max_rate·dt`` whenever ``previous`` is in range.
+    """
+    demand = finite_array("demand", demand)
+    if demand.ndim != 1:
+        raise InputError("demand", f"expected one value per blade, found shape {demand.shape}")
+    previous = finite_array("previous", previous)
+    if previous.shape != demand.shape:
+        raise InputError("previous", f"expected shape {demand.shape} like demand, found {previous.shape}")
+    dt = require_time_step(dt)
+    clamped = np.clip(demand, limits.min_angle, limits.max_angle)
+    step = limits.max_rate * dt
+    change = np.clip(clamped - previous, -step, step)
+    rate_limited = change != clamped - previous
+    pitch = np.clip(previous + change, limits.min_angle, limits.max_angle)
+    return LimitedPitch(pitch=pitch, angle_saturated=clamped != demand, rate_saturated=rate_limited)
