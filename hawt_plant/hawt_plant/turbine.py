@@ -1,0 +1,642 @@
+"""Turbine definitions: frozen dataclasses and the loader of the project's YAML format.
+
+A turbine definition is one YAML file (``turbines/<name>/turbine.yaml``) plus one YAML file
+per airfoil polar (``airfoils/<name>.yaml`` beside it). SI units throughout (m, kg, s, rad).
+The NREL 5 MW reference turbine (Jonkman et al. 2009, NREL/TP-500-38060) ships with the
+package; :func:`nrel_5mw` loads it. The loader checks every key and names the file and the
+key of the first problem it finds in a :class:`TurbineDefinitionError`.
+
+Sign conventions of the format (they differ from ElastoDyn's): ``cone_angle`` > 0 tilts the
+blades upwind, ``shaft_tilt`` > 0 raises the rotor apex, ``overhang`` > 0 puts the apex
+upwind of the tower centreline.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+import yaml
+
+__all__ = [
+    "AirfoilPolar",
+    "BladeAerodynamics",
+    "BladeStructure",
+    "Drivetrain",
+    "Environment",
+    "Generator",
+    "Nacelle",
+    "OperatingSchedule",
+    "PitchActuator",
+    "Rotor",
+    "Tower",
+    "Turbine",
+    "TurbineDefinitionError",
+    "load_turbine",
+    "nrel_5mw",
+]
+
+_PACKAGED = Path(__file__).resolve().parent / "turbines"
+
+
+class TurbineDefinitionError(ValueError):
+    """A turbine definition file is missing a key or holds an invalid value."""
+
+
+@dataclass(frozen=True, eq=False)
+class AirfoilPolar:
+    """Static polar of one airfoil over the full circle of angles of attack.
+
+    Attributes
+    ----------
+    name : str
+        Name the blade's elements refer to.
+    alpha : ndarray, shape (K,)
+        Angle of attack [rad], strictly increasing from -pi to pi.
+    cl, cd, cm : ndarray, shape (K,)
+        Lift, drag and pitching-moment coefficients [-].
+    """
+
+    name: str
+    alpha: np.ndarray
+    cl: np.ndarray
+    cd: np.ndarray
+    cm: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class BladeAerodynamics:
+    """Aerodynamic elements of one blade (all blades are identical).
+
+    Attributes
+    ----------
+    span : ndarray, shape (N,)
+        Element centre, distance from the blade root along the blade [m].
+    width : ndarray, shape (N,)
+        Element width along the blade [m]; the widths add up to the blade length.
+    chord : ndarray, shape (N,)
+        Chord [m].
+    twist : ndarray, shape (N,)
+        Aerodynamic twist [rad], positive towards feather like the pitch.
+    airfoil : tuple of str, length N
+        Airfoil polar name of each element.
+    """
+
+    span: np.ndarray
+    width: np.ndarray
+    chord: np.ndarray
+    twist: np.ndarray
+    airfoil: tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class BladeStructure:
+    """Distributed structural properties and first flap mode of one blade (ElastoDyn blade file).
+
+    Attributes
+    ----------
+    span_fraction : ndarray, shape (S,)
+        Station position as a fraction of the blade length, 0 at the root, 1 at the tip.
+    structural_twist : ndarray, shape (S,)
+        Structural twist [rad].
+    mass_density : ndarray, shape (S,)
+        Mass per unit length [kg/m], already multiplied by the file's ``mass_density_factor``.
+    flap_stiffness, edge_stiffness : ndarray, shape (S,)
+        Bending stiffness EI [N m^2].
+    flap_mode_shape : ndarray, shape (5,)
+        Coefficients of x^2 .. x^6 of the first flap mode (x = span fraction), tip value 1.
+    flap_damping_ratio : float
+        Structural damping ratio of the first flap mode [-].
+    """
+
+    span_fraction: np.ndarray
+    structural_twist: np.ndarray
+    mass_density: np.ndarray
+    flap_stiffness: np.ndarray
+    edge_stiffness: np.ndarray
+    flap_mode_shape: np.ndarray
+    flap_damping_ratio: float
+
+
+@dataclass(frozen=True)
+class Rotor:
+    """Rotor geometry and hub mass.
+
+    Attributes
+    ----------
+    number_of_blades : int
+    hub_radius, tip_radius : float
+        Distance from the rotor apex to the blade root and tip along the blade [m].
+    cone_angle : float
+        Precone [rad], positive upwind.
+    shaft_tilt : float
+        Shaft tilt [rad], positive with the rotor apex raised.
+    overhang : float
+        Horizontal distance of the rotor apex upwind of the tower centreline [m]
+        (measured along the tilted shaft from the yaw axis).
+    hub_mass : float
+        [kg]
+    hub_inertia : float
+        Hub inertia about the shaft [kg m^2].
+    """
+
+    number_of_blades: int
+    hub_radius: float
+    tip_radius: float
+    cone_angle: float
+    shaft_tilt: float
+    overhang: float
+    hub_mass: float
+    hub_inertia: float
+
+
+@dataclass(frozen=True)
+class Nacelle:
+    """Nacelle mass properties and shaft height.
+
+    Attributes
+    ----------
+    mass : float
+        [kg]
+    cm_downwind, cm_above_tower_top : float
+        Nacelle centre of mass relative to the tower top [m].
+    yaw_inertia : float
+        Inertia about the yaw axis [kg m^2]; also used for nodding and rolling.
+    shaft_above_tower_top : float
+        Height of the shaft above the tower top at the yaw axis [m].
+    """
+
+    mass: float
+    cm_downwind: float
+    cm_above_tower_top: float
+    yaw_inertia: float
+    shaft_above_tower_top: float
+
+
+@dataclass(frozen=True, eq=False)
+class Tower:
+    """Tower distributed properties, first bending modes and aerodynamic outline.
+
+    Attributes
+    ----------
+    height : float
+        Tower-top height above ground [m].
+    height_fraction : ndarray, shape (T,)
+        Station height as a fraction of ``height``.
+    mass_density : ndarray, shape (T,)
+        [kg/m]
+    fa_stiffness, ss_stiffness : ndarray, shape (T,)
+        Fore-aft and side-side bending stiffness [N m^2].
+    fa_mode_shape, ss_mode_shape : ndarray, shape (5,)
+        Coefficients of x^2 .. x^6 of the first mode shapes (x = height fraction), top value 1.
+    fa_damping_ratio, ss_damping_ratio : float
+        Structural damping ratios [-].
+    outline_elevation, outline_diameter : ndarray, shape (A,)
+        Outer diameter [m] against height [m], for the tower shadow.
+    """
+
+    height: float
+    height_fraction: np.ndarray
+    mass_density: np.ndarray
+    fa_stiffness: np.ndarray
+    ss_stiffness: np.ndarray
+    fa_mode_shape: np.ndarray
+    ss_mode_shape: np.ndarray
+    fa_damping_ratio: float
+    ss_damping_ratio: float
+    outline_elevation: np.ndarray
+    outline_diameter: np.ndarray
+
+
+@dataclass(frozen=True)
+class Drivetrain:
+    """Gearbox and shaft.
+
+    Attributes
+    ----------
+    gearbox_ratio : float
+        Generator speed / rotor speed [-].
+    gearbox_efficiency : float
+        [-]
+    generator_inertia : float
+        Generator inertia about the high-speed shaft [kg m^2].
+    torsional_stiffness : float
+        Low-speed-shaft torsional spring [N m/rad].
+    torsional_damping : float
+        Low-speed-shaft torsional damper [N m s/rad].
+    """
+
+    gearbox_ratio: float
+    gearbox_efficiency: float
+    generator_inertia: float
+    torsional_stiffness: float
+    torsional_damping: float
+
+
+@dataclass(frozen=True)
+class Generator:
+    """Generator limits and rated values (high-speed shaft).
+
+    Attributes
+    ----------
+    efficiency : float
+        Electrical power / mechanical generator power [-].
+    rated_power : float
+        Rated electrical power [W].
+    rated_torque : float
+        [N m]
+    max_torque : float
+        [N m]
+    max_torque_rate : float
+        [N m/s]
+    """
+
+    efficiency: float
+    rated_power: float
+    rated_torque: float
+    max_torque: float
+    max_torque_rate: float
+
+
+@dataclass(frozen=True)
+class PitchActuator:
+    """Second-order pitch actuator of each blade with angle and rate limits.
+
+    Attributes
+    ----------
+    min_angle, max_angle : float
+        [rad]
+    max_rate : float
+        [rad/s]
+    natural_frequency : float
+        [rad/s]
+    damping_ratio : float
+        [-]
+    """
+
+    min_angle: float
+    max_angle: float
+    max_rate: float
+    natural_frequency: float
+    damping_ratio: float
+
+
+@dataclass(frozen=True)
+class OperatingSchedule:
+    """Baseline steady operating schedule (wind speeds [m/s], rotor speeds [rad/s])."""
+
+    cut_in_wind_speed: float
+    rated_wind_speed: float
+    cut_out_wind_speed: float
+    min_rotor_speed: float
+    rated_rotor_speed: float
+    optimal_tip_speed_ratio: float
+
+
+@dataclass(frozen=True)
+class Environment:
+    """Air density [kg/m^3] and gravitational acceleration [m/s^2]."""
+
+    air_density: float
+    gravity: float
+
+
+@dataclass(frozen=True, eq=False)
+class Turbine:
+    """A complete turbine definition; build one with :func:`load_turbine` or :func:`nrel_5mw`.
+
+    Change a part with :func:`dataclasses.replace`, e.g. a rotor without shaft tilt:
+    ``replace(t, rotor=replace(t.rotor, shaft_tilt=0.0))``.
+    """
+
+    name: str
+    source: str
+    environment: Environment
+    rotor: Rotor
+    nacelle: Nacelle
+    blade_aerodynamics: BladeAerodynamics
+    blade_structure: BladeStructure
+    airfoils: Mapping[str, AirfoilPolar]
+    tower: Tower
+    drivetrain: Drivetrain
+    generator: Generator
+    pitch_actuator: PitchActuator
+    schedule: OperatingSchedule
+
+    @property
+    def blade_length(self) -> float:
+        """Blade length from root to tip [m]."""
+        return self.rotor.tip_radius - self.rotor.hub_radius
+
+    @property
+    def hub_height(self) -> float:
+        """Height of the rotor apex above ground [m]."""
+        return (
+            self.tower.height
+            + self.nacelle.shaft_above_tower_top
+            + self.rotor.overhang * math.sin(self.rotor.shaft_tilt)
+        )
+
+
+def nrel_5mw() -> Turbine:
+    """The NREL 5 MW onshore reference turbine shipped with the package."""
+    return load_turbine(_PACKAGED / "nrel_5mw" / "turbine.yaml")
+
+
+def load_turbine(path: str | Path) -> Turbine:
+    """Load and check a turbine definition file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``turbine.yaml`` file; airfoil polars are read from ``airfoils/<name>.yaml``
+        in the same folder.
+
+    Returns
+    -------
+    Turbine
+
+    Raises
+    ------
+    TurbineDefinitionError
+        Naming the file and the key at fault, e.g.
+        ``turbine.yaml: blade.aerodynamics.chord: expected 17 values, found 16``.
+    """
+    path = Path(path)
+    doc = _Section(path.name, "", _read_yaml(path))
+    rotor = _rotor(doc.section("rotor"))
+    aero = _blade_aerodynamics(doc.section("blade").section("aerodynamics"), rotor)
+    airfoils = {name: _airfoil(path.parent / "airfoils" / f"{name}.yaml") for name in sorted(set(aero.airfoil))}
+    return Turbine(
+        name=doc.text("name"),
+        source=doc.text("source"),
+        environment=Environment(
+            air_density=doc.section("environment").number("air_density", low=0.0),
+            gravity=doc.section("environment").number("gravity", low=0.0, strict=False),
+        ),
+        rotor=rotor,
+        nacelle=_nacelle(doc.section("nacelle")),
+        blade_aerodynamics=aero,
+        blade_structure=_blade_structure(doc.section("blade").section("structure"), rotor),
+        airfoils=airfoils,
+        tower=_tower(doc.section("tower")),
+        drivetrain=_drivetrain(doc.section("drivetrain")),
+        generator=_generator(doc.section("generator")),
+        pitch_actuator=_pitch_actuator(doc.section("pitch_actuator")),
+        schedule=_schedule(doc.section("operation")),
+    )
+
+
+def _read_yaml(path: Path) -> Any:
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise TurbineDefinitionError(f"{path}: cannot read the file ({err.strerror})") from err
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        raise TurbineDefinitionError(f"{path.name}: not valid YAML ({err})") from err
+
+
+class _Section:
+    """A mapping of the YAML document that reports errors as ``file: key.path: problem``."""
+
+    def __init__(self, file: str, prefix: str, data: Any) -> None:
+        if not isinstance(data, dict):
+            raise TurbineDefinitionError(f"{file}: {prefix or 'document'}: expected a mapping")
+        self._file = file
+        self._prefix = prefix
+        self._data = data
+
+    def error(self, key: str, problem: str) -> TurbineDefinitionError:
+        return TurbineDefinitionError(f"{self._file}: {self._prefix}{key}: {problem}")
+
+    def raw(self, key: str) -> Any:
+        if key not in self._data:
+            raise self.error(key, "missing")
+        return self._data[key]
+
+    def section(self, key: str) -> "_Section":
+        value = self.raw(key)
+        if not isinstance(value, dict):
+            raise self.error(key, "expected a mapping")
+        return _Section(self._file, f"{self._prefix}{key}.", value)
+
+    def text(self, key: str) -> str:
+        value = self.raw(key)
+        if not isinstance(value, str) or not value:
+            raise self.error(key, "expected a non-empty string")
+        return value
+
+    def number(self, key: str, low: float | None = None, high: float | None = None, strict: bool = True) -> float:
+        value = self.raw(key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise self.error(key, f"expected a finite number, found {value!r}")
+        if low is not None and (value <= low if strict else value < low):
+            raise self.error(key, f"expected a value {'>' if strict else '>='} {low}, found {value}")
+        if high is not None and value > high:
+            raise self.error(key, f"expected a value <= {high}, found {value}")
+        return float(value)
+
+    def integer(self, key: str, low: int) -> int:
+        value = self.raw(key)
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise self.error(key, f"expected an integer >= {low}, found {value!r}")
+        return value
+
+    def array(self, key: str, length: int | None = None, positive: bool = False, increasing: bool = False) -> np.ndarray:
+        value = self.raw(key)
+        if not isinstance(value, list) or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value
+        ):
+            raise self.error(key, "expected a list of numbers")
+        out = np.array(value, dtype=float)
+        if length is not None and out.size != length:
+            raise self.error(key, f"expected {length} values, found {out.size}")
+        if out.size == 0 or not np.all(np.isfinite(out)):
+            raise self.error(key, "expected finite values")
+        if positive and np.any(out <= 0.0):
+            raise self.error(key, "expected positive values")
+        if increasing and np.any(np.diff(out) <= 0.0):
+            raise self.error(key, "expected strictly increasing values")
+        out.flags.writeable = False
+        return out
+
+    def names(self, key: str, length: int) -> tuple[str, ...]:
+        value = self.raw(key)
+        if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
+            raise self.error(key, "expected a list of names")
+        if len(value) != length:
+            raise self.error(key, f"expected {length} values, found {len(value)}")
+        return tuple(value)
+
+
+def _rotor(s: _Section) -> Rotor:
+    hub_radius = s.number("hub_radius", low=0.0, strict=False)
+    tip_radius = s.number("tip_radius", low=hub_radius)
+    return Rotor(
+        number_of_blades=s.integer("number_of_blades", low=2),
+        hub_radius=hub_radius,
+        tip_radius=tip_radius,
+        cone_angle=s.number("cone_angle", low=-0.5, high=0.5),
+        shaft_tilt=s.number("shaft_tilt", low=-0.5, high=0.5),
+        overhang=s.number("overhang"),
+        hub_mass=s.number("hub_mass", low=0.0, strict=False),
+        hub_inertia=s.number("hub_inertia", low=0.0, strict=False),
+    )
+
+
+def _nacelle(s: _Section) -> Nacelle:
+    return Nacelle(
+        mass=s.number("mass", low=0.0, strict=False),
+        cm_downwind=s.number("cm_downwind"),
+        cm_above_tower_top=s.number("cm_above_tower_top"),
+        yaw_inertia=s.number("yaw_inertia", low=0.0, strict=False),
+        shaft_above_tower_top=s.number("shaft_above_tower_top"),
+    )
+
+
+def _blade_aerodynamics(s: _Section, rotor: Rotor) -> BladeAerodynamics:
+    span = s.array("span", increasing=True)
+    n = span.size
+    width = s.array("width", length=n, positive=True)
+    length = rotor.tip_radius - rotor.hub_radius
+    if abs(width.sum() - length) > 1e-3 * length:
+        raise s.error("width", f"widths add up to {width.sum():.4f} m, the blade is {length:.4f} m long")
+    if span[0] < 0.0 or span[-1] > length:
+        raise s.error("span", f"expected values within the blade length 0..{length} m")
+    return BladeAerodynamics(
+        span=span,
+        width=width,
+        chord=s.array("chord", length=n, positive=True),
+        twist=s.array("twist", length=n),
+        airfoil=s.names("airfoil", n),
+    )
+
+
+def _blade_structure(s: _Section, rotor: Rotor) -> BladeStructure:
+    fraction = s.array("span_fraction", increasing=True)
+    if fraction[0] != 0.0 or fraction[-1] != 1.0:
+        raise s.error("span_fraction", "expected the first value 0 and the last 1")
+    n = fraction.size
+    factor = s.number("mass_density_factor", low=0.0)
+    mass_density = s.array("mass_density", length=n, positive=True) * factor
+    mass_density.flags.writeable = False
+    mode = s.array("flap_mode_shape", length=5)
+    if abs(mode.sum() - 1.0) > 1e-3:
+        raise s.error("flap_mode_shape", f"coefficients add up to {mode.sum():.4f}, expected 1 (unit tip value)")
+    length = rotor.tip_radius - rotor.hub_radius
+    mass = float(np.trapezoid(mass_density, fraction * length))
+    cg = float(np.trapezoid(mass_density * fraction * length, fraction * length)) / mass
+    for key, found in (("reference_mass", mass), ("reference_cg_from_root", cg)):
+        stated = s.number(key, low=0.0)
+        if abs(found - stated) > 0.02 * stated:
+            raise s.error(key, f"the distributed properties give {found:.4g}, more than 2 % from {stated:.4g}")
+    return BladeStructure(
+        span_fraction=fraction,
+        structural_twist=s.array("structural_twist", length=n),
+        mass_density=mass_density,
+        flap_stiffness=s.array("flap_stiffness", length=n, positive=True),
+        edge_stiffness=s.array("edge_stiffness", length=n, positive=True),
+        flap_mode_shape=mode,
+        flap_damping_ratio=s.number("flap_damping_ratio", low=0.0, high=1.0, strict=False),
+    )
+
+
+def _tower(s: _Section) -> Tower:
+    fraction = s.array("height_fraction", increasing=True)
+    if fraction[0] != 0.0 or fraction[-1] != 1.0:
+        raise s.error("height_fraction", "expected the first value 0 and the last 1")
+    n = fraction.size
+    modes = {}
+    for key in ("fa_mode_shape", "ss_mode_shape"):
+        modes[key] = s.array(key, length=5)
+        if abs(modes[key].sum() - 1.0) > 1e-3:
+            raise s.error(key, f"coefficients add up to {modes[key].sum():.4f}, expected 1 (unit top value)")
+    elevation = s.array("outline_elevation", increasing=True)
+    return Tower(
+        height=s.number("height", low=0.0),
+        height_fraction=fraction,
+        mass_density=s.array("mass_density", length=n, positive=True),
+        fa_stiffness=s.array("fa_stiffness", length=n, positive=True),
+        ss_stiffness=s.array("ss_stiffness", length=n, positive=True),
+        fa_mode_shape=modes["fa_mode_shape"],
+        ss_mode_shape=modes["ss_mode_shape"],
+        fa_damping_ratio=s.number("fa_damping_ratio", low=0.0, high=1.0, strict=False),
+        ss_damping_ratio=s.number("ss_damping_ratio", low=0.0, high=1.0, strict=False),
+        outline_elevation=elevation,
+        outline_diameter=s.array("outline_diameter", length=elevation.size, positive=True),
+    )
+
+
+def _drivetrain(s: _Section) -> Drivetrain:
+    return Drivetrain(
+        gearbox_ratio=s.number("gearbox_ratio", low=0.0),
+        gearbox_efficiency=s.number("gearbox_efficiency", low=0.0, high=1.0),
+        generator_inertia=s.number("generator_inertia", low=0.0),
+        torsional_stiffness=s.number("torsional_stiffness", low=0.0),
+        torsional_damping=s.number("torsional_damping", low=0.0, strict=False),
+    )
+
+
+def _generator(s: _Section) -> Generator:
+    rated_torque = s.number("rated_torque", low=0.0)
+    return Generator(
+        efficiency=s.number("efficiency", low=0.0, high=1.0),
+        rated_power=s.number("rated_power", low=0.0),
+        rated_torque=rated_torque,
+        max_torque=s.number("max_torque", low=rated_torque, strict=False),
+        max_torque_rate=s.number("max_torque_rate", low=0.0),
+    )
+
+
+def _pitch_actuator(s: _Section) -> PitchActuator:
+    min_angle = s.number("min_angle", low=-math.pi / 2, high=math.pi / 2, strict=False)
+    return PitchActuator(
+        min_angle=min_angle,
+        max_angle=s.number("max_angle", low=min_angle, high=math.pi),
+        max_rate=s.number("max_rate", low=0.0),
+        natural_frequency=s.number("natural_frequency", low=0.0),
+        damping_ratio=s.number("damping_ratio", low=0.0),
+    )
+
+
+def _schedule(s: _Section) -> OperatingSchedule:
+    cut_in = s.number("cut_in_wind_speed", low=0.0)
+    rated = s.number("rated_wind_speed", low=cut_in)
+    min_speed = s.number("min_rotor_speed", low=0.0)
+    return OperatingSchedule(
+        cut_in_wind_speed=cut_in,
+        rated_wind_speed=rated,
+        cut_out_wind_speed=s.number("cut_out_wind_speed", low=rated),
+        min_rotor_speed=min_speed,
+        rated_rotor_speed=s.number("rated_rotor_speed", low=min_speed),
+        optimal_tip_speed_ratio=s.number("optimal_tip_speed_ratio", low=0.0),
+    )
+
+
+def _airfoil(path: Path) -> AirfoilPolar:
+    doc = _Section(path.name, "", _read_yaml(path))
+    name = doc.text("name")
+    if name != path.stem:
+        raise doc.error("name", f"expected {path.stem!r} like the file name, found {name!r}")
+    if doc.raw("columns") != ["alpha", "cl", "cd", "cm"]:
+        raise doc.error("columns", "expected [alpha, cl, cd, cm]")
+    rows = doc.raw("table")
+    try:
+        table = np.array(rows, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise doc.error("table", "expected rows of four numbers") from err
+    if table.ndim != 2 or table.shape[1] != 4 or table.shape[0] < 2 or not np.all(np.isfinite(table)):
+        raise doc.error("table", "expected at least two rows of four finite numbers")
+    alpha = table[:, 0]
+    if np.any(np.diff(alpha) <= 0.0):
+        raise doc.error("table", "angles of attack must increase strictly")
+    if abs(alpha[0] + math.pi) > 1e-6 or abs(alpha[-1] - math.pi) > 1e-6:
+        raise doc.error("table", "angles of attack must run from -pi to pi")
+    columns = [np.ascontiguousarray(table[:, k]) for k in range(4)]
+    for column in columns:
+        column.flags.writeable = False
+    return AirfoilPolar(name=name, alpha=columns[0], cl=columns[1], cd=columns[2], cm=columns[3])
