@@ -1,0 +1,8 @@
+"""Load analysis of recorded hawt runs: pure numpy/scipy, no ROS.
+
+Modules: `record` (checked channel arrays and their names), `fatigue` (rainflow
+DELs), `spectra` (Welch PSD, peaks, nP), `harmonics` (nP amplitudes in the azimuth
+domain), `pitch_activity`, `summary` (the ``hawt analyze`` dict), `comparison`
+(``hawt compare``), `plots` (PNG reports) and `synthetic_run` (test data).
+Nothing is imported here, so ``import hawt_analysis.summary`` stays free of matplotlib.
+"""

@@ -1,0 +1,174 @@
+"""Figures of ``hawt analyze --report`` and ``hawt compare --report`` (PNG files).
+
+Only drawing lives here; the numbers come from `summary` and `comparison`.
+Figures are built on ``matplotlib.figure.Figure`` and rendered by Agg, without
+pyplot, so nothing changes matplotlib's global backend. Axes show display units
+(MN·m, °, rpm, MW) with the unit in the label; the JSON stays SI.
+"""
+from collections.abc import Mapping
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
+
+from .record import PER_BLADE_CHANNELS, Record, make_record
+from .spectra import power_spectrum, rotor_harmonic_frequencies
+from .summary import FATIGUE_CHANNELS, AnalysisOptions
+
+__all__ = [
+    "plot_comparison",
+    "plot_del_bars",
+    "plot_spectra",
+    "plot_time_series",
+    "write_comparison_report",
+    "write_report",
+]
+
+_DISPLAY = MappingProxyType(
+    {
+        "rotor_speed": (60.0 / (2.0 * np.pi), "rotor speed", "rpm"),
+        "electrical_power": (1e-6, "electrical power", "MW"),
+        "pitch": (180.0 / np.pi, "pitch", "°"),
+        "root_moment_oop": (1e-6, "root M_oop", "MN·m"),
+        "root_moment_ip": (1e-6, "root M_ip", "MN·m"),
+        "hub_tilt_moment": (1e-6, "hub tilt", "MN·m"),
+        "hub_yaw_moment": (1e-6, "hub yaw", "MN·m"),
+        "tower_base_fa_moment": (1e-6, "tower base FA", "MN·m"),
+        "tower_base_ss_moment": (1e-6, "tower base SS", "MN·m"),
+    }
+)
+"""Field → (factor from SI to display unit, quantity, display unit)."""
+
+
+def _fields(record: Record, names: tuple[str, ...]) -> list[tuple[str, np.ndarray]]:
+    """(field, values of shape (n_samples, n_columns)) for the fields of ``names`` the record has."""
+    present = []
+    for name in names:
+        if name in record.per_blade:
+            present.append((name, record.per_blade[name]))
+        elif name in record.scalars:
+            present.append((name, record.scalars[name][:, None]))
+    return present
+
+
+def _save(figure: Figure, path: Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=110)
+    return path
+
+
+def plot_time_series(channels: Mapping[str, ArrayLike], path: Path) -> Path:
+    """Time series of rotor speed, power, pitch and the load channels, one panel per field.
+
+    Per-blade fields draw one line per blade. Returns the written PNG path.
+    """
+    record = make_record(channels)
+    names = ("rotor_speed", "electrical_power", "pitch") + tuple(name for name, _ in FATIGUE_CHANNELS)
+    fields = _fields(record, names)
+    figure = Figure(figsize=(10, 1.7 * len(fields) + 0.6), layout="constrained")
+    axes = figure.subplots(len(fields), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (name, values) in zip(axes, fields):
+        factor, quantity, unit = _DISPLAY[name]
+        for column in range(values.shape[1]):
+            ax.plot(record.time, factor * values[:, column], lw=0.6, label=_line_label(name, column))
+        ax.set_ylabel(f"{quantity} [{unit}]")
+        if values.shape[1] > 1:
+            ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    return _save(figure, path)
+
+
+def _line_label(name: str, column: int) -> str:
+    return f"blade {column + 1}" if name in PER_BLADE_CHANNELS else name
+
+
+def plot_spectra(
+    channels: Mapping[str, ArrayLike], path: Path, options: AnalysisOptions = AnalysisOptions()
+) -> Path:
+    """Welch PSDs of the load channels and pitch with the rotor harmonics nP marked.
+
+    One panel per field (blades overlaid); dashed lines at n·Ω̄/(2π) for the
+    harmonics of ``options``. Returns the written PNG path.
+    """
+    record = make_record(channels)
+    fields = _fields(record, tuple(name for name, _ in FATIGUE_CHANNELS) + ("pitch",))
+    harmonic_frequencies = rotor_harmonic_frequencies(float(record.scalars["rotor_speed"].mean()), options.harmonics)
+    upper = 1.25 * harmonic_frequencies.max() if harmonic_frequencies.max() > 0.0 else 0.5 * record.sample_rate
+    figure = Figure(figsize=(10, 2.0 * max(len(fields), 1) + 0.6), layout="constrained")
+    axes = figure.subplots(max(len(fields), 1), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (name, values) in zip(axes, fields):
+        factor, quantity, unit = _DISPLAY[name]
+        for column in range(values.shape[1]):
+            spectrum = power_spectrum(factor * values[:, column], record.sample_rate, options.psd_segment_duration)
+            ax.semilogy(spectrum.frequency, spectrum.density, lw=0.7, label=_line_label(name, column))
+        for n, frequency in zip(options.harmonics, harmonic_frequencies):
+            ax.axvline(frequency, color="grey", ls="--", lw=0.6)
+            ax.annotate(f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small", va="bottom")
+        ax.set_ylabel(f"PSD {quantity}\n[{unit}²/Hz]")
+        if values.shape[1] > 1:
+            ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
+        ax.grid(alpha=0.3, which="both")
+    axes[-1].set_xlim(0.0, upper)
+    axes[-1].set_xlabel("frequency [Hz]")
+    return _save(figure, path)
+
+
+def plot_del_bars(summary: Mapping, path: Path) -> Path:
+    """Horizontal bars of the DEL of each load channel [MN·m], labelled with m. Returns the PNG path."""
+    names = list(summary["del"])
+    values = [1e-6 * summary["del"][name]["value"] for name in names]
+    labels = [f"{name} (m={summary['del'][name]['m']:g})" for name in names]
+    figure = Figure(figsize=(8, 0.4 * len(names) + 1.2), layout="constrained")
+    ax = figure.subplots()
+    ax.barh(labels, values, color="tab:blue")
+    ax.invert_yaxis()
+    ax.set_xlabel("damage-equivalent load, 1 Hz [MN·m]")
+    ax.grid(alpha=0.3, axis="x")
+    return _save(figure, path)
+
+
+def plot_comparison(comparison: Mapping, path: Path) -> Path:
+    """Grouped bars of the change against the first run [%]: DELs and pitch activity.
+
+    Returns the written PNG path.
+    """
+    rows = [(f"DEL {name}", entry["change_percent"]) for name, entry in comparison["del"].items()]
+    if comparison["pitch"] is not None:
+        rows += [(f"pitch {metric}", entry["change_percent"]) for metric, entry in comparison["pitch"].items()]
+    runs = comparison["labels"][1:]
+    figure = Figure(figsize=(9, 0.35 * len(rows) * max(len(runs), 1) + 1.5), layout="constrained")
+    ax = figure.subplots()
+    height = 0.8 / max(len(runs), 1)
+    positions = np.arange(len(rows))
+    for k, label in enumerate(runs):
+        changes = [np.nan if change[k + 1] is None else change[k + 1] for _, change in rows]
+        ax.barh(positions + k * height, changes, height=height, label=label)
+    ax.set_yticks(positions + 0.5 * height * (len(runs) - 1), [name for name, _ in rows])
+    ax.invert_yaxis()
+    ax.axvline(0.0, color="black", lw=0.8)
+    ax.set_xlabel(f"change against {comparison['reference']} [%]")
+    ax.grid(alpha=0.3, axis="x")
+    if runs:
+        ax.legend(fontsize="small")
+    return _save(figure, path)
+
+
+def write_report(
+    channels: Mapping[str, ArrayLike], summary: Mapping, directory: Path, options: AnalysisOptions = AnalysisOptions()
+) -> list[Path]:
+    """Write ``time_series.png``, ``spectra.png`` and ``del.png`` into ``directory``; return their paths."""
+    directory = Path(directory)
+    return [
+        plot_time_series(channels, directory / "time_series.png"),
+        plot_spectra(channels, directory / "spectra.png", options),
+        plot_del_bars(summary, directory / "del.png"),
+    ]
+
+
+def write_comparison_report(comparison: Mapping, directory: Path) -> list[Path]:
+    """Write ``comparison.png`` into ``directory``; return its path in a list."""
+    return [plot_comparison(comparison, Path(directory) / "comparison.png")]

@@ -1,0 +1,50 @@
+"""Specification of hawt_analysis.comparison: runs compared with the first one."""
+import json
+
+import pytest
+
+from hawt_analysis.comparison import change_percent, compare_summaries
+from hawt_analysis.fatigue import WohlerExponents
+from hawt_analysis.summary import AnalysisOptions, summarize
+from hawt_analysis.synthetic_run import synthetic_channels
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """A synthetic reference run and the same run with blade out-of-plane moments scaled by 0.8."""
+    reference = synthetic_channels(duration=60.0, seed=3)
+    reduced = {**reference, "root_moment_oop": 0.8 * reference["root_moment_oop"]}
+    return reference, reduced
+
+
+def test_scaling_a_load_by_0_8_shows_as_minus_20_percent_and_the_rest_unchanged(runs):
+    """DEL and harmonic amplitudes scale with the load; untouched channels stay at 0 % change."""
+    comparison = compare_summaries([summarize(run) for run in runs], ["cpc", "ipc"])
+    assert comparison["reference"] == "cpc"
+    assert comparison["del"]["root_moment_oop_2"]["change_percent"] == pytest.approx([0.0, -20.0])
+    assert comparison["del"]["tower_base_fa_moment"]["change_percent"] == pytest.approx([0.0, 0.0])
+    assert comparison["harmonics"]["root_moment_oop_1"]["change_percent"][1] == pytest.approx([-20.0] * 6)
+    assert comparison["pitch"]["max_rate_rad_s"]["change_percent"] == pytest.approx([0.0, 0.0])
+    json.dumps(comparison, allow_nan=False)
+
+
+def test_change_against_a_zero_reference_is_none():
+    """A change relative to 0 is undefined and reported as None (JSON null)."""
+    assert change_percent([0.0, 1.0]) == [None, None]
+    assert change_percent([2.0, 3.0, 1.0]) == [0.0, 50.0, -50.0]
+
+
+def test_runs_with_different_wohler_exponents_are_not_compared(runs):
+    """DELs of a channel with m = 10 in one run and m = 12 in another are refused, naming the channel."""
+    other = summarize(runs[1], AnalysisOptions(wohler=WohlerExponents(blade_root=12.0)))
+    with pytest.raises(ValueError, match=r"root_moment_oop_1: Wöhler exponent differs between runs \(\[10.0, 12.0\]\)"):
+        compare_summaries([summarize(runs[0]), other], ["a", "b"])
+
+
+def test_labels_must_match_the_summaries_and_be_unique(runs):
+    """One unique label per run."""
+    summary = summarize(runs[0])
+    with pytest.raises(ValueError, match=r"labels: expected one label per summary \(2\), found 1"):
+        compare_summaries([summary, summary], ["a"])
+    with pytest.raises(ValueError, match="labels: expected unique labels"):
+        compare_summaries([summary, summary], ["a", "a"])
