@@ -1,0 +1,26 @@
+from glob import glob
+
+from setuptools import find_packages, setup
+
+package_name = 'hawt_controllers'
+
+setup(
+    name=package_name,
+    version='0.1.0',
+    packages=find_packages(exclude=['test']),
+    package_data={package_name: ['**/*.yaml', '**/*.csv']},
+    data_files=[
+        ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
+        ('share/' + package_name, ['package.xml']),
+        ('share/' + package_name + '/launch', glob('launch/*.yaml')),
+    ],
+    install_requires=['setuptools'],
+    zip_safe=True,
+    maintainer='hawt developers',
+    maintainer_email='hawt@example.com',
+    description='Collective pitch, MBC and per-harmonic IPC controllers.',
+    license='Apache-2.0',
+    entry_points={
+        'console_scripts': [],
+    },
+)

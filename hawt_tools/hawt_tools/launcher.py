@@ -1,0 +1,306 @@
+"""Start a checked node graph: each node in its own OS process, or all composed in one.
+
+Each node becomes ``EXECUTABLE [args] --ros-args -r __node:=NAME -r __ns:=NS
+--params-file F ... -r FROM:=TO ... -p NAME:=VALUE ...`` as launch_ros builds it
+(``launch_ros/actions/node.py``); rcl then applies names, parameters (wildcards
+included) and remappings itself.
+"""
+import importlib.metadata
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Mapping, Optional, Sequence, TextIO, Tuple
+
+import rclpy
+import yaml
+from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
+
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
+
+from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
+from hawt_tools.node_main import first_done, spin_nodes
+
+__all__ = [
+    "LaunchFailure",
+    "package_prefix",
+    "executable_path",
+    "parse_overrides",
+    "ros_arguments",
+    "ProcessGraph",
+    "run_composed",
+]
+
+Overrides = Dict[str, List[Tuple[str, str]]]
+
+
+class LaunchFailure(RuntimeError):
+    """The graph started but could not run to its end (a node died, a process would not stop)."""
+
+
+def package_prefix(package: str) -> Optional[str]:
+    """The install prefix of a ROS package, or None."""
+    try:
+        return get_package_prefix(package)
+    except (PackageNotFoundError, ValueError):
+        return None
+
+
+def executable_path(graph: Graph, spec: NodeSpec) -> Path:
+    """The file that runs ``spec``: ``<prefix>/lib/<pkg>/<exec>`` (GraphError naming the line if absent)."""
+    where = f"{graph.path}:{spec.line}"
+    prefix = package_prefix(spec.package)
+    if prefix is None:
+        raise GraphError(f"{where}: node {spec.name!r}: package {spec.package!r} not found"
+                         + did_you_mean(spec.package, sorted(get_packages_with_prefixes())))
+    folder = Path(prefix) / "lib" / spec.package
+    path = folder / spec.executable
+    if not (path.is_file() and os.access(path, os.X_OK)):
+        available = sorted(p.name for p in folder.iterdir() if os.access(p, os.X_OK)) if folder.is_dir() else []
+        raise GraphError(f"{where}: node {spec.name!r}: package {spec.package!r} has no executable "
+                         f"{spec.executable!r}" + (did_you_mean(spec.executable, available) if available else ""))
+    return path
+
+
+def parse_overrides(graph: Graph, texts: Sequence[str]) -> Overrides:
+    """Turn ``NODE.PARAM:=VALUE`` texts (``-p`` options) into per-node ``(param, value)`` lists."""
+    overrides: Overrides = {}
+    for text in texts:
+        target, sep, value = text.partition(":=")
+        node, dot, parameter = target.partition(".")
+        if not sep or not dot or not node or not parameter:
+            raise GraphError(f"-p {text!r}: expected NODE.PARAM:=VALUE (e.g. -p relay.gain:=2.0)")
+        spec = graph.node(node)
+        overrides.setdefault(spec.label, []).append((parameter, value))
+    return overrides
+
+
+def _nest(values: Sequence[Tuple[str, object]]) -> Dict[str, object]:
+    """``[('gains.ki', 1.0)]`` -> ``{'gains': {'ki': 1.0}}``, the parameter-file layout of dotted names."""
+    tree: Dict[str, object] = {}
+    for name, value in values:
+        *parents, leaf = name.split(".")
+        level = tree
+        for parent in parents:
+            level = level.setdefault(parent, {})
+        level[leaf] = value
+    return tree
+
+
+def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
+                  global_parameters: Mapping[str, object] = ()) -> List[str]:
+    """The ``--ros-args ...`` list of one node; inline parameters are written to files in ``parameter_dir``."""
+    arguments = ["--ros-args", "-r", f"__node:={spec.name}"]
+    if spec.namespace:
+        arguments += ["-r", f"__ns:=/{spec.namespace.strip('/')}"]
+    sources = ([ParameterValues(tuple(dict(global_parameters).items()))] if global_parameters else [])
+    sources += list(spec.parameters)
+    for index, source in enumerate(sources):
+        if isinstance(source, ParameterFile):
+            arguments += ["--params-file", str(source.path)]
+        else:
+            path = parameter_dir / f"{spec.label.strip('/').replace('/', '__')}_{index}.yaml"
+            path.write_text(yaml.safe_dump({"/**": {"ros__parameters": _nest(source.values)}}))
+            arguments += ["--params-file", str(path)]
+    arguments += list(spec.ros_arguments)
+    for source_name, target in spec.remaps:
+        arguments += ["-r", f"{source_name}:={target}"]
+    for parameter, value in overrides.get(spec.label, []):
+        arguments += ["-p", f"{parameter}:={value}"]
+    return arguments
+
+
+def _describe_exit(code: int) -> str:
+    if code < 0:
+        try:
+            return f"killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"killed by signal {-code}"
+    return f"exit code {code}"
+
+
+@dataclass
+class _Process:
+    spec: NodeSpec
+    command: List[str]
+    popen: Optional[subprocess.Popen] = None
+    pump: Optional[threading.Thread] = None
+    retries: int = 0
+    restart_at: Optional[float] = None
+    finished: bool = False
+
+
+@dataclass
+class ProcessGraph:
+    """A graph whose nodes run as separate OS processes, with prefixed output and clean shutdown."""
+
+    graph: Graph
+    overrides: Overrides = field(default_factory=dict)
+    global_parameters: Mapping[str, object] = field(default_factory=dict)
+    output: TextIO = sys.stdout
+
+    def __post_init__(self) -> None:
+        self._executables = [executable_path(self.graph, spec) for spec in self.graph.nodes]
+        self._lock = threading.Lock()
+        self._stop_reason: Optional[Tuple[int, str]] = None
+
+    def _say(self, label: str, line: str) -> None:
+        with self._lock:
+            self.output.write(f"[{label}] {line}\n")
+            self.output.flush()
+
+    def _pump(self, process: _Process) -> None:
+        for raw in process.popen.stdout:
+            self._say(process.spec.label, raw.decode(errors="replace").rstrip("\n"))
+
+    def _start(self, process: _Process) -> None:
+        env = dict(os.environ, PYTHONUNBUFFERED="1", **dict(process.spec.env))
+        process.popen = subprocess.Popen(process.command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                         stdin=subprocess.DEVNULL, env=env, start_new_session=True)
+        process.pump = threading.Thread(target=self._pump, args=(process,), daemon=True)
+        process.pump.start()
+        process.finished = False
+        process.restart_at = None
+
+    def request_stop(self, code: int = 0, reason: str = "") -> None:
+        """Ask the run loop to shut the graph down and return ``code``."""
+        if self._stop_reason is None:
+            self._stop_reason = (code, reason)
+
+    def _on_exit(self, process: _Process, now: float) -> None:
+        spec, code = process.spec, process.popen.returncode
+        process.finished = True
+        if spec.respawn and (spec.respawn_max_retries < 0 or process.retries < spec.respawn_max_retries):
+            process.retries += 1
+            process.restart_at = now + spec.respawn_delay
+            self._say("hawt launch", f"{spec.label} ended ({_describe_exit(code)}); respawning in "
+                                     f"{spec.respawn_delay:g} s (respawn {process.retries})")
+        elif code == 0:
+            self._say("hawt launch", f"{spec.label} finished")
+            if spec.shutdown_on_exit:
+                self.request_stop(0, f"{spec.label} finished (on_exit: shutdown)")
+        else:
+            self.request_stop(1, f"node {spec.label} died unexpectedly ({_describe_exit(code)})")
+
+    def run(self, duration: Optional[float] = None) -> int:
+        """Start every node, supervise them until done, then stop them all; returns the exit code.
+
+        Parameters
+        ----------
+        duration : float, optional
+            Wall-clock seconds after which the graph is stopped (None: until a node with
+            ``on_exit: shutdown`` finishes, every node has finished, a node dies, or SIGINT/SIGTERM).
+        """
+        previous = {sig: signal.signal(sig, lambda *_: self.request_stop(0, "interrupted")) for sig in
+                    (signal.SIGINT, signal.SIGTERM)}
+        with tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
+            processes = [
+                _Process(spec, [str(exe), *spec.arguments,
+                                *ros_arguments(spec, self.overrides, Path(parameter_dir), self.global_parameters)])
+                for spec, exe in zip(self.graph.nodes, self._executables)]
+            try:
+                for process in processes:
+                    self._start(process)
+                self._supervise(processes, duration)
+            finally:
+                self._stop_all(processes)
+                for sig, handler in previous.items():
+                    signal.signal(sig, handler)
+        code, reason = self._stop_reason or (0, "")
+        if code:
+            raise LaunchFailure(reason)
+        if reason:
+            self._say("hawt launch", f"stopped: {reason}")
+        return code
+
+    def _supervise(self, processes: List[_Process], duration: Optional[float]) -> None:
+        deadline = None if duration is None else time.monotonic() + duration
+        while self._stop_reason is None:
+            now = time.monotonic()
+            for process in processes:
+                if not process.finished and process.popen.poll() is not None:
+                    self._on_exit(process, now)
+                if process.restart_at is not None and now >= process.restart_at and self._stop_reason is None:
+                    self._start(process)
+            if all(p.finished and p.restart_at is None for p in processes):
+                self.request_stop(0, "every node finished")
+            elif deadline is not None and now >= deadline:
+                self.request_stop(0, f"duration of {duration:g} s reached")
+            time.sleep(0.02)
+
+    def _stop_all(self, processes: List[_Process]) -> None:
+        """SIGINT every process group, then SIGTERM after its sigterm_timeout, then SIGKILL."""
+        live = [p for p in processes if p.popen is not None and p.popen.poll() is None]
+        for sig, timeout in ((signal.SIGINT, None), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
+            for process in live:
+                try:
+                    os.killpg(process.popen.pid, sig)
+                except ProcessLookupError:
+                    pass
+            end = time.monotonic() + (timeout if timeout is not None else
+                                      max((p.spec.sigterm_timeout for p in live), default=0.0))
+            while time.monotonic() < end and any(p.popen.poll() is None for p in live):
+                time.sleep(0.02)
+            live = [p for p in live if p.popen.poll() is None]
+            if not live:
+                break
+            if sig != signal.SIGKILL:
+                self._say("hawt launch", f"{', '.join(p.spec.label for p in live)} did not stop on "
+                                         f"{sig.name}; escalating")
+        for process in processes:
+            if process.popen is not None:
+                process.popen.wait()
+                if process.pump is not None:
+                    process.pump.join(timeout=2.0)
+
+
+def _node_class(graph: Graph, spec: NodeSpec) -> type:
+    """The node class behind an executable, from its console-script entry point's ``node_class``."""
+    where = f"{graph.path}:{spec.line}"
+    try:
+        entry_points = importlib.metadata.distribution(spec.package.replace("_", "-")).entry_points
+    except importlib.metadata.PackageNotFoundError:
+        raise GraphError(f"{where}: node {spec.name!r}: package {spec.package!r} is not a Python package "
+                         "and cannot run composed") from None
+    for entry_point in entry_points:
+        if entry_point.group == "console_scripts" and entry_point.name == spec.executable:
+            node_class = getattr(entry_point.load(), "node_class", None)
+            if node_class is None:
+                break
+            return node_class
+    raise GraphError(f"{where}: node {spec.name!r}: executable {spec.executable!r} of {spec.package!r} "
+                     "cannot run composed (its entry point has no node_class)")
+
+
+def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] = None,
+                 global_parameters: Mapping[str, object] = (), events_executor: bool = False) -> int:
+    """Run every node of the graph in this process on one executor; returns the exit code.
+
+    Stops when a node with ``on_exit: shutdown`` is done, after ``duration`` wall
+    seconds, or on SIGINT/SIGTERM.
+    """
+    classes = [_node_class(graph, spec) for spec in graph.nodes]
+    for spec in graph.nodes:
+        executable_path(graph, spec)
+    with tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
+        try:
+            with rclpy.init():
+                nodes = [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
+                         for spec, node_class in zip(graph.nodes, classes)]
+                executor = (EventsExecutor if events_executor else SingleThreadedExecutor)()
+                until = first_done([n for n, s in zip(nodes, graph.nodes) if s.shutdown_on_exit])
+                try:
+                    spin_nodes(executor, nodes, until, timeout=duration)
+                finally:
+                    executor.shutdown()
+                    for node in nodes:
+                        node.destroy_node()
+        except (KeyboardInterrupt, ExternalShutdownException):
+            pass
+    return 0

@@ -1,0 +1,71 @@
+"""How a hawt node process starts, spins and stops.
+
+Every node executable's ``main`` calls :func:`run_node` with the node's class. The
+same class runs in a process of its own (``hawt launch``) or beside others on one
+executor (``hawt launch --composed``): it takes the keyword arguments of
+``rclpy.node.Node`` (``context``, ``cli_args``) and never owns the process.
+
+A node that ends by itself (a plant that reached its duration, a source that sent
+its count) exposes ``done``, an ``rclpy.task.Future``; the process then exits 0
+when it completes, so that ``on_exit: shutdown`` in a graph ends the whole run.
+"""
+from typing import Callable, List, Optional, Sequence
+
+import rclpy
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.task import Future
+
+__all__ = ["run_node", "node_entry_point", "spin_nodes", "first_done"]
+
+NodeFactory = Callable[..., Node]
+
+
+def first_done(nodes: Sequence[Node]) -> Optional[Future]:
+    """A future that completes when the first of the nodes' ``done`` futures does (None if no node has one)."""
+    futures = [node.done for node in nodes if isinstance(getattr(node, "done", None), Future)]
+    if not futures:
+        return None
+    any_done = Future()
+    for future in futures:
+        future.add_done_callback(lambda _f: any_done.done() or any_done.set_result(True))
+    return any_done
+
+
+def spin_nodes(executor, nodes: Sequence[Node], until: Optional[Future] = None,
+               timeout: Optional[float] = None) -> None:
+    """Spin the nodes on the executor until ``until`` completes or ``timeout`` seconds pass (both None: forever)."""
+    for node in nodes:
+        executor.add_node(node)
+    if until is None and timeout is None:
+        executor.spin()
+    else:
+        executor.spin_until_future_complete(until or Future(), timeout_sec=timeout)
+
+
+def run_node(node_class: NodeFactory, args: Optional[List[str]] = None) -> None:
+    """Run one node in this process until it is done, interrupted or shut down.
+
+    It uses the default context: rclpy's SIGINT handler wakes only the default
+    context's executors (a node on a context of its own would sleep through Ctrl-C).
+    """
+    try:
+        with rclpy.init(args=args):
+            node = node_class()
+            executor = SingleThreadedExecutor()
+            try:
+                spin_nodes(executor, [node], first_done([node]))
+            finally:
+                executor.shutdown()
+                node.destroy_node()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+
+
+def node_entry_point(node_class: NodeFactory) -> Callable[[Optional[List[str]]], None]:
+    """The ``main`` of a node executable; it carries ``node_class`` so ``hawt launch --composed`` can compose it."""
+    def main(args: Optional[List[str]] = None) -> None:
+        run_node(node_class, args)
+
+    main.node_class = node_class
+    return main

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# One idempotent set-up: virtual environment with pinned ROS 2 Kilted wheels, the fixes of
+# DESIGN.md §2, and a colcon build of the workspace into ros2_ws/. Called by ./hawt; a run with
+# nothing changed only compares two stamps. Fails loudly, naming the step and what is missing.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="$ROOT/.venv"
+WS="$ROOT/ros2_ws"
+PY="${HAWT_PYTHON:-python3.11}"
+
+fail() { echo "hawt setup: $*" >&2; exit 1; }
+say() { [ -n "${HAWT_QUIET_SETUP:-}" ] || echo "hawt setup: $*" >&2; }
+
+# Hash of the files a step depends on; a step reruns only when its hash changes.
+digest() { (cd "$ROOT" && sha256sum "$@" | sha256sum | cut -c1-16); }
+
+check_tools() {
+  command -v "$PY" >/dev/null || fail "no $PY on PATH (the ROS 2 Kilted wheels are built for CPython 3.11)"
+  command -v cmake >/dev/null || fail "no cmake on PATH (needed to build hawt_msgs); install it with: apt-get install cmake"
+  command -v g++ >/dev/null || fail "no g++ on PATH (needed to build hawt_msgs); install it with: apt-get install g++"
+}
+
+install_python_packages() {
+  local want have=""
+  want="$(digest requirements.txt requirements-lock.txt)"
+  [ -f "$VENV/.hawt-requirements" ] && have="$(cat "$VENV/.hawt-requirements")"
+  [ "$want" = "$have" ] && return 0
+  check_tools
+  if [ ! -x "$VENV/bin/python" ]; then
+    say "creating the virtual environment in .venv"
+    "$PY" -m venv "$VENV" || fail "could not create the virtual environment with $PY -m venv"
+  fi
+  say "installing pinned packages (requirements.txt, constrained by requirements-lock.txt)"
+  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
+      -r "$ROOT/requirements.txt" -c "$ROOT/requirements-lock.txt" 2> >(grep -v "is ignored: it is neither" >&2) \
+    || fail "pip could not install requirements.txt (see the pip error above)"
+  rewrite_wheel_cmake_paths
+  echo "$want" > "$VENV/.hawt-requirements"
+}
+
+# The wheels' CMake export files name the wheel builder's include dirs (DESIGN.md §2);
+# point them at this interpreter's Python and numpy headers so rosidl's Python generator builds.
+rewrite_wheel_cmake_paths() {
+  local py_inc np_inc
+  py_inc="$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')"
+  np_inc="$("$VENV/bin/python" -c 'import numpy; print(numpy.get_include())')"
+  [ -f "$py_inc/Python.h" ] || fail "no Python.h in $py_inc: install the Python 3.11 development headers"
+  { grep -rl --include='*.cmake' '/opt/python/cp311-cp311' "$VENV/share" || true; } | while read -r f; do
+    sed -i "s#/opt/python/cp311-cp311/include/python3.11#$py_inc#g;
+            s#/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include#$np_inc#g" "$f"
+  done
+}
+
+build_workspace() {
+  local want have="" files
+  # Python packages are installed as links to their sources (--symlink-install), so only build
+  # files, interface definitions and data decide whether colcon has to run again.
+  files=$(cd "$ROOT" && find "${PACKAGES[@]}" -type f \
+            \( -name '*.msg' -o -name '*.srv' -o -name 'CMakeLists.txt' -o -name 'package.xml' \
+               -o -name 'setup.py' -o -name 'setup.cfg' -o -path '*/resource/*' -o -path '*/launch/*' \
+               -o -path '*/config/*' \) | sort)
+  want="$(digest $files)"
+  [ -f "$WS/.hawt-build" ] && have="$(cat "$WS/.hawt-build")"
+  [ "$want" = "$have" ] && [ -d "$WS/install" ] && return 0
+  check_tools
+  say "building the workspace with colcon (ros2_ws/)"
+  (
+    cd "$ROOT"
+    export PATH="$VENV/bin:$PATH" AMENT_PREFIX_PATH="$VENV" CMAKE_PREFIX_PATH="$VENV"
+    unset COLCON_PREFIX_PATH
+    "$VENV/bin/colcon" --log-base "$WS/log" build --base-paths "${PACKAGES[@]}" \
+        --build-base "$WS/build" --install-base "$WS/install" --symlink-install \
+        --event-handlers console_cohesion- summary- status- \
+        --cmake-args -DPython3_EXECUTABLE="$VENV/bin/python" -DBUILD_TESTING=OFF \
+      > "$WS/build.log" 2>&1
+  ) || { tail -n 40 "$WS/build.log" >&2; fail "colcon build failed (full log: ros2_ws/build.log)"; }
+  echo "$want" > "$WS/.hawt-build"
+}
+
+mkdir -p "$WS"
+# Every top-level folder with a package.xml is a package of the workspace.
+mapfile -t PACKAGES < <(cd "$ROOT" && ls -d */package.xml | xargs -n1 dirname)
+install_python_packages
+build_workspace
