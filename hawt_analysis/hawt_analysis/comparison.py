@@ -61,14 +61,16 @@ def compare_summaries(summaries: Sequence[Mapping], labels: Sequence[str]) -> di
         exponents = {summary["del"][name]["m"] for summary in summaries}
         if len(exponents) > 1:
             raise ValueError(f"{name}: Wöhler exponent differs between runs ({sorted(exponents)})")
-        loads[name] = _series([summary["del"][name]["value"] for summary in summaries]) | {"m": exponents.pop()}
+        values = [summary["del"][name]["value"] for summary in summaries]
+        loads[name] = _series(values) | {"m": exponents.pop()}
     harmonics = {}
     for name in _common(summaries, "harmonics"):
         amplitudes = [summary["harmonics"][name]["amplitude"] for summary in summaries]
+        changes_per_harmonic = [change_percent(per_run) for per_run in zip(*amplitudes)]
         harmonics[name] = {
             "n": summaries[0]["harmonics"][name]["n"],
             "amplitude": amplitudes,
-            "change_percent": [list(run) for run in zip(*(change_percent(per_n) for per_n in zip(*amplitudes)))],
+            "change_percent": [list(per_harmonic) for per_harmonic in zip(*changes_per_harmonic)],
         }
     pitch = None
     if all(summary["pitch"] is not None for summary in summaries):

@@ -188,7 +188,9 @@ def damage_equivalent_load(
     if not duration > 0.0:
         raise ValueError(f"duration: expected a positive record length in s, found {duration}")
     if not equivalent_frequency > 0.0:
-        raise ValueError(f"equivalent_frequency: expected a positive frequency in Hz, found {equivalent_frequency}")
+        raise ValueError(
+            f"equivalent_frequency: expected a positive frequency in Hz, found {equivalent_frequency}"
+        )
     cycles = rainflow_cycles(signal, nbins, name=name)
     n_eq = equivalent_frequency * duration
     largest = cycles.ranges.max(initial=0.0)
@@ -198,4 +200,6 @@ def damage_equivalent_load(
         damage_sum = np.sum(cycles.counts * (cycles.ranges / largest) ** m)
         value = float(largest * (damage_sum / n_eq) ** (1.0 / m))
     convention = CONVENTION if nbins is None else f"{CONVENTION}; ranges binned to {nbins} bins (upper edges)"
-    return DamageEquivalentLoad(value=value, m=float(m), n_eq=float(n_eq), n_cycles=cycles.n_cycles, convention=convention)
+    return DamageEquivalentLoad(
+        value=value, m=float(m), n_eq=float(n_eq), n_cycles=cycles.n_cycles, convention=convention
+    )

@@ -80,7 +80,10 @@ def harmonic_amplitudes(
     the revolution when the samples are uniform in azimuth.
     """
     single = np.ndim(signals) == 1
-    values = finite_array(name, signals, ndim=1)[:, None] if single else finite_array(name, signals, ndim=2, columns="channels")
+    if single:
+        values = finite_array(name, signals, ndim=1)[:, None]
+    else:
+        values = finite_array(name, signals, ndim=2, columns="channels")
     psi = finite_array("azimuth", azimuth, ndim=1)
     same_length(name, values, psi.size, "azimuth")
     orders = np.asarray(harmonics, dtype=int)
@@ -92,7 +95,9 @@ def harmonic_amplitudes(
     revolution = np.floor(turns).astype(int)
     n_revolutions = int(revolution[-1])
     if n_revolutions < 1:
-        raise ValueError(f"azimuth: record covers {turns[-1]:.2f} revolutions; harmonics need a whole revolution")
+        raise ValueError(
+            f"azimuth: record covers {turns[-1]:.2f} revolutions; harmonics need a whole revolution"
+        )
     boundaries = np.searchsorted(revolution, np.arange(n_revolutions + 1))
     n_columns = 2 + 2 * orders.size
     fewest = max(n_columns + 1, 2 * int(orders.max()) + 1)
@@ -105,7 +110,8 @@ def harmonic_amplitudes(
         )
 
     angle = psi[:, None] * orders[None, :]
-    basis = np.hstack((np.ones((psi.size, 1)), (turns - revolution - 0.5)[:, None], np.cos(angle), np.sin(angle)))
+    trend = (turns - revolution - 0.5)[:, None]
+    basis = np.hstack((np.ones_like(trend), trend, np.cos(angle), np.sin(angle)))
     coefficients = np.empty((n_revolutions, n_columns, values.shape[1]))
     for r in range(n_revolutions):
         rows = slice(boundaries[r], boundaries[r + 1])

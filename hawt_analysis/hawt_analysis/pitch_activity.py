@@ -124,7 +124,8 @@ def pitch_activity(
         sample_rate = (t.size - 1) / (t[-1] - t[0])
         if not 0.0 < lowpass_cutoff < 0.5 * sample_rate:
             raise ValueError(
-                f"lowpass_cutoff: expected 0 < cut-off < Nyquist {0.5 * sample_rate:g} Hz, found {lowpass_cutoff}"
+                f"lowpass_cutoff: expected 0 < cut-off < Nyquist {0.5 * sample_rate:g} Hz, "
+                f"found {lowpass_cutoff}"
             )
         sos = sps.butter(2, lowpass_cutoff, fs=sample_rate, output="sos")
         theta = sps.sosfiltfilt(sos, theta, axis=0)

@@ -96,18 +96,24 @@ def plot_spectra(
     """
     record = make_record(channels)
     fields = _fields(record, tuple(name for name, _ in FATIGUE_CHANNELS) + ("pitch",))
-    harmonic_frequencies = rotor_harmonic_frequencies(float(record.scalars["rotor_speed"].mean()), options.harmonics)
-    upper = 1.25 * harmonic_frequencies.max() if harmonic_frequencies.max() > 0.0 else 0.5 * record.sample_rate
+    mean_speed = float(record.scalars["rotor_speed"].mean())
+    harmonic_frequencies = rotor_harmonic_frequencies(mean_speed, options.harmonics)
+    highest = harmonic_frequencies.max()
+    upper = 1.25 * highest if highest > 0.0 else 0.5 * record.sample_rate
     figure = Figure(figsize=(10, 2.0 * max(len(fields), 1) + 0.6), layout="constrained")
     axes = figure.subplots(max(len(fields), 1), 1, sharex=True, squeeze=False)[:, 0]
     for ax, (name, values) in zip(axes, fields):
         factor, quantity, unit = _DISPLAY[name]
         for column in range(values.shape[1]):
-            spectrum = power_spectrum(factor * values[:, column], record.sample_rate, options.psd_segment_duration)
+            spectrum = power_spectrum(
+                factor * values[:, column], record.sample_rate, options.psd_segment_duration
+            )
             ax.semilogy(spectrum.frequency, spectrum.density, lw=0.7, label=_line_label(name, column))
         for n, frequency in zip(options.harmonics, harmonic_frequencies):
             ax.axvline(frequency, color="grey", ls="--", lw=0.6)
-            ax.annotate(f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small", va="bottom")
+            ax.annotate(
+                f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small", va="bottom"
+            )
         ax.set_ylabel(f"PSD {quantity}\n[{unit}²/Hz]")
         if values.shape[1] > 1:
             ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
@@ -138,7 +144,9 @@ def plot_comparison(comparison: Mapping, path: Path) -> Path:
     """
     rows = [(f"DEL {name}", entry["change_percent"]) for name, entry in comparison["del"].items()]
     if comparison["pitch"] is not None:
-        rows += [(f"pitch {metric}", entry["change_percent"]) for metric, entry in comparison["pitch"].items()]
+        rows += [
+            (f"pitch {metric}", entry["change_percent"]) for metric, entry in comparison["pitch"].items()
+        ]
     runs = comparison["labels"][1:]
     figure = Figure(figsize=(9, 0.35 * len(rows) * max(len(runs), 1) + 1.5), layout="constrained")
     ax = figure.subplots()
@@ -146,10 +154,14 @@ def plot_comparison(comparison: Mapping, path: Path) -> Path:
     positions = np.arange(len(rows))
     for k, label in enumerate(runs):
         changes = [np.nan if change[k + 1] is None else change[k + 1] for _, change in rows]
-        ax.barh(positions + k * height, changes, height=height, label=label)
+        bars = ax.barh(positions + k * height, changes, height=height, label=label)
+        ax.bar_label(bars, fmt="%+.1f", fontsize="x-small", padding=2)
     ax.set_yticks(positions + 0.5 * height * (len(runs) - 1), [name for name, _ in rows])
     ax.invert_yaxis()
     ax.axvline(0.0, color="black", lw=0.8)
+    low, high = ax.get_xlim()
+    pad = 0.12 * (high - low)
+    ax.set_xlim(low - pad, high + pad)
     ax.set_xlabel(f"change against {comparison['reference']} [%]")
     ax.grid(alpha=0.3, axis="x")
     if runs:
@@ -158,7 +170,10 @@ def plot_comparison(comparison: Mapping, path: Path) -> Path:
 
 
 def write_report(
-    channels: Mapping[str, ArrayLike], summary: Mapping, directory: Path, options: AnalysisOptions = AnalysisOptions()
+    channels: Mapping[str, ArrayLike],
+    summary: Mapping,
+    directory: Path,
+    options: AnalysisOptions = AnalysisOptions(),
 ) -> list[Path]:
     """Write ``time_series.png``, ``spectra.png`` and ``del.png`` into ``directory``; return their paths."""
     directory = Path(directory)

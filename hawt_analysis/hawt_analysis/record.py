@@ -152,5 +152,7 @@ def make_record(channels: Mapping[str, ArrayLike]) -> Record:
     if len(set(blade_counts.values())) > 1:
         first = next(iter(blade_counts))
         odd = next(name for name, count in blade_counts.items() if count != blade_counts[first])
-        raise ValueError(f"{odd}: expected B={blade_counts[first]} blades like {first}, found {blade_counts[odd]}")
+        raise ValueError(
+            f"{odd}: expected B={blade_counts[first]} blades like {first}, found {blade_counts[odd]}"
+        )
     return Record(time=time, scalars=MappingProxyType(scalars), per_blade=MappingProxyType(per_blade))

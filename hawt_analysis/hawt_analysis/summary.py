@@ -107,14 +107,13 @@ def summarize(channels: Mapping[str, ArrayLike], options: AnalysisOptions = Anal
     loads = load_channels(record)
     analysed = analysed_channels(record)
     rotor_speed = record.scalars["rotor_speed"]
-    rotor_frequency = float(rotor_speed.mean()) / (2.0 * np.pi)
     return {
         "duration_s": record.duration,
         "sample_rate_hz": record.sample_rate,
         "n_blades": record.n_blades,
         "del": _damage_equivalent_loads(loads, record.duration, options),
         "harmonics": _harmonics(analysed, record.scalars["azimuth"], options.harmonics),
-        "psd": _spectra(analysed, record.sample_rate, rotor_frequency, options),
+        "psd": _spectra(analysed, record.sample_rate, float(rotor_speed.mean()), options),
         "pitch": _pitch(record, options),
         "rotor_speed": {"mean": float(rotor_speed.mean()), "std": float(rotor_speed.std())},
         "power": (
@@ -160,8 +159,9 @@ def _harmonics(analysed: dict[str, np.ndarray], azimuth: np.ndarray, harmonics: 
 
 
 def _spectra(
-    analysed: dict[str, np.ndarray], sample_rate: float, rotor_frequency: float, options: AnalysisOptions
+    analysed: dict[str, np.ndarray], sample_rate: float, mean_rotor_speed: float, options: AnalysisOptions
 ) -> dict:
+    rotor_frequency = float(rotor_harmonic_frequencies(mean_rotor_speed, (1,))[0])
     peaks = {}
     resolution = None
     for name, values in analysed.items():
@@ -175,7 +175,7 @@ def _spectra(
         "segment_duration_s": None if resolution is None else 1.0 / resolution,
         "frequency_resolution_hz": resolution,
         "rotor_frequency_hz": rotor_frequency,
-        "harmonic_frequencies_hz": rotor_harmonic_frequencies(2.0 * np.pi * rotor_frequency, options.harmonics).tolist(),
+        "harmonic_frequencies_hz": rotor_harmonic_frequencies(mean_rotor_speed, options.harmonics).tolist(),
         "peaks": peaks,
     }
 
@@ -202,7 +202,9 @@ def _pitch(record: Record, options: AnalysisOptions) -> dict | None:
 
 
 def _conventions(options: AnalysisOptions) -> dict:
-    binning = "none" if options.rainflow_bins is None else f"{options.rainflow_bins} bins, ranges at upper bin edges"
+    binning = "none"
+    if options.rainflow_bins is not None:
+        binning = f"{options.rainflow_bins} bins, ranges at upper bin edges"
     return {
         "units": "SI: moments N*m, angles rad, rates rad/s and rad/s^2, power W, time s, frequency Hz; "
         "PSD in (channel unit)^2/Hz",
@@ -213,11 +215,12 @@ def _conventions(options: AnalysisOptions) -> dict:
         "equivalent_frequency_hz": options.equivalent_frequency,
         "del": FATIGUE_CONVENTION,
         "wohler_m": {"blade_root": options.wohler.blade_root, "steel": options.wohler.steel},
-        "harmonics": "least-squares fit of mean, linear trend, cos(n psi) and sin(n psi) per whole revolution "
-        "of the azimuth psi; amplitude = |mean over revolutions of (a_n - i b_n)| (periodic part), "
+        "harmonics": "least-squares fit of mean, linear trend, cos(n psi) and sin(n psi) per whole "
+        "revolution of the azimuth psi; amplitude = |mean over revolutions of (a_n - i b_n)| (periodic part), "
         "amplitude_per_revolution_rms = sqrt(mean of a_n^2 + b_n^2)",
-        "psd": "Welch, Hann window, 50% overlap, segment means removed, one-sided density; peaks ranked by "
-        "prominence in decades (>= 0.3), labelled nP within 1.5 frequency bins of n * mean rotor frequency",
+        "psd": "Welch, Hann window, 50% overlap, segment means removed, one-sided density; peaks = local "
+        "maxima of log10(PSD) whose prominence within +-10 bins is >= max(0.3 decade, 7 robust standard "
+        "deviations of the log-PSD scatter), strongest first; labelled n (nP) within 1.5 bins of n * 1P",
         "pitch": pitch_activity_convention(options.pitch_rate_threshold, options.pitch_lowpass_cutoff),
         "rotor_speed": "mean and population standard deviation over the record",
     }
