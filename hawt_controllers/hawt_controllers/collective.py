@@ -379,7 +379,9 @@ class BaselineCollectiveController:
         self.speed_filter.reset(generator_speed)
         self.pitch_command = pitch
         self.pitch_integrator.reset(pitch / gain_correction_factor(pitch, self.config.gain_doubling_pitch))
-        self.torque_command = None if generator_torque is None else float(finite_array("generator_torque", generator_torque))
+        self.torque_command = None
+        if generator_torque is not None:
+            self.torque_command = float(finite_array("generator_torque", generator_torque))
 
     def step(self, generator_speed: float, measured_pitch: float, dt: float) -> CollectiveOutput:
         """Advance the controller by one sample.

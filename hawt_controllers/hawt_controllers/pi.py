@@ -119,7 +119,8 @@ class GainSchedule:
         n = len(self.breakpoints)
         for name in ("kp", "ki"):
             if len(getattr(self, name)) != n:
-                raise ConfigurationError(name, f"expected {n} values like breakpoints, found {len(getattr(self, name))}")
+                found = len(getattr(self, name))
+                raise ConfigurationError(name, f"expected {n} values like breakpoints, found {found}")
         if np.any(np.diff(self.breakpoints) <= 0):
             raise ConfigurationError("breakpoints", "must be strictly increasing")
 

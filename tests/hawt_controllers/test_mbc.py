@@ -143,7 +143,7 @@ def test_phase_offset_rotates_the_cos_sin_plane_by_minus_the_offset(harmonic):
 
 
 def test_phase_offset_of_nineteen_degrees_is_a_static_rotation():
-    """Offset in the inverse = rotation matrix [[cos, sin], [−sin, cos]] with (0.945519, 0.325568) at 19° (Disario A2)."""
+    """An inverse offset of 19° is the rotation [[cos, sin], [−sin, cos]] = (0.945519, 0.325568) (Disario A2)."""
     psi = np.linspace(0, 2 * np.pi, 11)
     unit_cos = mbc_forward(mbc_inverse(1.0, 0.0, psi, 1, 3, phase_offset=math.radians(19)), psi, 1)
     np.testing.assert_allclose(unit_cos.cos, 0.945519, atol=1e-6)
