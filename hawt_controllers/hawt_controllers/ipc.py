@@ -61,6 +61,8 @@ from .saturation import NormSaturation
 
 __all__ = ["HarmonicIpc", "HarmonicIpcConfig", "IpcOutput", "soft_start_factor"]
 
+_DT_TOLERANCE = 0.01  # relative change of dt that triggers a filter redesign
+
 
 def soft_start_factor(value: float, begin: float, end: float) -> float:
     """Cubic ramp from 0 at ``begin`` to 1 at ``end`` with zero slope at both ends.
@@ -284,8 +286,9 @@ class HarmonicIpc:
     config : HarmonicIpcConfig
         Parameters; validated with ``dt``.
     dt : float
-        Sample time the pre-filter is designed for [s]. A different ``dt`` in
-        :meth:`step` redesigns the filter (its output carried over).
+        Sample time the pre-filter is designed for [s]. A ``dt`` in :meth:`step`
+        more than 1 % away redesigns the filter (its output carried over);
+        closer ones (wall-clock jitter) only enter the integration.
 
     Attributes
     ----------
@@ -348,12 +351,21 @@ class HarmonicIpc:
             self.prefilter.reset(values)
         self._filtered = values.copy()
 
-    def activate(self, ramp_time: float | None = None) -> None:
+    def activate(self, ramp_time: float | None = None, initial: tuple[float, float] | None = None) -> None:
         """Start ramping the output in over ``ramp_time`` [s] (default ``config.ramp_time``).
 
-        From the fully inactive state the integrator starts at zero.
+        Parameters
+        ----------
+        ramp_time : float, optional
+            Duration of the ramp 0 → 1 [s]; 0 switches on at once.
+        initial : (float, float), optional
+            Tracked integrator state (c_n, s_n) [rad] to start from; by default
+            a controller that is fully off starts from zero, and one still
+            ramping out keeps its state.
         """
-        if self.ramp == 0.0 and self.ramp_target == 0.0:
+        if initial is not None:
+            self.law.reset(finite_array("initial", initial, shape=(2,)))
+        elif self.ramp == 0.0 and self.ramp_target == 0.0:
             self.law.reset(0.0)
         self.ramp_target = 1.0
         self.ramp_rate = self._rate(ramp_time)
@@ -401,7 +413,7 @@ class HarmonicIpc:
             )
         if math.isnan(pitch_headroom):
             raise InputError("pitch_headroom", "must not be NaN")
-        if not math.isclose(dt, self.dt, rel_tol=1e-9):
+        if not math.isclose(dt, self.dt, rel_tol=_DT_TOLERANCE):
             self._redesign(dt)
         self._filtered = moments if self.prefilter is None else self.prefilter.step(moments)
 

@@ -123,6 +123,22 @@ def test_ramp_in_starts_from_zero_and_grows_linearly():
     assert ramps[-1] == 1.0 and ipc.active
 
 
+def test_activation_from_a_tracked_state_starts_there():
+    """activate(initial=(c, s)) with an immediate ramp continues from the tracked demand."""
+    ipc = HarmonicIpc(PURE_I, DT)
+    ipc.activate(ramp_time=0.0, initial=(0.01, 0.02))
+    out = ipc.step(0.0, 0.0, DT)
+    assert (out.cos, out.sin) == (0.01, 0.02)
+
+
+def test_time_step_jitter_does_not_redesign_the_filter():
+    """A dt within 1 % of the design dt keeps the filter (and its coefficients)."""
+    ipc = _running(HarmonicIpcConfig(harmonic=1))
+    sos = ipc.prefilter.sos
+    ipc.step(1.0, 0.0, DT * 1.005)
+    assert ipc.dt == DT and ipc.prefilter.sos is sos
+
+
 def test_reset_with_an_initial_demand_is_bumpless():
     """reset(initial=(c, s)) with zero moments gives exactly (c, s) on the next step."""
     ipc = _running(dataclasses.replace(PURE_I, lowpass_order=2))
