@@ -73,15 +73,15 @@ class HarmonicComponents(NamedTuple):
     sin: np.ndarray
 
 
-def check_configuration(n_blades: int, harmonic: int) -> None:
+def check_configuration(harmonic: int, n_blades: int) -> None:
     """Refuse a blade count or harmonic the transform cannot honour.
 
     Parameters
     ----------
-    n_blades : int
-        Number of blades B; must be >= 3.
     harmonic : int
         Harmonic number n; must be an integer >= 1.
+    n_blades : int
+        Number of blades B; must be >= 3.
 
     Raises
     ------
@@ -116,7 +116,7 @@ def harmonic_rank(harmonic: int, n_blades: int) -> int:
     >>> harmonic_rank(1, 3), harmonic_rank(3, 3), harmonic_rank(2, 4)
     (2, 1, 1)
     """
-    check_configuration(n_blades, harmonic)
+    check_configuration(harmonic, n_blades)
     return 1 if (2 * harmonic) % n_blades == 0 else 2
 
 
@@ -183,7 +183,7 @@ def mbc_forward(blade_values: ArrayLike, azimuth: ArrayLike, harmonic: int) -> H
     if values.ndim < 1:
         raise InputError("blade_values", "expected blades on the last axis, found a scalar")
     n_blades = values.shape[-1]
-    check_configuration(n_blades, harmonic)
+    check_configuration(harmonic, n_blades)
     psi = finite_array("azimuth", azimuth)
     if psi.shape != values.shape[:-1]:
         raise InputError("azimuth", f"expected shape {values.shape[:-1]} to match blade_values, found {psi.shape}")
@@ -233,7 +233,7 @@ def mbc_inverse(
     delay τ between command and blade, at rotor speed Ω, rotates by −nΩτ, so
     φ_n = nΩτ compensates it (see :func:`hawt_controllers.ipc_tuning.phase_offset_for_delay`).
     """
-    check_configuration(n_blades, harmonic)
+    check_configuration(harmonic, n_blades)
     c = finite_array("cos", cos)
     s = finite_array("sin", sin)
     psi = finite_array("azimuth", azimuth)
