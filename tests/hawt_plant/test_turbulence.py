@@ -32,9 +32,9 @@ def _random_wind(n_t=6, n_z=4, n_y=5, periodic=True, x_offset=0.0, seed=0) -> Tu
 
 @pytest.fixture(scope="module")
 def unscaled_fields() -> list[np.ndarray]:
-    """600 s, 3 x 3 fields for seeds 0..7, without hub sigma scaling (raw pyconturb)."""
+    """600 s, 3 x 3 fields for seeds 0..15, without hub sigma scaling (raw pyconturb)."""
     return [generate_turbulence(_small_spec(seed=seed, duration=600.0, scale_to_hub_sigma=False)).velocity_grid
-            for seed in range(8)]
+            for seed in range(16)]
 
 
 def test_importing_turbulence_does_not_import_rclpy():
@@ -67,14 +67,14 @@ def test_hub_mean_and_sigmas_match_ntm_over_600_s(turbulence_class):
 
 
 def test_unscaled_hub_sigma_matches_ntm_on_average_over_seeds(unscaled_fields):
-    """Without hub scaling, the 600 s hub sigma_u averaged over 8 seeds is sigma_1 within 5 %."""
+    """Without hub scaling, the 600 s hub sigma_u averaged over 16 seeds is sigma_1 within 5 %."""
     sigmas = [field[:, 1, 1, 0].std() for field in unscaled_fields]
     assert np.mean(sigmas) == pytest.approx(ntm_standard_deviation(RATED_SPEED, "A"), rel=0.05)
 
 
 @pytest.mark.parametrize("row, height", [(1, 90.0), (0, 30.0)])
 def test_u_spectrum_follows_kaimal_from_0_01_to_1_hz(unscaled_fields, row, height):
-    """Welch PSD of u (8 seeds), in 6 log bands over 0.01-1 Hz, is the Kaimal shape within 20 %.
+    """Welch PSD of u (16 seeds), in 6 log bands over 0.01-1 Hz, is the Kaimal shape within 15 %.
 
     IEC Kaimal: S(f) = 4 sigma_1^2 (L/V) / (1 + 6 f L/V)^(5/3), L = 8.1 Lambda_1(z_hub) = 340.2 m
     at every height (also at 30 m). A 600 s record has no variance below 1/600 Hz, so the
@@ -88,12 +88,12 @@ def test_u_spectrum_follows_kaimal_from_0_01_to_1_hz(unscaled_fields, row, heigh
     resolved = np.arange(1, 6001) / 600.0
     level = sigma**2 / (kaimal(resolved).sum() / 600.0)
     freq, psd = scipy.signal.welch(np.stack([f[:, row, 1, 0] for f in unscaled_fields]).astype(float),
-                                   fs=20.0, nperseg=2048)
+                                   fs=20.0, nperseg=4096)
     edges = np.logspace(-2.0, 0.0, 7)
     for low, high in zip(edges[:-1], edges[1:]):
         band = (freq >= low) & (freq < high)
         ratio = psd[:, band].mean() / (level * kaimal(freq[band]).mean())
-        assert ratio == pytest.approx(1.0, abs=0.2), f"band {low:.3f}-{high:.3f} Hz at z={height} m"
+        assert ratio == pytest.approx(1.0, abs=0.15), f"band {low:.3f}-{high:.3f} Hz at z={height} m"
 
 
 def test_mean_profile_follows_power_law():
