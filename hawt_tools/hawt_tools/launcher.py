@@ -93,6 +93,12 @@ def _nest(values: Sequence[Tuple[str, object]]) -> Dict[str, object]:
     return tree
 
 
+def _typed(text: str) -> object:
+    """A command-line value with the type YAML gives it, as rcl types ``-p`` values ('' stays a string)."""
+    value = yaml.safe_load(text) if text else text
+    return text if value is None else value
+
+
 def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
                   global_parameters: Mapping[str, object] = ()) -> List[str]:
     """The ``--ros-args ...`` list of one node; inline parameters are written to files in ``parameter_dir``."""
@@ -108,11 +114,16 @@ def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
             path = parameter_dir / f"{spec.label.strip('/').replace('/', '__')}_{index}.yaml"
             path.write_text(yaml.safe_dump({"/**": {"ros__parameters": _nest(source.values)}}))
             arguments += ["--params-file", str(path)]
-    arguments += list(spec.ros_arguments)
     for source_name, target in spec.remaps:
         arguments += ["-r", f"{source_name}:={target}"]
-    for parameter, value in overrides.get(spec.label, []):
-        arguments += ["-p", f"{parameter}:={value}"]
+    arguments += list(spec.ros_arguments)
+    if spec.label in overrides:
+        # rcl lets a node's own entries beat '/**' ones, where '-p' lands; a last file keyed by
+        # the node's full name makes command-line overrides win over every file of the graph.
+        path = parameter_dir / f"{spec.label.strip('/').replace('/', '__')}_overrides.yaml"
+        values = [(name, _typed(value)) for name, value in overrides[spec.label]]
+        path.write_text(yaml.safe_dump({spec.label: {"ros__parameters": _nest(values)}}))
+        arguments += ["--params-file", str(path)]
     return arguments
 
 
