@@ -38,8 +38,8 @@ __all__ = [
 #: intensity at 15 m/s); anchor_windcontrol.md §3.7, pyconturb ``iec_sig``.
 REFERENCE_TURBULENCE_INTENSITY = MappingProxyType({"A": 0.16, "B": 0.14, "C": 0.12})
 
-_CACHE_FORMAT = 1  # bump when the cached array layout changes
-_FREQUENCY_CHUNK = 64  # frequencies per pyconturb coherence chunk: speed vs. memory (~70 MB at 11x11)
+_CACHE_FORMAT = 2  # bump when the cached array layout or the generation procedure changes
+_FREQUENCY_CHUNK = 64  # frequencies per pyconturb coherence chunk: speed vs. memory (~8 MB at 11x11)
 
 
 def ntm_standard_deviation(hub_speed: float, turbulence_class: str) -> float:
@@ -227,7 +227,7 @@ class TurbulentWind:
     def __init__(self, velocity: np.ndarray, *, time_step: float, grid_y: np.ndarray,
                  grid_z: np.ndarray, mean_speed: float, hub_height: float,
                  periodic: bool = True, x_offset: float = 0.0) -> None:
-        velocity = np.array(velocity, dtype=np.float32)  # own copy: made read-only below
+        velocity = np.asarray(velocity)
         grid_y = _even_grid(grid_y, "grid_y")
         grid_z = _even_grid(grid_z, "grid_z")
         if velocity.ndim != 4 or velocity.shape[1:] != (grid_z.size, grid_y.size, 3):
@@ -240,8 +240,6 @@ class TurbulentWind:
         if not (time_step > 0.0 and mean_speed > 0.0 and hub_height > 0.0):
             raise ValueError(f"time_step, mean_speed, hub_height: expected > 0, "
                              f"found {time_step}, {mean_speed}, {hub_height}")
-        self._velocity = velocity
-        self._velocity.flags.writeable = False
         self._grid_y, self._grid_z = grid_y, grid_z
         self._time_step = float(time_step)
         self._mean_speed = float(mean_speed)
@@ -250,9 +248,13 @@ class TurbulentWind:
         self._x_offset = float(x_offset)
 
         n_t, n_z, n_y, _ = velocity.shape
-        stored = np.concatenate((velocity, velocity[:1])) if periodic else velocity
-        self._nodes = np.ascontiguousarray(stored).reshape(-1, 3)  # rows ordered (t, z, y)
-        self._nodes.flags.writeable = False
+        # Own float32 copy; a periodic field stores sample 0 again after the last one.
+        stored = np.empty((n_t + self._periodic, n_z, n_y, 3), dtype=np.float32)
+        stored[:n_t] = velocity
+        stored[n_t:] = velocity[:1]  # empty slice unless periodic
+        stored.flags.writeable = False
+        self._velocity = stored[:n_t]
+        self._nodes = stored.reshape(-1, 3)  # rows ordered (t, z, y)
         t_cells = stored.shape[0] - 1
         self._period = t_cells * self._time_step
         # Fractional grid index of a point, per axis (t, z, y): (coordinate * scale + shift),
