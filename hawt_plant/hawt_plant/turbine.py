@@ -505,8 +505,9 @@ def _blade_aerodynamics(s: _Section, rotor: Rotor) -> BladeAerodynamics:
     length = rotor.tip_radius - rotor.hub_radius
     if abs(width.sum() - length) > 1e-3 * length:
         raise s.error("width", f"widths add up to {width.sum():.4f} m, the blade is {length:.4f} m long")
-    if span[0] < 0.0 or span[-1] > length:
-        raise s.error("span", f"expected values within the blade length 0..{length} m")
+    lower, upper = span - width / 2.0, span + width / 2.0
+    if lower[0] < -1e-3 or upper[-1] > length + 1e-3 or np.any(np.abs(upper[:-1] - lower[1:]) > 1e-3):
+        raise s.error("span", "expected each span at the middle of its element, elements tiling the blade")
     return BladeAerodynamics(
         span=span,
         width=width,

@@ -1,0 +1,51 @@
+"""Speed of the plant core: step time percentiles and real-time factor.
+
+Runs the NREL 5 MW model for 600 s of simulated time at 100 Hz (default) in steady sheared
+wind with tower shadow, commands held at the initial operating point, and prints the step
+time p50/p99 and the real-time factor (simulated time / wall time of the steps).
+
+Usage: .venv/bin/python benchmarks/bench_plant_core.py [--duration S] [--dt S] [--wind M/S]
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from hawt_plant.model import ModelConfig, TurbineModel
+from hawt_plant.shear_wind import PowerLawWind
+from hawt_plant.turbine import nrel_5mw
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=600.0, help="simulated time [s]")
+    parser.add_argument("--dt", type=float, default=0.01, help="plant step [s]")
+    parser.add_argument("--wind", type=float, default=11.4, help="hub wind speed [m/s]")
+    parser.add_argument("--shear", type=float, default=0.2, help="power-law exponent [-]")
+    args = parser.parse_args()
+
+    started = time.perf_counter()
+    model = TurbineModel(nrel_5mw(), PowerLawWind(args.wind, shear_exponent=args.shear), ModelConfig(dt=args.dt))
+    setup = time.perf_counter() - started
+    pitch, torque = model.output.pitch.copy(), model.output.generator_torque
+    steps = round(args.duration / args.dt)
+    durations = np.empty(steps)
+    clock = time.perf_counter_ns
+    for k in range(steps):
+        begin = clock()
+        model.step(pitch, torque)
+        durations[k] = clock() - begin
+    durations *= 1e-9
+    wall = float(durations.sum())
+    print(f"plant core, NREL 5 MW, {args.wind} m/s, shear {args.shear}, tower shadow, dt {args.dt} s")
+    print(f"model construction and operating point: {setup * 1e3:.1f} ms")
+    print(f"steps: {steps}  simulated: {steps * args.dt:.1f} s  wall: {wall:.2f} s")
+    print(f"step time p50: {np.percentile(durations, 50) * 1e6:.1f} us  "
+          f"p99: {np.percentile(durations, 99) * 1e6:.1f} us  mean: {durations.mean() * 1e6:.1f} us")
+    print(f"real-time factor: {steps * args.dt / wall:.1f}x")
+
+
+if __name__ == "__main__":
+    main()

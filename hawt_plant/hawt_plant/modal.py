@@ -1,0 +1,206 @@
+"""Generalized (modal) properties of the blade's first flap mode and the tower's first modes.
+
+The mode shapes are ElastoDyn's sixth-order polynomials phi(x) = sum_{k=2..6} c_k x^k with
+x the fraction of the beam length and phi(1) = 1 (Jonkman 2009 model files, BldFl1Sh,
+TwFAM1Sh, TwSSM1Sh). Generalized mass and stiffness follow the assumed-modes method as in
+ElastoDyn (Jonkman 2003, FAST theory): m = int mu phi^2, k = int EI phi''^2, the rotating
+blade adds the centrifugal stiffening int N(s) phi'^2 and the tower loses the gravity
+stiffness g int m_above(h) phi'^2. Integrals use the trapezoidal rule on a fine grid with
+linear interpolation of the distributed properties.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from hawt_plant.turbine import Turbine
+
+__all__ = [
+    "BladeModalProperties",
+    "TowerModalProperties",
+    "blade_modal_properties",
+    "polynomial_mode",
+    "tower_modal_properties",
+]
+
+_GRID_POINTS = 2001
+
+
+@dataclass(frozen=True)
+class BladeModalProperties:
+    """Mass moments and first-flap-mode integrals of one blade.
+
+    Distances ``s`` run along the blade from its root [m].
+
+    Attributes
+    ----------
+    mass : float
+        int mu ds [kg].
+    first_moment : float
+        int mu s ds [kg m]; ``first_moment / mass`` is the centre of mass from the root.
+    second_moment : float
+        int mu s^2 ds [kg m^2].
+    modal_mass : float
+        Generalized mass of the flap mode, int mu phi^2 ds [kg] (phi = 1 at the tip).
+    modal_first_moment : float
+        int mu phi ds [kg].
+    modal_moment_arm : float
+        int mu phi s ds [kg m].
+    stiffness : float
+        Generalized stiffness int EI phi''^2 ds [N/m].
+    centrifugal_stiffness : float
+        Centrifugal stiffening per rotor speed squared, int N(s)/Omega^2 phi'^2 ds [kg]
+        with N the axial force of the coned rotating blade.
+    damping_ratio : float
+        Structural damping ratio [-].
+    """
+
+    mass: float
+    first_moment: float
+    second_moment: float
+    modal_mass: float
+    modal_first_moment: float
+    modal_moment_arm: float
+    stiffness: float
+    centrifugal_stiffness: float
+    damping_ratio: float
+
+    @property
+    def natural_frequency(self) -> float:
+        """Non-rotating first flap frequency [rad/s]."""
+        return float(np.sqrt(self.stiffness / self.modal_mass))
+
+
+@dataclass(frozen=True)
+class TowerModalProperties:
+    """Integrals of one first tower bending mode (fore-aft or side-side), heights h from ground.
+
+    Attributes
+    ----------
+    modal_mass : float
+        Tower's own generalized mass int mu phi^2 dh [kg] (phi = 1 at the top).
+    modal_first_moment : float
+        int mu phi dh [kg].
+    modal_height_moment : float
+        int mu phi h dh [kg m].
+    stiffness : float
+        Generalized stiffness int EI phi''^2 dh - g int m_above phi'^2 dh [N/m], the top
+        mass included in m_above.
+    top_slope : float
+        phi'(H) [1/m]: tower-top rotation per metre of tower-top displacement.
+    damping_ratio : float
+        Structural damping ratio [-].
+    """
+
+    modal_mass: float
+    modal_first_moment: float
+    modal_height_moment: float
+    stiffness: float
+    top_slope: float
+    damping_ratio: float
+
+
+def polynomial_mode(coefficients: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """ElastoDyn polynomial mode shape and its first two derivatives with respect to x.
+
+    Parameters
+    ----------
+    coefficients : ndarray, shape (5,)
+        Coefficients of x^2 .. x^6.
+    x : ndarray
+        Fraction of the beam length [-].
+
+    Returns
+    -------
+    phi, dphi_dx, d2phi_dx2 : ndarray, same shape as x
+    """
+    x = np.asarray(x, dtype=float)
+    powers = np.arange(2, 7)
+    xk = x[..., None] ** (powers - 2)
+    c = np.asarray(coefficients, dtype=float)
+    phi = (xk * x[..., None] ** 2) @ c
+    d1 = (xk * x[..., None]) @ (c * powers)
+    d2 = xk @ (c * powers * (powers - 1))
+    return phi, d1, d2
+
+
+def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
+    """Mass moments and first-flap-mode integrals of the turbine's blade.
+
+    Parameters
+    ----------
+    turbine : Turbine
+
+    Returns
+    -------
+    BladeModalProperties
+    """
+    structure = turbine.blade_structure
+    length = turbine.blade_length
+    x = np.linspace(0.0, 1.0, _GRID_POINTS)
+    s = x * length
+    mu = np.interp(x, structure.span_fraction, structure.mass_density)
+    ei = np.interp(x, structure.span_fraction, structure.flap_stiffness)
+    phi, d1, d2 = polynomial_mode(structure.flap_mode_shape, x)
+    cos_cone = np.cos(turbine.rotor.cone_angle)
+    # Axial force per Omega^2: int_s^L mu (r_hub + s') cos^2(cone) ds' (radius from the shaft
+    # times the component of the centrifugal force along the coned blade).
+    integrand = mu * (turbine.rotor.hub_radius + s) * cos_cone**2
+    segment = 0.5 * (integrand[1:] + integrand[:-1]) * np.diff(s)
+    axial = np.concatenate((np.cumsum(segment[::-1])[::-1], [0.0]))
+    trapezoid = np.trapezoid
+    return BladeModalProperties(
+        mass=float(trapezoid(mu, s)),
+        first_moment=float(trapezoid(mu * s, s)),
+        second_moment=float(trapezoid(mu * s**2, s)),
+        modal_mass=float(trapezoid(mu * phi**2, s)),
+        modal_first_moment=float(trapezoid(mu * phi, s)),
+        modal_moment_arm=float(trapezoid(mu * phi * s, s)),
+        stiffness=float(trapezoid(ei * (d2 / length**2) ** 2, s)),
+        centrifugal_stiffness=float(trapezoid(axial * (d1 / length) ** 2, s)),
+        damping_ratio=structure.flap_damping_ratio,
+    )
+
+
+def tower_modal_properties(turbine: Turbine, direction: str, top_mass: float) -> TowerModalProperties:
+    """Integrals of the tower's first fore-aft or side-side mode.
+
+    Parameters
+    ----------
+    turbine : Turbine
+    direction : {"fa", "ss"}
+        Fore-aft or side-side.
+    top_mass : float
+        Mass carried by the tower top (rotor and nacelle) [kg], for the gravity stiffness.
+
+    Returns
+    -------
+    TowerModalProperties
+    """
+    tower = turbine.tower
+    if direction == "fa":
+        coefficients, stiffness, damping = tower.fa_mode_shape, tower.fa_stiffness, tower.fa_damping_ratio
+    elif direction == "ss":
+        coefficients, stiffness, damping = tower.ss_mode_shape, tower.ss_stiffness, tower.ss_damping_ratio
+    else:
+        raise ValueError(f"direction: expected 'fa' or 'ss', found {direction!r}")
+    height = tower.height
+    x = np.linspace(0.0, 1.0, _GRID_POINTS)
+    h = x * height
+    mu = np.interp(x, tower.height_fraction, tower.mass_density)
+    ei = np.interp(x, tower.height_fraction, stiffness)
+    phi, d1, d2 = polynomial_mode(coefficients, x)
+    segment = 0.5 * (mu[1:] + mu[:-1]) * np.diff(h)
+    mass_above = np.concatenate((np.cumsum(segment[::-1])[::-1], [0.0])) + top_mass
+    trapezoid = np.trapezoid
+    bending = trapezoid(ei * (d2 / height**2) ** 2, h)
+    gravity = turbine.environment.gravity * trapezoid(mass_above * (d1 / height) ** 2, h)
+    return TowerModalProperties(
+        modal_mass=float(trapezoid(mu * phi**2, h)),
+        modal_first_moment=float(trapezoid(mu * phi, h)),
+        modal_height_moment=float(trapezoid(mu * phi * h, h)),
+        stiffness=float(bending - gravity),
+        top_slope=float(d1[-1] / height),
+        damping_ratio=damping,
+    )

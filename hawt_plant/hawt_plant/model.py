@@ -1,0 +1,724 @@
+"""The turbine model: rotor aerodynamics, structure and actuators advanced by a fixed step.
+
+Degrees of freedom
+------------------
+- rotor azimuth and speed, generator speed, low-speed-shaft torsion (two-inertia drivetrain);
+- first flap mode of each blade (tip deflection out of the coned rotor plane);
+- first fore-aft and side-side tower modes (tower-top displacements);
+- a second-order pitch actuator per blade (:mod:`hawt_plant.pitch_actuator`);
+- the generator torque follows its command within its rate limit.
+
+Aerodynamics: blade-element momentum (:mod:`hawt_plant.bem`) on every element of every blade
+at its own azimuth, the inflow sampled from the wind field at the element's position (shear,
+turbulence and tower shadow are seen by the rotating blade), the element's own motion (flap,
+tower) in the relative velocity, and the induction carried from step to step: a few relaxed
+fixed-point iterations per step from the previous step's induction, or Øye's dynamic inflow.
+
+Structure: assumed modes with Kane-style generalized forces. Every blade element's load
+(aerodynamic, gravity, and the inertial force of the rotor's rotation) is projected on the
+motion each coordinate gives it; the tower-top rotation of the fore-aft mode nods the rotor,
+the side-side mode translates it and takes the drivetrain's roll reaction. The mass matrix
+follows the azimuth. Blade-root and tower-base moments are force sums over the elements
+including the inertial loads of the accelerations of the step.
+
+Frames (DESIGN.md §3): inertial x downwind, z up, y to the left looking downwind, origin at
+the tower base; azimuth 0 with blade 1 up, increasing with rotation (clockwise seen from
+upwind, i.e. right-handed about the downwind shaft); pitch positive to feather. Blade-root
+moments are OpenFAST's RootMyc (out-of-plane, positive bending downwind) and RootMxc
+(in-plane, positive in the direction of rotation): about the axes of the coned blade frame,
+which does not pitch with the blade.
+
+Time stepping: commands for step k are held over [t_k, t_k+1); loads are evaluated once per
+step at the state, the structure and drivetrain advance by semi-implicit (symplectic) Euler
+and the pitch actuator by its exact discretization.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hawt_plant.bem import BemBlade, induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
+from hawt_plant.modal import blade_modal_properties, polynomial_mode, tower_modal_properties
+from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
+from hawt_plant.pitch_actuator import DiscretePitchActuator
+from hawt_plant.tower_shadow import TowerShadow
+from hawt_plant.turbine import Turbine
+from hawt_plant.wind_field import WindField
+
+__all__ = ["ModelConfig", "TurbineModel", "TurbineOutput"]
+
+_MIN_INFLOW = 0.1  # [m/s] normal inflow used in the dynamic-inflow time constants is at least this
+_RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
+_PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
+
+
+@dataclass(frozen=True)
+class ModelConfig:
+    """Numerical and modelling options of :class:`TurbineModel`.
+
+    Attributes
+    ----------
+    dt : float
+        Time step [s] (default 0.01, the 100 Hz plant rate).
+    bem_iterations : int
+        Relaxed fixed-point iterations of the induction per step (quasi-steady inflow).
+    bem_relaxation : float
+        Relaxation factor of each iteration, in (0, 1].
+    dynamic_inflow : bool
+        Use Øye's dynamic inflow filter instead of the quasi-steady induction.
+    tower_shadow : bool
+        Apply the tower's potential-flow disturbance to the blade elements.
+    """
+
+    dt: float = 0.01
+    bem_iterations: int = 1
+    bem_relaxation: float = 0.5
+    dynamic_inflow: bool = False
+    tower_shadow: bool = True
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.dt) and 0.0 < self.dt <= 0.1):
+            raise ValueError(f"dt: expected a step in (0, 0.1] s, found {self.dt}")
+        if not (isinstance(self.bem_iterations, int) and self.bem_iterations >= 1):
+            raise ValueError(f"bem_iterations: expected an integer >= 1, found {self.bem_iterations!r}")
+        if not 0.0 < self.bem_relaxation <= 1.0:
+            raise ValueError(f"bem_relaxation: expected a value in (0, 1], found {self.bem_relaxation}")
+
+
+@dataclass(frozen=True, eq=False)
+class TurbineOutput:
+    """Measurements of one model step; field names are those of DESIGN.md §5.
+
+    Arrays have one entry per blade, blade 1 first. Units: SI (rad, rad/s, N m, N, m, W).
+    """
+
+    time: float
+    azimuth: float
+    rotor_speed: float
+    root_moment_oop: np.ndarray
+    root_moment_ip: np.ndarray
+    pitch: np.ndarray
+    generator_speed: float
+    generator_torque: float
+    electrical_power: float
+    aero_torque: float
+    rotor_thrust: float
+    hub_wind_speed: float
+    tower_top_fa_accel: float
+    tower_top_ss_accel: float
+    tower_top_fa_disp: float
+    tower_top_ss_disp: float
+    hub_tilt_moment: float
+    hub_yaw_moment: float
+    tower_base_fa_moment: float
+    tower_base_ss_moment: float
+
+
+class TurbineModel:
+    """A wind turbine in a wind field, advanced one fixed step per call of :meth:`step`.
+
+    Parameters
+    ----------
+    turbine : Turbine
+        The turbine definition (e.g. :func:`hawt_plant.turbine.nrel_5mw`).
+    wind : WindField
+        Inflow; its ``mean_speed`` sets the initial operating point.
+    config : ModelConfig, optional
+
+    Notes
+    -----
+    The model starts at the steady operating point of the wind's mean speed
+    (:meth:`reset_to_operating_point`). Same inputs give bit-identical outputs.
+
+    Examples
+    --------
+    >>> from hawt_plant.shear_wind import PowerLawWind
+    >>> from hawt_plant.turbine import nrel_5mw
+    >>> model = TurbineModel(nrel_5mw(), PowerLawWind(11.4, shear_exponent=0.2))
+    >>> first = model.output
+    >>> out = model.step(first.pitch, first.generator_torque)
+    >>> out.time
+    0.01
+    """
+
+    def __init__(self, turbine: Turbine, wind: WindField, config: ModelConfig | None = None) -> None:
+        self._turbine = turbine
+        self._wind = wind
+        self._config = config or ModelConfig()
+        self._setup_constants()
+        self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
+        self._shadow = TowerShadow.from_tower(turbine.tower) if self._config.tower_shadow else None
+        self._operating_point: OperatingPoint | None = None
+        self._output: TurbineOutput
+        self.reset_to_operating_point()
+
+    # ------------------------------------------------------------------ public interface
+
+    @property
+    def turbine(self) -> Turbine:
+        """The turbine definition."""
+        return self._turbine
+
+    @property
+    def config(self) -> ModelConfig:
+        """The model options."""
+        return self._config
+
+    @property
+    def number_of_blades(self) -> int:
+        """B."""
+        return self._b
+
+    @property
+    def output(self) -> TurbineOutput:
+        """Measurements at the current time (after the last step or reset)."""
+        return self._output
+
+    @property
+    def operating_point(self) -> OperatingPoint:
+        """The schedule's operating point the last reset started from."""
+        assert self._operating_point is not None
+        return self._operating_point
+
+    def reset_to_operating_point(self, azimuth: float = 0.0) -> TurbineOutput:
+        """Restart at time 0 in the steady operating point of the wind's mean speed.
+
+        Rotor speed and pitch come from the baseline schedule
+        (:func:`~hawt_plant.operating_point.baseline_operating_point`); the induction is the
+        converged steady BEM solution in the wind at time 0; tower and blade deflections,
+        shaft torsion and generator torque are the static equilibrium of the loads there.
+
+        Parameters
+        ----------
+        azimuth : float
+            Initial azimuth of blade 1 [rad].
+
+        Returns
+        -------
+        TurbineOutput
+            The measurements at time 0.
+        """
+        if not math.isfinite(azimuth):
+            raise ValueError(f"azimuth: expected a finite angle, found {azimuth}")
+        b, n = self._b, self._n
+        op = baseline_operating_point(self._turbine, self._wind.mean_speed, self._bem)
+        self._operating_point = op
+        self._time = 0.0
+        self._azimuth = azimuth % (2.0 * math.pi)
+        self._rotor_speed = op.rotor_speed
+        self._generator_speed = op.rotor_speed
+        self._torsion = 0.0
+        self._pitch = np.full(b, op.pitch)
+        self._pitch_rate = np.zeros(b)
+        self._tower = np.zeros(2)
+        self._tower_rate = np.zeros(2)
+        self._flap = np.zeros(b)
+        self._flap_rate = np.zeros(b)
+        self._generator_torque = 0.0
+        self._induction = np.zeros((b, n))
+        self._tangential_induction = np.zeros((b, n))
+        self._inflow_filter = np.zeros((3, b, n))
+        target_power = self._turbine.generator.rated_power / (
+            self._turbine.generator.efficiency * self._turbine.drivetrain.gearbox_efficiency)
+        above_rated = op.pitch > self._turbine.pitch_actuator.min_angle
+        for _ in range(_RESET_ITERATIONS):
+            shaft, tower_residual = self._passage_mean_loads()
+            self._azimuth = azimuth % (2.0 * math.pi)
+            self._generator_torque = shaft / self._gearbox_ratio
+            self._torsion = shaft / self._torsional_stiffness
+            self._tower = self._tower + tower_residual / self._tower_stiffness
+            if above_rated:
+                correction = self._rated_pitch_correction(shaft, target_power)
+                self._pitch[:] = max(float(self._pitch[0]) + correction, self._turbine.pitch_actuator.min_angle)
+            self._solve_steady_induction()
+            self._evaluate_loads(update_induction=False)
+            self._flap = self._flap + self._flap_residual / self._flap_stiffness_now
+        self._sample_inflow()
+        self._evaluate_loads(update_induction=False)
+        self._output = self._make_output(self._accelerations(self._generator_torque))
+        return self._output
+
+    def _solve_steady_induction(self) -> None:
+        """Converged steady BEM induction at the current state (Ning 2014)."""
+        self._sample_inflow()
+        pitch = self._pitch[:, None]
+        phi = solve_inflow_angle(self._vx, self._vy, pitch, self._bem)
+        cl, _ = self._bem.polars.coefficients(phi - pitch - self._bem.twist)
+        loss = prandtl_loss(np.sin(phi), self._bem)
+        self._induction, self._tangential_induction, _, _ = induction_factors(
+            phi, cl, loss, self._bem.local_solidity)
+        self._inflow_filter[:] = self._induction * self._vx
+
+    def _passage_mean_loads(self) -> tuple[float, np.ndarray]:
+        """Shaft torque and tower residual (without the generator torque) averaged over one
+        blade passage (2 pi / B of azimuth) in steady induction."""
+        start = self._azimuth
+        shaft = 0.0
+        tower = np.zeros(2)
+        for k in range(_PASSAGE_SAMPLES):
+            self._azimuth = start + 2.0 * math.pi * k / (_PASSAGE_SAMPLES * self._b)
+            self._solve_steady_induction()
+            self._evaluate_loads(update_induction=False)
+            torque = self._aero_torque + self._gravity_torque
+            shaft += torque
+            tower += (self._residual_fa,
+                      self._residual_ss + self._slope_ss * self._cos_tilt * self._shaft_torque * (1.0 - 1.0 / self._gearbox_ratio)
+                      - self._slope_ss * self._cos_tilt * torque)
+        return shaft / _PASSAGE_SAMPLES, tower / _PASSAGE_SAMPLES
+
+    def _rated_pitch_correction(self, shaft_torque: float, target_power: float) -> float:
+        """Newton step of the collective pitch towards rated power, slope from steady BEM."""
+        speed, pitch, step = self._rotor_speed, float(self._pitch[0]), 1e-3
+        wind = self._wind.mean_speed
+        slope = (rotor_performance(self._turbine, wind, speed, pitch + step, self._bem).torque
+                 - rotor_performance(self._turbine, wind, speed, pitch, self._bem).torque) / step
+        return (shaft_torque - target_power / speed) / -slope
+
+    def step(self, pitch_command: np.ndarray, generator_torque_command: float) -> TurbineOutput:
+        """Advance one step with the commands held over it.
+
+        Parameters
+        ----------
+        pitch_command : array_like, shape (B,)
+            Pitch angle command of each blade [rad], within the actuator's angle limits.
+        generator_torque_command : float
+            Generator torque command on the high-speed shaft [N m], within [0, max_torque].
+
+        Returns
+        -------
+        TurbineOutput
+            The measurements at the end of the step.
+
+        Raises
+        ------
+        ValueError
+            Naming the argument: wrong length, NaN or infinite value, or out of range.
+        """
+        command = self._checked_pitch(pitch_command)
+        torque_command = self._checked_torque(generator_torque_command)
+        dt = self._config.dt
+        limit = self._turbine.generator.max_torque_rate * dt
+        self._generator_torque += min(max(torque_command - self._generator_torque, -limit), limit)
+        acc = self._accelerations(self._generator_torque)
+        self._tower_rate = self._tower_rate + dt * acc[0:2]
+        self._tower = self._tower + dt * self._tower_rate
+        self._flap_rate = self._flap_rate + dt * acc[2:]
+        self._flap = self._flap + dt * self._flap_rate
+        self._rotor_speed += dt * self._rotor_acceleration
+        self._generator_speed += dt * self._generator_acceleration(self._generator_torque)
+        self._torsion += dt * (self._rotor_speed - self._generator_speed)
+        self._azimuth = (self._azimuth + dt * self._rotor_speed) % (2.0 * math.pi)
+        self._pitch, self._pitch_rate = self._pitch_actuator.step(self._pitch, self._pitch_rate, command)
+        self._time += dt
+        self._sample_inflow()
+        self._evaluate_loads(update_induction=True)
+        self._output = self._make_output(self._accelerations(self._generator_torque))
+        return self._output
+
+    # ------------------------------------------------------------------ boundary checks
+
+    def _checked_pitch(self, pitch_command: np.ndarray) -> np.ndarray:
+        command = np.array(pitch_command, dtype=float)
+        if command.shape != (self._b,):
+            raise ValueError(f"pitch_command: expected length B={self._b}, found shape {command.shape}")
+        low, high = float(command.min()), float(command.max())
+        if not (math.isfinite(low) and math.isfinite(high)):
+            raise ValueError(f"pitch_command: NaN or infinite value in {command.tolist()}")
+        p = self._turbine.pitch_actuator
+        if low < p.min_angle - 1e-9 or high > p.max_angle + 1e-9:
+            raise ValueError(
+                f"pitch_command: {command.tolist()} rad outside the actuator range [{p.min_angle}, {p.max_angle}]"
+            )
+        return command
+
+    def _checked_torque(self, generator_torque_command: float) -> float:
+        try:
+            torque = float(generator_torque_command)
+        except (TypeError, ValueError) as err:
+            raise ValueError(f"generator_torque_command: expected a number, found {generator_torque_command!r}") from err
+        if not math.isfinite(torque):
+            raise ValueError(f"generator_torque_command: NaN or infinite value {torque}")
+        max_torque = self._turbine.generator.max_torque
+        if torque < 0.0 or torque > max_torque * (1.0 + 1e-9):
+            raise ValueError(f"generator_torque_command: {torque} N m outside [0, {max_torque}]")
+        return torque
+
+    # ------------------------------------------------------------------ constants
+
+    def _setup_constants(self) -> None:
+        t = self._turbine
+        rotor, aero = t.rotor, t.blade_aerodynamics
+        self._b = b = rotor.number_of_blades
+        self._n = n = aero.span.size
+        self._bem = BemBlade.from_turbine(t)
+        self._half_rho = 0.5 * t.environment.air_density
+        self._g = g = t.environment.gravity
+        self._blade_offsets = 2.0 * math.pi * np.arange(b) / b
+        cone, tilt = rotor.cone_angle, rotor.shaft_tilt
+        cb, sb, ct, st = math.cos(cone), math.sin(cone), math.cos(tilt), math.sin(tilt)
+        self._cos_cone, self._sin_cone, self._cos_tilt, self._sin_tilt = cb, sb, ct, st
+        span = aero.span
+        self._hub_radius = rh = rotor.hub_radius
+        s_abs = rh + span
+        self._apex_distance = s_abs
+        self._element_radius = radius = s_abs * cb  # distance from the shaft axis (deflection neglected)
+        self._chord_width = aero.chord * aero.width
+        self._apex_x = xa = -rotor.overhang * ct  # rotor apex relative to the tower top
+        self._apex_z_top = za = t.nacelle.shaft_above_tower_top + rotor.overhang * st
+        self._tower_height = t.tower.height
+        # Blade: lumped element masses for the loads, continuous integrals for the modes.
+        blade = blade_modal_properties(t)
+        length = t.blade_length
+        fine = np.linspace(0.0, 1.0, 4001) * length
+        density = np.interp(fine, t.blade_structure.span_fraction * length, t.blade_structure.mass_density)
+        cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(fine))))
+        edges = np.concatenate((span - aero.width / 2.0, [span[-1] + aero.width[-1] / 2.0]))
+        mass = np.diff(np.interp(np.clip(edges, 0.0, length), fine, cumulative))
+        mode = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)[0]
+        self._element_mode = mode
+        # Element loads are summed per blade against the span functions 1, s (from the root)
+        # and phi: the rows of `loads` are [F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z]
+        # for the out-of-plane (e_n), in-plane (e_t) and axial (e_z) components.
+        self._span_functions = np.column_stack((np.ones(n), span, mode))
+        self._motion_functions = np.vstack((np.ones(n), s_abs, mode))
+        sums = np.array([mass.sum(), mass @ span, mass @ mode])
+        radius_sums = np.array([mass @ radius, mass @ (radius * span), mass @ (radius * mode)])
+        self._mass_radius = float(radius_sums[0])
+        self._centrifugal_sums = np.concatenate((sb * radius_sums, np.zeros(3), cb * radius_sums[[0, 2]]))
+        self._angular_sums = np.concatenate((np.zeros(3), -radius_sums, np.zeros(2)))
+        nod = np.array([mass @ s_abs, mass @ (span * s_abs), mass @ (mode * s_abs)])
+        inertia_translation = np.concatenate((sums, sums, sums[[0, 2]]))
+        inertia_nodding = np.concatenate((nod, nod, np.zeros(2)))
+        self._inertia_flap = np.array([mass @ mode, mass @ (span * mode), mass @ (mode * mode)])
+        self._mass_moments = (
+            blade.mass,
+            blade.first_moment + rh * blade.mass,
+            blade.second_moment + 2.0 * rh * blade.first_moment + rh * rh * blade.mass,
+        )
+        p0, p1 = blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment
+        self._flap_mass = blade.modal_mass
+        self._flap_stiffness = blade.stiffness
+        self._flap_centrifugal = blade.centrifugal_stiffness
+        self._flap_damping = 2.0 * blade.damping_ratio * math.sqrt(blade.stiffness * blade.modal_mass)
+        # Drivetrain.
+        drivetrain = t.drivetrain
+        self._gearbox_ratio = drivetrain.gearbox_ratio
+        self._torsional_stiffness = drivetrain.torsional_stiffness
+        self._torsional_damping = drivetrain.torsional_damping
+        self._rotor_inertia = rotor.hub_inertia + b * cb * cb * self._mass_moments[2]
+        self._generator_inertia = drivetrain.generator_inertia  # high-speed shaft
+        self._hub_inertia = rotor.hub_inertia
+        # Tower: generalized masses include the rigid nacelle and hub moving with the tower
+        # top (translation and, fore-aft, rotation phi'(H)); the blades enter through the
+        # azimuth-dependent terms below.
+        nacelle = t.nacelle
+        rna_mass = rotor.hub_mass + nacelle.mass + b * blade.mass
+        fa = tower_modal_properties(t, "fa", rna_mass)
+        ss = tower_modal_properties(t, "ss", rna_mass)
+        self._fa, self._ss = fa, ss
+        sfa, sss = fa.top_slope, ss.top_slope
+        self._slope_fa, self._slope_ss = sfa, sss
+        xn, zn = nacelle.cm_downwind, nacelle.cm_above_tower_top
+        self._nacelle_position = (xn, zn)
+        gain = 1.0 + sss * za  # side-side motion of the apex per metre of tower-top motion
+        self._ss_apex_gain = gain
+        u0x, u0z = 1.0 + sfa * za, -sfa * xa  # fore-aft motion of the apex per metre (x, z)
+        self._apex_fa_motion = (u0x, u0z)
+        self._fa_mass_constant = (
+            fa.modal_mass
+            + nacelle.mass * ((1.0 + sfa * zn) ** 2 + (sfa * xn) ** 2) + nacelle.yaw_inertia * sfa**2
+            + rotor.hub_mass * (u0x**2 + u0z**2) + 0.5 * rotor.hub_inertia * sfa**2
+            + b * (u0x**2 + u0z**2) * self._mass_moments[0]
+            + b * sfa**2 * self._mass_moments[2]
+        )
+        self._fa_mass_azimuthal = (2.0 * sfa * self._mass_moments[1], -(sfa**2) * self._mass_moments[2])
+        self._ss_mass = (
+            ss.modal_mass + nacelle.mass * (1.0 + sss * zn) ** 2 + nacelle.yaw_inertia * sss**2
+            + (rotor.hub_mass + b * blade.mass) * gain**2
+        )
+        self._fa_gravity_force = g * sfa * (nacelle.mass * xn + rotor.hub_mass * xa)
+        self._nacelle_mass, self._hub_mass = nacelle.mass, rotor.hub_mass
+        fa_mass_estimate = self._fa_mass_constant - b * sfa**2 * self._mass_moments[2] / 2.0
+        self._tower_stiffness = np.array([fa.stiffness, ss.stiffness])
+        self._tower_damping = np.array([
+            2.0 * fa.damping_ratio * math.sqrt(fa.stiffness * fa_mass_estimate),
+            2.0 * ss.damping_ratio * math.sqrt(ss.stiffness * self._ss_mass),
+        ])
+        # Per-blade features, each a linear function of (cos psi_i, sin psi_i, 1): rows of
+        # `features @ [cos; sin; 1]`, starting with e_n, e_t, e_z (x, y, z each). Blade unit vectors: radial e_r = cos psi e_zs - sin psi e_ys,
+        # tangential (direction of rotation) e_t = -sin psi e_zs - cos psi e_ys, with the shaft
+        # x_s = (ct, 0, -st), e_ys = (0, 1, 0), e_zs = (st, 0, ct); blade axis
+        # e_z = cb e_r - sb x_s; out-of-plane e_n = cb x_s + sb e_r.
+        unit = np.array([
+            [sb * st, 0.0, cb * ct], [0.0, -sb, 0.0], [sb * ct, 0.0, -cb * st],
+            [0.0, -st, 0.0], [-1.0, 0.0, 0.0], [0.0, -ct, 0.0],
+            [cb * st, 0.0, -sb * ct], [0.0, -cb, 0.0], [cb * ct, 0.0, sb * st],
+        ])
+        e_n, e_t, e_z = unit[0:3], unit[3:6], unit[6:9]
+        # Fore-aft motion of a blade point at apex distance s_abs: U0 + s_abs U1, projected:
+        # U0 . e = u0x e_x + u0z e_z; U1 . e_n = sfa cos psi, U1 . e_t = -sfa sb sin psi, U1 . e_z = 0.
+        c0 = {"t": u0x * e_t[0] + u0z * e_t[2], "z": u0x * e_z[0] + u0z * e_z[2], "n": u0x * e_n[0] + u0z * e_n[2]}
+        c1 = {"t": np.array([0.0, -sfa * sb, 0.0]), "z": np.zeros(3), "n": np.array([sfa, 0.0, 0.0])}
+        y_part = {"t": gain * e_t[1], "z": gain * e_z[1], "n": gain * e_n[1]}
+        gravity_part = {"t": -g * e_t[2], "z": -g * e_z[2], "n": -g * e_n[2]}
+        columns = ["n", "n", "n", "t", "t", "t", "z", "z"]
+        weight = np.concatenate((sums, sums, sums[[0, 2]]))
+        blocks = {
+            "basis": unit,
+            # Generalized tower forces per load row (arms from the root shifted to the apex).
+            "fa": np.array([c0["n"] + rh * c1["n"], c1["n"], 0 * c1["n"], c0["t"] + rh * c1["t"], c1["t"],
+                            0 * c1["t"], c0["z"], 0 * c0["z"]]),
+            "ss": np.array([y_part["n"], 0 * y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"],
+                            0 * y_part["t"], y_part["z"], 0 * y_part["z"]]),
+            "coupling": np.array([c0["n"] * p0 + c1["n"] * p1, y_part["n"] * p0]),
+            "gravity": np.array([gravity_part[d] * w for d, w in zip(columns, weight)]),
+            "inertia_fa": np.array([c0[d] * wt + c1[d] * wn for d, wt, wn in
+                                    zip(columns, inertia_translation, inertia_nodding)]),
+            "inertia_ss": np.array([y_part[d] * w for d, w in zip(columns, inertia_translation)]),
+            "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
+            # Velocity of blade points per unit tower-top velocity: constant and s_abs parts
+            # along e_n and e_t, fore-aft then side-side.
+            "motion_fa": np.array([c0["n"], c1["n"], c0["t"], c1["t"]]),
+            "motion_ss": np.array([y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"]]),
+            # e_n, e_t, e_z again, ordered by inertial component (x of each, y of each, z of each).
+            "axes_by_component": unit.reshape(3, 3, 3).transpose(1, 0, 2).reshape(9, 3),
+        }
+        rows, start = {}, 0
+        for name, block in blocks.items():
+            rows[name] = slice(start, start + len(block))
+            start += len(block)
+        self._features = np.vstack(list(blocks.values()))
+        self._rows = rows
+        self._trig = np.ones((3, b))
+        self._wind_points = np.empty((3, b * n + 1))
+        self._grid = self._wind_points[:, :-1].reshape(3, b, n)
+        assert np.shares_memory(self._grid, self._wind_points)
+        self._motion = np.zeros((2, b, 3))
+        self._apex_columns = np.array([0, 3, 6])  # loads rows of F_n, F_t, F_z
+
+    # ------------------------------------------------------------------ loads
+
+    def _sample_inflow(self) -> None:
+        """Geometry of the elements, the wind there and the inflow without induction."""
+        b, n = self._b, self._n
+        trig = self._trig
+        angle = self._azimuth + self._blade_offsets
+        np.cos(angle, out=trig[0])
+        np.sin(angle, out=trig[1])
+        features = self._features @ trig
+        self._feature_values = features
+        x_top, y_top = float(self._tower[0]), float(self._tower[1])
+        u0x, u0z = self._apex_fa_motion
+        apex = np.array((self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
+                         self._tower_height + self._apex_z_top + x_top * u0z))
+        self._apex = apex
+        grid = self._grid
+        axes = features[0:9, :, None]
+        np.multiply(axes[6:9], self._apex_distance, out=grid)
+        grid += axes[0:3] * np.multiply.outer(self._flap, self._element_mode)
+        grid += apex[:, None, None]
+        points = self._wind_points
+        points[:, -1] = apex
+        velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
+        self._hub_wind_speed = float(velocity[0, -1])
+        inflow = velocity[:, :-1].reshape(3, b, n)
+        if self._shadow is not None:
+            du, dv = self._shadow.disturbance(grid[0] - x_top, grid[1] - y_top, grid[2])
+            shadowed = np.empty((3, b, n))
+            np.multiply(inflow[0], 1.0 + du, out=shadowed[0])
+            np.multiply(inflow[0], dv, out=shadowed[1])
+            shadowed[1] += inflow[1]
+            shadowed[2] = inflow[2]
+            inflow = shadowed
+        # Components along e_n and e_t of every element: (B, N, 3) @ (B, 3, 2).
+        projected = np.matmul(inflow.transpose(1, 2, 0), features[0:6].reshape(2, 3, b).transpose(2, 1, 0))
+        # Velocity of the elements from the tower and flap motion along e_n and e_t.
+        rows = self._rows
+        coefficients = (float(self._tower_rate[0]) * features[rows["motion_fa"]]
+                        + (float(self._tower_rate[1]) * self._ss_apex_gain) * features[rows["motion_ss"]])
+        motion = self._motion
+        motion[0, :, 0:2] = coefficients[0:2].T
+        motion[1, :, 0:2] = coefficients[2:4].T
+        motion[0, :, 2] = self._flap_rate
+        moving = motion @ self._motion_functions
+        self._vx = projected[:, :, 0] - moving[0]
+        self._vy = (self._rotor_speed * self._element_radius) + moving[1] - projected[:, :, 1]
+
+    def _evaluate_loads(self, update_induction: bool) -> None:
+        """Aerodynamic and element loads, generalized forces and the reduced mass matrix."""
+        bem = self._bem
+        vx, vy = self._vx, self._vy
+        pitch_twist = self._pitch[:, None] + bem.twist
+        iterations = self._config.bem_iterations if update_induction and not self._config.dynamic_inflow else 1
+        for _ in range(iterations):
+            un = vx * (1.0 - self._induction)
+            ut = vy * (1.0 + self._tangential_induction)
+            phi = np.arctan2(un, ut)
+            cl, cd = bem.polars.coefficients(phi - pitch_twist)
+            sin_phi, cos_phi = np.sin(phi), np.cos(phi)
+            if update_induction:
+                loss = prandtl_loss(sin_phi, bem)
+                a, a_prime = _bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity)
+                self._update_induction(a, a_prime)
+        q = self._half_rho * (un * un + ut * ut) * self._chord_width
+        aero_normal = (q * (cl * cos_phi + cd * sin_phi)) @ self._span_functions
+        aero_tangential = (q * (cl * sin_phi - cd * cos_phi)) @ self._span_functions
+        cb = self._cos_cone
+        self._aero_thrust = cb * float(aero_normal[:, 0].sum())
+        self._aero_torque = cb * float(aero_tangential[:, 1].sum() + self._hub_radius * aero_tangential[:, 0].sum())
+        features, rows = self._feature_values, self._rows
+        self._gravity_torque = -self._g * self._mass_radius * float(features[5].sum())
+        shaft = self._torsional_stiffness * self._torsion + self._torsional_damping * (
+            self._rotor_speed - self._generator_speed)
+        self._shaft_torque = shaft
+        self._rotor_acceleration = (self._aero_torque + self._gravity_torque - shaft) / self._rotor_inertia
+        omega2 = self._rotor_speed * self._rotor_speed
+        # Per-blade load sums without the inertia of the structural accelerations (unknown yet).
+        loads = features[rows["gravity"]] + (omega2 * self._centrifugal_sums
+                                             + self._rotor_acceleration * self._angular_sums)[:, None]
+        loads[0:3] += aero_normal.T
+        loads[3:6] += aero_tangential.T
+        self._loads = loads
+        # Generalized forces: flap from the phi-weighted normal loads, tower from projections.
+        b = self._b
+        tower_forces = features[rows["fa"].start:rows["ss"].stop].reshape(2, 8 * b) @ loads.reshape(8 * b)
+        q_fa = float(tower_forces[0]) + self._fa_gravity_force
+        q_ss = float(tower_forces[1]) - self._slope_ss * self._cos_tilt * shaft * (1.0 - 1.0 / self._gearbox_ratio)
+        self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
+        self._flap_residual = loads[2] - self._flap_damping * self._flap_rate - self._flap_stiffness_now * self._flap
+        self._residual_fa = q_fa - self._tower_damping[0] * self._tower_rate[0] - self._tower_stiffness[0] * self._tower[0]
+        self._residual_ss = q_ss - self._tower_damping[1] * self._tower_rate[1] - self._tower_stiffness[1] * self._tower[1]
+        # Mass matrix reduced to the tower coordinates (Schur complement of the flap block).
+        coupling = features[rows["coupling"]]
+        fa_mass = features[rows["fa_mass"]]
+        linear, quadratic = self._fa_mass_azimuthal
+        mass_fa = self._fa_mass_constant + linear * float(fa_mass[0].sum()) + quadratic * float(fa_mass[1] @ fa_mass[1])
+        m = self._flap_mass
+        products = coupling @ coupling.T
+        projected = coupling @ self._flap_residual
+        self._coupling = coupling
+        self._schur = (
+            mass_fa - float(products[0, 0]) / m,
+            -float(products[0, 1]) / m,
+            self._ss_mass - float(products[1, 1]) / m,
+            self._residual_fa - float(projected[0]) / m,
+            self._residual_ss - float(projected[1]) / m,
+        )
+
+    def _update_induction(self, a: np.ndarray, a_prime: np.ndarray) -> None:
+        """Relaxed quasi-steady update, or Øye's dynamic inflow filter (Hansen 2008 §10.2)."""
+        if not self._config.dynamic_inflow:
+            relaxation = self._config.bem_relaxation
+            self._induction += relaxation * (a - self._induction)
+            self._tangential_induction += relaxation * (a_prime - self._tangential_induction)
+            return
+        dt = self._config.dt
+        vx = np.maximum(self._vx, _MIN_INFLOW)
+        quasi_steady = a * vx
+        intermediate, induced, previous = self._inflow_filter
+        tau1 = 1.1 / (1.0 - 1.3 * np.clip(self._induction, 0.0, 0.5)) * self._bem.tip_radius / vx
+        tau2 = (0.39 - 0.26 * (self._bem.radius / self._bem.tip_radius) ** 2) * tau1
+        forcing = quasi_steady + 0.6 * tau1 * (quasi_steady - previous) / dt
+        intermediate[:] = forcing + (intermediate - forcing) * np.exp(-dt / tau1)
+        induced[:] = intermediate + (induced - intermediate) * np.exp(-dt / tau2)
+        previous[:] = quasi_steady
+        self._induction = induced / vx
+        self._tangential_induction = a_prime
+
+    def _generator_acceleration(self, generator_torque: float) -> float:
+        ratio = self._gearbox_ratio
+        return (self._shaft_torque - ratio * generator_torque) / (self._generator_inertia * ratio * ratio)
+
+    def _accelerations(self, generator_torque: float) -> np.ndarray:
+        """Tower-top and flap accelerations [fa, ss, flap_1..B] with this generator torque."""
+        a11, a12, a22, r1, r2 = self._schur
+        r2 -= self._slope_ss * self._cos_tilt * generator_torque
+        det = a11 * a22 - a12 * a12
+        x_acc = (a22 * r1 - a12 * r2) / det
+        y_acc = (a11 * r2 - a12 * r1) / det
+        out = np.empty(2 + self._b)
+        out[0], out[1] = x_acc, y_acc
+        out[2:] = (self._flap_residual - x_acc * self._coupling[0] - y_acc * self._coupling[1]) / self._flap_mass
+        return out
+
+    # ------------------------------------------------------------------ outputs
+
+    def _make_output(self, acc: np.ndarray) -> TurbineOutput:
+        x_acc, y_acc = float(acc[0]), float(acc[1])
+        features, rows = self._feature_values, self._rows
+        loads = self._loads - x_acc * features[rows["inertia_fa"]] - y_acc * features[rows["inertia_ss"]]
+        loads[0:3] -= np.multiply.outer(self._inertia_flap, acc[2:])
+        flap = self._flap
+        oop = loads[1] - flap * loads[7]
+        ip = loads[4].copy()
+        rh = self._hub_radius
+        # Moments about the apex per blade: A about -e_t, B about e_n, C about -e_z; summed
+        # against cos, sin and 1 of the blade azimuths.
+        apex_moments = np.empty((3, self._b))
+        apex_moments[0] = oop + rh * loads[0]
+        apex_moments[1] = ip + rh * loads[3]
+        apex_moments[2] = flap * loads[5]
+        (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = (self._trig @ apex_moments.T).tolist()
+        cone_c, cone_s = self._cos_cone, self._sin_cone
+        tilt = ca - cone_s * sb_ + cone_c * sc
+        yaw = sa + cone_s * cb_ - cone_c * cc
+        spin = cone_c * ob + cone_s * oc
+        # Rotor force at the apex in inertial axes: sum over blades of F_n e_n + F_t e_t + F_z e_z.
+        axes = features[rows["axes_by_component"]].reshape(3, 3 * self._b)
+        fx, fy, fz = (axes @ loads[self._apex_columns].reshape(3 * self._b)).tolist()
+        ax, ay, az = self._apex.tolist()
+        base_fa = tilt + az * fx - ax * fz
+        base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + ay * fz - az * fy
+        # Nacelle and hub (point masses moving with the tower top), tower, spinning inertias.
+        g = self._g
+        x_top, y_top = float(self._tower[0]), float(self._tower[1])
+        sfa, sss = self._slope_fa, self._slope_ss
+        xn, zn = self._nacelle_position
+        height = self._tower_height
+        for body_mass, bx, bz, hy in ((self._nacelle_mass, xn + x_top, height + zn, 1.0 + sss * zn),
+                                      (self._hub_mass, ax, az, self._ss_apex_gain)):
+            body_fx = -body_mass * x_acc * (1.0 + sfa * (bz - height))
+            body_fy = -body_mass * y_acc * hy
+            body_fz = -body_mass * (g - x_acc * sfa * (bx - x_top))
+            base_fa += bz * body_fx - bx * body_fz
+            base_ss += y_top * hy * body_fz - bz * body_fy
+        fa, ss = self._fa, self._ss
+        base_fa += -x_acc * fa.modal_height_moment + g * x_top * fa.modal_first_moment
+        base_ss += y_acc * ss.modal_height_moment - g * y_top * ss.modal_first_moment
+        ratio = self._gearbox_ratio
+        spin_reaction = (self._hub_inertia * self._rotor_acceleration
+                         + self._generator_inertia * ratio * self._generator_acceleration(self._generator_torque))
+        base_ss -= spin_reaction * self._cos_tilt
+        generator_speed = ratio * self._generator_speed
+        return TurbineOutput(
+            time=self._time,
+            azimuth=self._azimuth,
+            rotor_speed=self._rotor_speed,
+            root_moment_oop=oop,
+            root_moment_ip=ip,
+            pitch=self._pitch.copy(),
+            generator_speed=generator_speed,
+            generator_torque=self._generator_torque,
+            electrical_power=self._turbine.generator.efficiency * self._generator_torque * generator_speed,
+            aero_torque=self._aero_torque,
+            rotor_thrust=self._aero_thrust,
+            hub_wind_speed=self._hub_wind_speed,
+            tower_top_fa_accel=x_acc,
+            tower_top_ss_accel=y_acc,
+            tower_top_fa_disp=x_top,
+            tower_top_ss_disp=y_top,
+            hub_tilt_moment=tilt,
+            hub_yaw_moment=yaw,
+            tower_base_fa_moment=base_fa,
+            tower_base_ss_moment=base_ss,
+        )
+
+
+def _bounded_induction(phi: np.ndarray, sin_phi: np.ndarray, cos_phi: np.ndarray, cl: np.ndarray,
+                       loss: np.ndarray, local_solidity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Induction factors of :func:`~hawt_plant.bem.induction_factors` for the stepping model,
+    bounded to a in [-1, 0.99] and a' in [-1, 1] so that no transient runs away."""
+    a, a_prime, _, _ = induction_factors(phi, cl, loss, local_solidity, sin_phi, cos_phi)
+    return np.minimum(np.maximum(a, -1.0), 0.99), np.minimum(np.maximum(a_prime, -1.0), 1.0)

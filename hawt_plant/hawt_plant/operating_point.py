@@ -1,0 +1,65 @@
+"""Steady operating point of the baseline schedule at a given wind speed."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from scipy.optimize import brentq
+
+from hawt_plant.bem import BemBlade, RotorPerformance, rotor_performance
+from hawt_plant.turbine import Turbine
+
+__all__ = ["OperatingPoint", "baseline_operating_point"]
+
+_PITCH_SEARCH_LIMIT = 0.8  # [rad] the rated-power pitch is searched below this (46°)
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """Rotor speed [rad/s] and collective pitch [rad] of the schedule, with the performance there."""
+
+    wind_speed: float
+    rotor_speed: float
+    pitch: float
+    performance: RotorPerformance
+
+
+def baseline_operating_point(turbine: Turbine, wind_speed: float, blade: BemBlade | None = None) -> OperatingPoint:
+    """Rotor speed and pitch of the NREL baseline schedule in steady uniform wind.
+
+    Parameters
+    ----------
+    turbine : Turbine
+    wind_speed : float
+        Hub-height wind speed [m/s], > 0.
+    blade : BemBlade, optional
+        Precomputed BEM constants.
+
+    Returns
+    -------
+    OperatingPoint
+
+    Notes
+    -----
+    Jonkman et al. (2009) ch. 7: the rotor runs at the optimal tip-speed ratio, limited to
+    [min_rotor_speed, rated_rotor_speed], at the minimum pitch; when that would give more
+    than rated power, the rotor runs at rated speed with the pitch that gives rated
+    mechanical power, rated_power / (generator efficiency x gearbox efficiency). Power
+    comes from :func:`~hawt_plant.bem.rotor_performance`.
+    """
+    if not (math.isfinite(wind_speed) and wind_speed > 0.0):
+        raise ValueError(f"wind_speed: expected a finite value > 0 m/s, found {wind_speed}")
+    blade = blade or BemBlade.from_turbine(turbine)
+    schedule = turbine.schedule
+    speed = turbine.schedule.optimal_tip_speed_ratio * wind_speed / turbine.rotor.tip_radius
+    speed = min(max(speed, schedule.min_rotor_speed), schedule.rated_rotor_speed)
+    pitch = turbine.pitch_actuator.min_angle
+    performance = rotor_performance(turbine, wind_speed, speed, pitch, blade)
+    rated = turbine.generator.rated_power / (turbine.generator.efficiency * turbine.drivetrain.gearbox_efficiency)
+    if performance.power > rated:
+        def excess(angle: float) -> float:
+            return rotor_performance(turbine, wind_speed, speed, angle, blade).power - rated
+
+        pitch = brentq(excess, pitch, _PITCH_SEARCH_LIMIT, xtol=1e-7)
+        performance = rotor_performance(turbine, wind_speed, speed, pitch, blade)
+    return OperatingPoint(wind_speed=wind_speed, rotor_speed=speed, pitch=pitch, performance=performance)
