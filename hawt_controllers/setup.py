@@ -21,6 +21,10 @@ setup(
     description='Collective pitch, MBC and per-harmonic IPC controllers.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'cpc = hawt_controllers.cpc_node:main',
+            'mbc = hawt_controllers.mbc_node:main',
+            'ipc = hawt_controllers.ipc_node:main',
+        ],
     },
 )

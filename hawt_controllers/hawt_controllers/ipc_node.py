@@ -1,0 +1,143 @@
+"""The ``ipc`` node: one harmonic's individual pitch control in the non-rotating frame.
+
+One process per harmonic (``ipc_h1``, ``ipc_h2``, … from this one executable):
+``control/mbc/h{n}`` of step k in, ``control/ipc/h{n}`` of step k out. It never
+needs the azimuth. The law is :class:`hawt_controllers.ipc.HarmonicIpc`; every
+parameter can be set while running: a new value is checked (the whole
+configuration is validated, so a NaN gain or an unstable filter is refused with
+the reason), applied at the next step and reported on ``control/events``.
+"""
+import dataclasses
+import math
+
+from hawt_msgs.msg import ControlEvent, HarmonicLoads, HarmonicPitch
+from rclpy.node import Node
+
+from hawt_controllers.ipc import HarmonicIpc, HarmonicIpcConfig
+from hawt_tools.events import EventPublisher
+from hawt_tools.node_main import node_entry_point
+from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
+                                   rejection)
+from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.step_sync import StepVerdict, classify_step
+from hawt_tools.topics import ipc_topic, mbc_topic
+
+__all__ = ["IpcNode", "PARAMETERS", "main"]
+
+_DEFAULT = HarmonicIpcConfig(harmonic=1)
+
+#: The law's parameters (HarmonicIpcConfig fields) and the node's own.
+PARAMETERS = (
+    ParameterSpec("harmonic", 1, "harmonic n this node controls", minimum=1, maximum=12, read_only=True),
+    ParameterSpec("integral_gain", _DEFAULT.integral_gain, "k_i of both axes", "rad/(N*m*s)", minimum=0.0),
+    ParameterSpec("proportional_gain", _DEFAULT.proportional_gain, "k_p of both axes", "rad/(N*m)", minimum=0.0),
+    ParameterSpec("max_amplitude", _DEFAULT.max_amplitude, "limit of the demand's magnitude |(cos, sin)|", "rad",
+                  minimum=0.0, maximum=0.5),
+    ParameterSpec("phase_offset", _DEFAULT.phase_offset, "phase offset phi_n of the inverse transform", "rad",
+                  minimum=-2 * math.pi, maximum=2 * math.pi),
+    ParameterSpec("lowpass_order", _DEFAULT.lowpass_order, "order of the low-pass on the loads (0 = none)",
+                  minimum=0, maximum=2),
+    ParameterSpec("lowpass_corner_frequency", _DEFAULT.lowpass_corner_frequency, "low-pass corner", "rad/s",
+                  minimum=0.0),
+    ParameterSpec("lowpass_damping", _DEFAULT.lowpass_damping, "damping of the second-order low-pass", minimum=0.0),
+    ParameterSpec("notch_frequency", _DEFAULT.notch_frequency, "notch frequency (0 = no notch)", "rad/s",
+                  minimum=0.0),
+    ParameterSpec("notch_beta_num", _DEFAULT.notch_beta_num, "notch numerator damping", minimum=0.0),
+    ParameterSpec("notch_beta_den", _DEFAULT.notch_beta_den, "notch denominator damping", minimum=0.0),
+    ParameterSpec("soft_start_begin", _DEFAULT.soft_start_begin,
+                  "collective pitch where the gain ramp starts (both 0: no soft start)", "rad"),
+    ParameterSpec("soft_start_end", _DEFAULT.soft_start_end, "collective pitch where the gain ramp ends", "rad"),
+    ParameterSpec("schedule_breakpoints", [0.0], "collective pitches of the gain schedule (one value: none)", "rad"),
+    ParameterSpec("schedule_factors", [1.0], "gain factors at the breakpoints"),
+    ParameterSpec("ramp_time", _DEFAULT.ramp_time, "time to ramp the output in or out", "s", minimum=0.0,
+                  maximum=600.0),
+    ParameterSpec("min_pitch", 0.0, "lowest pitch: the demand is limited to the collective's headroom above it",
+                  "rad", minimum=-0.5, maximum=1.6),
+    ParameterSpec("dt", 0.01, "plant step", "s", minimum=1e-4, maximum=1.0, read_only=True),
+    ParameterSpec("active", True, "output on (ramps in) or off (ramps out)"),
+)
+
+_LAW_FIELDS = tuple(f.name for f in dataclasses.fields(HarmonicIpcConfig))
+
+
+def config_from(values) -> HarmonicIpcConfig:
+    """The law's configuration from the node's parameter values (a one-value schedule means none)."""
+    fields = {name: values[name] for name in _LAW_FIELDS if name in values}
+    if len(fields["schedule_breakpoints"]) <= 1:
+        fields["schedule_breakpoints"], fields["schedule_factors"] = (), ()
+    else:
+        fields["schedule_breakpoints"] = tuple(fields["schedule_breakpoints"])
+        fields["schedule_factors"] = tuple(fields["schedule_factors"])
+    return HarmonicIpcConfig(**fields)
+
+
+class IpcNode(Node):
+    """Thin node around HarmonicIpc."""
+
+    def __init__(self, **node_kwargs) -> None:
+        super().__init__("ipc", **node_kwargs)
+        self.values = declare_parameters(self, PARAMETERS)
+        self.harmonic = self.values["harmonic"]
+        self.dt = self.values["dt"]
+        self.law = HarmonicIpc(config_from(self.values), self.dt)
+        if self.values["active"]:
+            self.law.activate()
+        self.pending = None
+        self.events = EventPublisher(self)
+        self.publisher = self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP)
+        self.last: HarmonicPitch = None
+        self.create_subscription(HarmonicLoads, mbc_topic(self.harmonic), self._on_loads, CONTROL_LOOP)
+        self.add_on_set_parameters_callback(self._check_parameters)
+        self.add_post_set_parameters_callback(self._store_parameters)
+
+    def _check_parameters(self, changes):
+        try:
+            values = check_values(PARAMETERS, self.values, changes)
+            try:
+                config_from(values).validate(self.dt)
+            except ValueError as error:
+                raise ParameterError(str(error)) from None
+        except ParameterError as error:
+            return rejection(error)
+        return accepted()
+
+    def _store_parameters(self, changes) -> None:
+        self.values = check_values(PARAMETERS, self.values, changes)
+        self.pending = ", ".join(f"{p.name}={p.value}" for p in changes)
+
+    def _apply_pending(self, step: int, stamp) -> None:
+        self.law.reconfigure(config_from(self.values))
+        if self.values["active"] and not self.law.active:
+            self.law.activate()
+        elif not self.values["active"] and self.law.active:
+            self.law.deactivate()
+        self.events(ControlEvent.INFO, "parameter_change", f"{self.pending} (from step {step})", step=step,
+                    stamp=stamp)
+        self.pending = None
+
+    def _on_loads(self, msg: HarmonicLoads) -> None:
+        verdict = classify_step(msg.step, None if self.last is None else self.last.step)
+        if verdict == StepVerdict.REPEAT:
+            self.publisher.publish(self.last)
+            return
+        if verdict == StepVerdict.OLD:
+            return
+        if self.pending is not None:
+            self._apply_pending(msg.step, msg.header.stamp)
+        if not all(math.isfinite(v) for v in (msg.cos, msg.sin, msg.collective_pitch)):
+            self.events(ControlEvent.ERROR, "invalid_input", f"control/mbc/h{self.harmonic} step {msg.step}: "
+                        f"cos={msg.cos}, sin={msg.sin}, collective_pitch={msg.collective_pitch}; demand held",
+                        step=msg.step, stamp=msg.header.stamp)
+            out = HarmonicPitch(harmonic=self.harmonic, cos=self.last.cos if self.last else 0.0,
+                                sin=self.last.sin if self.last else 0.0, phase_offset=self.values["phase_offset"])
+        else:
+            result = self.law.step(msg.cos, msg.sin, self.dt, operating_point=msg.collective_pitch,
+                                   pitch_headroom=msg.collective_pitch - self.values["min_pitch"])
+            out = HarmonicPitch(harmonic=self.harmonic, cos=result.cos, sin=result.sin,
+                                phase_offset=result.phase_offset)
+        out.step, out.header = msg.step, msg.header
+        self.last = out
+        self.publisher.publish(out)
+
+
+main = node_entry_point(IpcNode)

@@ -1,0 +1,178 @@
+"""The ``mbc`` node: forward MBC transform of the blade loads, and the pitch command of every step.
+
+Forward: each ``plant/blade_loads`` of step k gives ``control/mbc/h{n}`` for every
+configured harmonic n (DESIGN.md §3). Return: the collective of step k plus the
+remodulated demand of every active IPC harmonic, limited per blade in angle and
+rate, is ``control/pitch_command`` of step k.
+
+Lockstep waits for every active input of step k. Realtime answers each
+collective with the latest IPC demands (a demand older than ``stale_steps`` counts
+as zero and is flagged) at the azimuth extrapolated to the moment of sending.
+"""
+import math
+import time
+
+import numpy as np
+from hawt_msgs.msg import BladeLoads, CollectivePitch, ControlEvent, HarmonicLoads, HarmonicPitch, PitchCommand
+from rclpy.node import Node
+
+from hawt_controllers.collective import DEFAULT_BASELINE_FILE, load_baseline_config
+from hawt_controllers.limits import PitchLimits, limit_pitch
+from hawt_controllers.mbc import check_configuration, mbc_forward, mbc_inverse
+from hawt_tools.events import EventPublisher
+from hawt_tools.node_main import node_entry_point
+from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
+                                   rejection)
+from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.step_sync import StepJoin, StepVerdict, classify_step
+from hawt_tools.topics import BLADE_LOADS, COLLECTIVE, PITCH_COMMAND, ipc_topic, mbc_topic
+
+__all__ = ["MbcNode", "PARAMETERS", "main"]
+
+_LIMITS = load_baseline_config(DEFAULT_BASELINE_FILE).pitch_limits
+
+PARAMETERS = (
+    ParameterSpec("blades", 3, "number of blades B", minimum=3, maximum=12, read_only=True),
+    ParameterSpec("harmonics", [1, 2, 3], "harmonics n published on control/mbc/h{n}", read_only=True),
+    ParameterSpec("ipc_harmonics", [0], "harmonics whose control/ipc/h{n} demand is summed in ([0]: none)"),
+    ParameterSpec("dt", 0.01, "plant step", "s", minimum=1e-4, maximum=1.0, read_only=True),
+    ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
+    ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),
+    ParameterSpec("max_pitch", _LIMITS.max_angle, "highest pitch command", "rad", minimum=-0.5, maximum=1.6),
+    ParameterSpec("max_pitch_rate", _LIMITS.max_rate, "largest pitch rate", "rad/s", minimum=1e-3, maximum=1.0),
+    ParameterSpec("stale_steps", 5, "realtime: an IPC demand older than this many steps counts as zero",
+                  minimum=1, maximum=1000),
+    ParameterSpec("latency", 0.0, "realtime: extra time the command takes to reach the plant, added to the "
+                  "azimuth extrapolation", "s", minimum=0.0, maximum=0.1),
+)
+
+
+def _active(harmonics) -> tuple:
+    return tuple(n for n in harmonics if n > 0)
+
+
+class MbcNode(Node):
+    """Thin node around hawt_controllers.mbc and hawt_controllers.limits."""
+
+    def __init__(self, **node_kwargs) -> None:
+        super().__init__("mbc", **node_kwargs)
+        self.values = declare_parameters(self, PARAMETERS)
+        self.blades = self.values["blades"]
+        for n in (*self.values["harmonics"], *_active(self.values["ipc_harmonics"])):
+            check_configuration(n, self.blades)
+        self.limits = self._limits(self.values)
+        self.events = EventPublisher(self)
+        self.forward = {n: self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP)
+                        for n in self.values["harmonics"]}
+        self.command_publisher = self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP)
+        self.lockstep = self.values["mode"] == "lockstep"
+        self.join = StepJoin(())
+        self.demands = {}
+        self.ipc_subscriptions = {}
+        self._set_ipc_harmonics(_active(self.values["ipc_harmonics"]))
+        self.loads: BladeLoads = None
+        self.loads_received = 0.0
+        self.last: PitchCommand = None
+        self.create_subscription(BladeLoads, BLADE_LOADS, self._on_loads, CONTROL_LOOP)
+        self.create_subscription(CollectivePitch, COLLECTIVE, lambda m: self._input("collective", m), CONTROL_LOOP)
+        self.add_on_set_parameters_callback(self._check_parameters)
+        self.add_post_set_parameters_callback(self._apply_parameters)
+
+    @staticmethod
+    def _limits(values) -> PitchLimits:
+        return PitchLimits(values["min_pitch"], values["max_pitch"], values["max_pitch_rate"])
+
+    def _check_parameters(self, changes):
+        try:
+            values = check_values(PARAMETERS, self.values, changes)
+            for n in _active(values["ipc_harmonics"]):
+                check_configuration(n, self.blades)
+            self._limits(values).validate()
+        except (ParameterError, ValueError) as error:
+            return rejection(error)
+        return accepted()
+
+    def _apply_parameters(self, changes) -> None:
+        self.values = check_values(PARAMETERS, self.values, changes)
+        self.limits = self._limits(self.values)
+        self._set_ipc_harmonics(_active(self.values["ipc_harmonics"]))
+        self.events(ControlEvent.INFO, "parameter_change",
+                    ", ".join(f"{p.name}={p.value}" for p in changes), step=self.join.step or 0)
+
+    def _set_ipc_harmonics(self, harmonics: tuple) -> None:
+        for n in list(self.ipc_subscriptions):
+            if n not in harmonics:
+                self.destroy_subscription(self.ipc_subscriptions.pop(n))
+                self.demands.pop(n, None)
+        for n in harmonics:
+            if n not in self.ipc_subscriptions:
+                self.ipc_subscriptions[n] = self.create_subscription(
+                    HarmonicPitch, ipc_topic(n), lambda m, n=n: self._input(f"h{n}", m), CONTROL_LOOP)
+        self.join.set_required({"loads", "collective", *(f"h{n}" for n in harmonics)} if self.lockstep
+                               else {"collective"})
+
+    def _on_loads(self, msg: BladeLoads) -> None:
+        oop = np.asarray(msg.root_moment_oop)
+        if oop.shape != (self.blades,) or len(msg.pitch) != self.blades or not np.all(np.isfinite(oop)) \
+                or not math.isfinite(msg.azimuth):
+            self.events(ControlEvent.ERROR, "invalid_input",
+                        f"plant/blade_loads step {msg.step}: expected {self.blades} finite moments and pitches, "
+                        f"got {list(msg.root_moment_oop)} / {list(msg.pitch)}", step=msg.step, stamp=msg.header.stamp)
+            return
+        self.loads, self.loads_received = msg, time.monotonic()
+        collective_pitch = float(np.mean(msg.pitch))
+        for n, publisher in self.forward.items():
+            components = mbc_forward(oop, msg.azimuth, n)
+            out = HarmonicLoads(step=msg.step, harmonic=n, azimuth=msg.azimuth, rotor_speed=msg.rotor_speed,
+                                cos=float(components.cos), sin=float(components.sin), mean=float(components.mean),
+                                collective_pitch=collective_pitch)
+            out.header = msg.header
+            publisher.publish(out)
+        self._input("loads", msg)
+
+    def _input(self, name: str, msg) -> None:
+        if name.startswith("h"):
+            self.demands[msg.harmonic] = msg
+        verdict = classify_step(msg.step, None if self.last is None else self.last.step)
+        if verdict == StepVerdict.REPEAT and self.lockstep:
+            self.command_publisher.publish(self.last)
+            return
+        if verdict != StepVerdict.NEW or self.loads is None:
+            return
+        inputs = self.join.add(name, msg.step, msg)
+        if inputs is not None:
+            self._command(inputs["collective"])
+
+    def _command(self, collective: CollectivePitch) -> None:
+        loads, flags = self.loads, 0
+        azimuth = loads.azimuth
+        if not self.lockstep:
+            azimuth += loads.rotor_speed * (time.monotonic() - self.loads_received + self.values["latency"])
+        individual = np.zeros(self.blades)
+        for n in _active(self.values["ipc_harmonics"]):
+            demand = self.demands.get(n)
+            if demand is None or collective.step - demand.step > self.values["stale_steps"] \
+                    or not (math.isfinite(demand.cos) and math.isfinite(demand.sin)):
+                flags |= PitchCommand.FLAG_STALE_IPC
+                continue
+            individual += mbc_inverse(demand.cos, demand.sin, azimuth, n, self.blades, demand.phase_offset)
+        if not (math.isfinite(collective.pitch) and math.isfinite(collective.generator_torque)):
+            self.events(ControlEvent.ERROR, "invalid_input",
+                        f"control/collective step {collective.step}: pitch {collective.pitch}, torque "
+                        f"{collective.generator_torque} not finite; command held", step=collective.step)
+            if self.last is None:
+                return
+            collective = CollectivePitch(pitch=self.last.collective, generator_torque=self.last.generator_torque,
+                                         step=collective.step, header=collective.header)
+            flags |= PitchCommand.FLAG_INVALID_INPUT
+        previous = np.asarray(self.last.pitch if self.last is not None else loads.pitch)
+        limited = limit_pitch(collective.pitch + individual, previous, self.values["dt"], self.limits)
+        msg = PitchCommand(step=collective.step, pitch=limited.pitch.tolist(),
+                           generator_torque=collective.generator_torque, collective=collective.pitch,
+                           individual=(limited.pitch - collective.pitch).tolist(), flags=flags | int(limited.flags))
+        msg.header = collective.header
+        self.last = msg
+        self.command_publisher.publish(msg)
+
+
+main = node_entry_point(MbcNode)

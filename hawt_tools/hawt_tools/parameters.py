@@ -1,0 +1,109 @@
+"""One parameter table per node: declared with descriptors, checked on every set, documented from itself.
+
+Each node lists its parameters once as :class:`ParameterSpec` rows (name, default,
+SI unit, range, description, read-only), in the shape of ros2_controllers'
+``pid_controller.yaml``. :func:`declare_parameters` declares them with ROS
+descriptors and returns their values; :func:`check_values` is what an on-set
+callback calls before a node builds its configuration from the new values.
+"""
+import math
+from dataclasses import dataclass
+from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Tuple
+
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+
+__all__ = ["ParameterSpec", "ParameterError", "declare_parameters", "check_values", "accepted", "rejection", "describe"]
+
+
+class ParameterError(ValueError):
+    """A parameter value a node cannot run with; the message starts with the parameter's name."""
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One row of a node's parameter table."""
+
+    name: str
+    default: Any
+    description: str
+    unit: str = ""
+    minimum: Optional[float] = None
+    maximum: Optional[float] = None
+    choices: Tuple[str, ...] = ()
+    read_only: bool = False
+
+    def descriptor(self) -> ParameterDescriptor:
+        unit = f" [{self.unit}]" if self.unit else ""
+        descriptor = ParameterDescriptor(name=self.name, description=f"{self.description}{unit}",
+                                         read_only=self.read_only)
+        if self.choices:
+            descriptor.additional_constraints = f"one of: {', '.join(self.choices)}"
+        bounds = dict(from_value=self.minimum if self.minimum is not None else -math.inf,
+                      to_value=self.maximum if self.maximum is not None else math.inf)
+        if isinstance(self.default, float) and (self.minimum is not None or self.maximum is not None):
+            descriptor.floating_point_range = [FloatingPointRange(**bounds)]
+        elif isinstance(self.default, int) and not isinstance(self.default, bool) and \
+                (self.minimum is not None or self.maximum is not None):
+            descriptor.integer_range = [IntegerRange(from_value=int(max(bounds["from_value"], -2**63)),
+                                                     to_value=int(min(bounds["to_value"], 2**63 - 1)))]
+        return descriptor
+
+    def check(self, value: Any) -> None:
+        """Raise ParameterError naming this parameter if ``value`` is outside its type, range or choices."""
+        numbers = value if isinstance(value, (list, tuple)) else [value]
+        for number in numbers:
+            if isinstance(number, float) and not math.isfinite(number):
+                raise ParameterError(f"{self.name}: {number} is not a finite number")
+            if isinstance(number, (int, float)) and not isinstance(number, bool):
+                if self.minimum is not None and number < self.minimum:
+                    raise ParameterError(f"{self.name}: {number} is below its minimum {self.minimum} {self.unit}".rstrip())
+                if self.maximum is not None and number > self.maximum:
+                    raise ParameterError(f"{self.name}: {number} is above its maximum {self.maximum} {self.unit}".rstrip())
+        if self.choices and value not in self.choices:
+            raise ParameterError(f"{self.name}: {value!r} is not one of {', '.join(self.choices)}")
+
+
+def declare_parameters(node: Node, table: Sequence[ParameterSpec]) -> Dict[str, Any]:
+    """Declare every row on the node and return the values it starts with (checked: ParameterError if not)."""
+    values = {}
+    for spec in table:
+        value = node.declare_parameter(spec.name, spec.default, spec.descriptor()).value
+        spec.check(value)
+        values[spec.name] = value
+    return values
+
+
+def check_values(table: Sequence[ParameterSpec], current: Mapping[str, Any],
+                 changes: Iterable[Parameter]) -> Dict[str, Any]:
+    """The values after ``changes``, each checked against its row (ParameterError on the first bad one)."""
+    rows = {spec.name: spec for spec in table}
+    values = dict(current)
+    for parameter in changes:
+        if parameter.name in rows:
+            rows[parameter.name].check(parameter.value)
+            values[parameter.name] = parameter.value
+    return values
+
+
+def accepted() -> SetParametersResult:
+    """The answer to a parameter set that passed every check."""
+    return SetParametersResult(successful=True)
+
+
+def rejection(error: Exception) -> SetParametersResult:
+    """The answer to a parameter set that is refused, with the reason."""
+    return SetParametersResult(successful=False, reason=str(error))
+
+
+def describe(table: Sequence[ParameterSpec]) -> str:
+    """The table as Markdown, for the parameter reference in the docs."""
+    lines = ["| parameter | default | unit | range | live | description |", "|---|---|---|---|---|---|"]
+    for spec in table:
+        bounds = "" if spec.minimum is None and spec.maximum is None else \
+            f"[{'' if spec.minimum is None else spec.minimum}, {'' if spec.maximum is None else spec.maximum}]"
+        bounds = bounds or ", ".join(spec.choices)
+        lines.append(f"| `{spec.name}` | `{spec.default!r}` | {spec.unit} | {bounds} | "
+                     f"{'no' if spec.read_only else 'yes'} | {spec.description} |")
+    return "\n".join(lines)

@@ -1,0 +1,55 @@
+"""Matching the inputs of one plant step, and answering a repeated step without acting twice.
+
+In lockstep (DESIGN.md §6) the plant sends step k and waits for the command of
+step k; each controller waits until every input it needs for step k is there.
+The plant re-sends step k if no command comes (discovery races, a restarted
+node), so a controller that already answered step k answers again with the same
+message and does not advance its state.
+"""
+from typing import Any, Dict, Iterable, Optional
+
+__all__ = ["StepJoin", "StepVerdict", "classify_step"]
+
+
+class StepVerdict:
+    NEW = "new"
+    REPEAT = "repeat"
+    OLD = "old"
+
+
+def classify_step(step: int, last_answered: Optional[int]) -> str:
+    """NEW for a step after the last one answered, REPEAT for that step again, OLD for an earlier one."""
+    if last_answered is None or step > last_answered:
+        return StepVerdict.NEW
+    return StepVerdict.REPEAT if step == last_answered else StepVerdict.OLD
+
+
+class StepJoin:
+    """Collects the latest message of each required input for the newest step.
+
+    ``add`` returns the complete set of inputs once, when the last required input
+    of a step arrives; inputs of an older step than the one being collected are
+    ignored (returned as None).
+    """
+
+    def __init__(self, required: Iterable[str]) -> None:
+        self.required = frozenset(required)
+        self.step: Optional[int] = None
+        self.inputs: Dict[str, Any] = {}
+        self._fired = False
+
+    def set_required(self, required: Iterable[str]) -> None:
+        """Change the inputs a step needs (takes effect for the step being collected)."""
+        self.required = frozenset(required)
+
+    def add(self, name: str, step: int, message: Any) -> Optional[Dict[str, Any]]:
+        """Add one input; the inputs of ``step`` when it is complete for the first time, else None."""
+        if self.step is not None and step < self.step:
+            return None
+        if self.step is None or step > self.step:
+            self.step, self.inputs, self._fired = step, {}, False
+        self.inputs[name] = message
+        if not self._fired and self.required <= self.inputs.keys():
+            self._fired = True
+            return dict(self.inputs)
+        return None
