@@ -101,7 +101,8 @@ class RotorPerformance:
     thrust : float
         Thrust along the shaft [N].
     power_coefficient, thrust_coefficient : float
-        Referred to the swept area pi R^2, R the tip radius along the blade [-].
+        Referred to the swept area pi R^2, R the tip radius along the blade [-]; NaN in
+        vacuum (air density 0).
     tip_speed_ratio : float
         Omega R / V [-].
     """
@@ -209,9 +210,9 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
     Parameters
     ----------
     vx : ndarray, shape (..., N)
-        Inflow normal to the rotor plane (coned), without induction [m/s], > 0.
+        Inflow normal to the rotor plane (coned), without induction [m/s].
     vy : ndarray, shape (..., N)
-        In-plane inflow towards the leading edge, without induction [m/s], > 0.
+        In-plane inflow towards the leading edge, without induction [m/s].
     pitch : ndarray, broadcastable to (..., N)
         Blade pitch [rad].
     blade : BemBlade
@@ -227,11 +228,16 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
     -----
     Ning (2014) §2.3: the residual changes sign in (0, pi/2] in the windmill and
     high-induction states; otherwise the propeller-brake bracket [-pi/4, 0) or (pi/2, pi)
-    is used. Bisection then converges for every element.
+    is used. Bisection then converges for every element. Elements without positive vx and
+    vy (a parked rotor, reversed flow) get the inflow angle of the undisturbed flow,
+    ``arctan2(vx, vy)``.
     """
     vx, vy = np.broadcast_arrays(np.asarray(vx, dtype=float), np.asarray(vy, dtype=float))
     pitch = np.broadcast_to(pitch, vx.shape)
     eps = 1e-6
+    windmill_inflow = (vx > 1e-6) & (vy > 1e-6)
+    no_induction = np.arctan2(vx, vy)
+    vx, vy = np.where(windmill_inflow, vx, 1.0), np.where(windmill_inflow, vy, 1.0)
 
     def residual(phi: np.ndarray) -> np.ndarray:
         return _residual(phi, vx, vy, pitch, blade)
@@ -252,7 +258,7 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
         lower = np.where(same, middle, lower)
         r_lower = np.where(same, r_middle, r_lower)
         upper = np.where(same, upper, middle)
-    return 0.5 * (lower + upper)
+    return np.where(windmill_inflow, 0.5 * (lower + upper), no_induction)
 
 
 def rotor_performance(turbine: Turbine, wind_speed: float, rotor_speed: float, pitch: float,
@@ -304,7 +310,7 @@ def rotor_performance(turbine: Turbine, wind_speed: float, rotor_speed: float, p
         power=torque * rotor_speed,
         torque=torque,
         thrust=thrust,
-        power_coefficient=torque * rotor_speed / (dynamic * wind_speed),
-        thrust_coefficient=thrust / dynamic,
+        power_coefficient=torque * rotor_speed / (dynamic * wind_speed) if dynamic > 0.0 else math.nan,
+        thrust_coefficient=thrust / dynamic if dynamic > 0.0 else math.nan,
         tip_speed_ratio=rotor_speed * radius / wind_speed,
     )

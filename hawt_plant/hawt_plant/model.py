@@ -182,18 +182,30 @@ class TurbineModel:
         assert self._operating_point is not None
         return self._operating_point
 
-    def reset_to_operating_point(self, azimuth: float = 0.0) -> TurbineOutput:
+    def reset_to_operating_point(self, azimuth: float = 0.0, *, rotor_speed: float | None = None,
+                                 pitch: float | None = None, flap_offset: np.ndarray | None = None,
+                                 tower_offset: tuple[float, float] | None = None) -> TurbineOutput:
         """Restart at time 0 in the steady operating point of the wind's mean speed.
 
         Rotor speed and pitch come from the baseline schedule
-        (:func:`~hawt_plant.operating_point.baseline_operating_point`); the induction is the
-        converged steady BEM solution in the wind at time 0; tower and blade deflections,
-        shaft torsion and generator torque are the static equilibrium of the loads there.
+        (:func:`~hawt_plant.operating_point.baseline_operating_point`); above rated the pitch
+        is refined so that this model's mean power is rated power. The induction is the
+        converged steady BEM solution in the wind at time 0; the generator torque, shaft
+        torsion and tower deflections balance the loads averaged over one blade passage, the
+        blade deflections the loads at time 0. All rates start at zero.
 
         Parameters
         ----------
         azimuth : float
             Initial azimuth of blade 1 [rad].
+        rotor_speed : float, optional
+            Start at this rotor speed [rad/s] (>= 0) instead of the schedule's.
+        pitch : float, optional
+            Start at this collective pitch [rad] instead of the schedule's.
+        flap_offset : array_like, shape (B,), optional
+            Added to the equilibrium blade-tip flap deflections [m] (free-decay tests).
+        tower_offset : (float, float), optional
+            Added to the equilibrium tower-top fore-aft and side-side displacements [m].
 
         Returns
         -------
@@ -202,15 +214,27 @@ class TurbineModel:
         """
         if not math.isfinite(azimuth):
             raise ValueError(f"azimuth: expected a finite angle, found {azimuth}")
+        if rotor_speed is not None and not (math.isfinite(rotor_speed) and rotor_speed >= 0.0):
+            raise ValueError(f"rotor_speed: expected a finite value >= 0 rad/s, found {rotor_speed}")
+        actuator = self._turbine.pitch_actuator
+        if pitch is not None and not actuator.min_angle <= pitch <= actuator.max_angle:
+            raise ValueError(f"pitch: expected a value in [{actuator.min_angle}, {actuator.max_angle}] rad, found {pitch}")
         b, n = self._b, self._n
+        flap_offset = np.zeros(b) if flap_offset is None else np.asarray(flap_offset, dtype=float)
+        if flap_offset.shape != (b,) or not np.all(np.isfinite(flap_offset)):
+            raise ValueError(f"flap_offset: expected {b} finite values, found {flap_offset.tolist()}")
+        tower_offset = np.zeros(2) if tower_offset is None else np.asarray(tower_offset, dtype=float)
+        if tower_offset.shape != (2,) or not np.all(np.isfinite(tower_offset)):
+            raise ValueError(f"tower_offset: expected 2 finite values, found {tower_offset.tolist()}")
         op = baseline_operating_point(self._turbine, self._wind.mean_speed, self._bem)
         self._operating_point = op
+        self._step_index = 0
         self._time = 0.0
         self._azimuth = azimuth % (2.0 * math.pi)
-        self._rotor_speed = op.rotor_speed
-        self._generator_speed = op.rotor_speed
+        self._rotor_speed = op.rotor_speed if rotor_speed is None else float(rotor_speed)
+        self._generator_speed = self._rotor_speed
         self._torsion = 0.0
-        self._pitch = np.full(b, op.pitch)
+        self._pitch = np.full(b, op.pitch if pitch is None else float(pitch))
         self._pitch_rate = np.zeros(b)
         self._tower = np.zeros(2)
         self._tower_rate = np.zeros(2)
@@ -220,21 +244,23 @@ class TurbineModel:
         self._induction = np.zeros((b, n))
         self._tangential_induction = np.zeros((b, n))
         self._inflow_filter = np.zeros((3, b, n))
-        target_power = self._turbine.generator.rated_power / (
-            self._turbine.generator.efficiency * self._turbine.drivetrain.gearbox_efficiency)
-        above_rated = op.pitch > self._turbine.pitch_actuator.min_angle
+        generator = self._turbine.generator
+        target_power = generator.rated_power / (generator.efficiency * self._turbine.drivetrain.gearbox_efficiency)
+        refine_pitch = pitch is None and rotor_speed is None and op.pitch > actuator.min_angle
         for _ in range(_RESET_ITERATIONS):
             shaft, tower_residual = self._passage_mean_loads()
             self._azimuth = azimuth % (2.0 * math.pi)
-            self._generator_torque = shaft / self._gearbox_ratio
+            self._generator_torque = min(max(shaft / self._gearbox_ratio, 0.0), generator.max_torque)
             self._torsion = shaft / self._torsional_stiffness
             self._tower = self._tower + tower_residual / self._tower_stiffness
-            if above_rated:
+            if refine_pitch:
                 correction = self._rated_pitch_correction(shaft, target_power)
-                self._pitch[:] = max(float(self._pitch[0]) + correction, self._turbine.pitch_actuator.min_angle)
+                self._pitch[:] = min(max(float(self._pitch[0]) + correction, actuator.min_angle), actuator.max_angle)
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
             self._flap = self._flap + self._flap_residual / self._flap_stiffness_now
+        self._flap = self._flap + flap_offset
+        self._tower = self._tower + tower_offset
         self._sample_inflow()
         self._evaluate_loads(update_induction=False)
         self._output = self._make_output(self._accelerations(self._generator_torque))
@@ -311,7 +337,8 @@ class TurbineModel:
         self._torsion += dt * (self._rotor_speed - self._generator_speed)
         self._azimuth = (self._azimuth + dt * self._rotor_speed) % (2.0 * math.pi)
         self._pitch, self._pitch_rate = self._pitch_actuator.step(self._pitch, self._pitch_rate, command)
-        self._time += dt
+        self._step_index += 1
+        self._time = self._step_index * dt
         self._sample_inflow()
         self._evaluate_loads(update_induction=True)
         self._output = self._make_output(self._accelerations(self._generator_torque))
