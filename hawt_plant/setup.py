@@ -21,6 +21,8 @@ setup(
     description='Wind-turbine simulator: pure-numpy model and the plant node.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'plant = hawt_plant.plant_node:main',
+        ],
     },
 )

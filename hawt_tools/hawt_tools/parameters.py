@@ -36,8 +36,9 @@ class ParameterSpec:
 
     def descriptor(self) -> ParameterDescriptor:
         unit = f" [{self.unit}]" if self.unit else ""
+        # A float parameter takes an integer too (20 for 20.0), as a user would expect; check() types it.
         descriptor = ParameterDescriptor(name=self.name, description=f"{self.description}{unit}",
-                                         read_only=self.read_only)
+                                         read_only=self.read_only, dynamic_typing=isinstance(self.default, float))
         if self.choices:
             descriptor.additional_constraints = f"one of: {', '.join(self.choices)}"
         bounds = dict(from_value=self.minimum if self.minimum is not None else -math.inf,
@@ -49,6 +50,16 @@ class ParameterSpec:
             descriptor.integer_range = [IntegerRange(from_value=int(max(bounds["from_value"], -2**63)),
                                                      to_value=int(min(bounds["to_value"], 2**63 - 1)))]
         return descriptor
+
+    def typed(self, value: Any) -> Any:
+        """``value`` as this parameter's type (an integer given for a float becomes a float), else ParameterError."""
+        if isinstance(self.default, float):
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ParameterError(f"{self.name}: expected a number{f' [{self.unit}]' if self.unit else ''}, "
+                                     f"found {value!r}")
+            value = float(value)
+        self.check(value)
+        return value
 
     def check(self, value: Any) -> None:
         """Raise ParameterError naming this parameter if ``value`` is outside its type, range or choices."""
@@ -69,9 +80,7 @@ def declare_parameters(node: Node, table: Sequence[ParameterSpec]) -> Dict[str, 
     """Declare every row on the node and return the values it starts with (checked: ParameterError if not)."""
     values = {}
     for spec in table:
-        value = node.declare_parameter(spec.name, spec.default, spec.descriptor()).value
-        spec.check(value)
-        values[spec.name] = value
+        values[spec.name] = spec.typed(node.declare_parameter(spec.name, spec.default, spec.descriptor()).value)
     return values
 
 
@@ -82,8 +91,7 @@ def check_values(table: Sequence[ParameterSpec], current: Mapping[str, Any],
     values = dict(current)
     for parameter in changes:
         if parameter.name in rows:
-            rows[parameter.name].check(parameter.value)
-            values[parameter.name] = parameter.value
+            values[parameter.name] = rows[parameter.name].typed(parameter.value)
     return values
 
 

@@ -1,0 +1,201 @@
+"""The ``plant`` node: the turbine model advanced one step per tick, measurements out, commands in.
+
+Lockstep (default): step k's ``plant/blade_loads``, ``plant/state`` and ``/clock`` go out;
+the model advances to k+1 once ``control/pitch_command`` of step k has arrived. If it does
+not come within ``resend_period`` (wall clock) the step's measurements are sent again, so
+discovery races and restarted controllers do not stall the run. Realtime: the model
+ticks on the wall clock and applies the latest valid command (zero-order hold); the loop
+latency (measurement sent -> command of that step received) and every late step are
+reported. A command with NaN, the wrong length or values out of range is not applied:
+the last valid one is held and the rejection is a ``control/events`` message.
+"""
+import math
+import time
+from typing import List, Optional
+
+import numpy as np
+from builtin_interfaces.msg import Time
+from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, TurbineState
+from rclpy.node import Node
+from rclpy.task import Future
+from rosgraph_msgs.msg import Clock
+
+from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.turbine import load_turbine, nrel_5mw
+from hawt_tools.events import EventPublisher
+from hawt_tools.node_main import node_entry_point
+from hawt_tools.parameters import ParameterSpec, declare_parameters
+from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, TURBINE_STATE
+
+__all__ = ["PlantNode", "PARAMETERS", "main"]
+
+PARAMETERS = (
+    ParameterSpec("turbine_file", "", "turbine definition YAML ('' = the packaged NREL 5 MW)", read_only=True),
+    ParameterSpec("dt", 0.01, "plant step (100 Hz by default)", "s", minimum=1e-3, maximum=0.1, read_only=True),
+    ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
+    ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",
+                  minimum=0.0, read_only=True),
+    ParameterSpec("wind_type", "steady", "inflow model", choices=WIND_KINDS, read_only=True),
+    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s", minimum=3.0, maximum=30.0,
+                  read_only=True),
+    ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=1.0,
+                  read_only=True),
+    ParameterSpec("turbulence_class", "B", "IEC turbulence category", choices=("A", "B", "C"), read_only=True),
+    ParameterSpec("seed", 0, "seed of the turbulent field", minimum=0, maximum=2**31 - 1, read_only=True),
+    ParameterSpec("field_duration", 600.0, "length of the turbulent field (wraps after)", "s", minimum=10.0,
+                  maximum=7200.0, read_only=True),
+    ParameterSpec("bts_file", "", "TurbSim .bts file for wind_type bts", read_only=True),
+    ParameterSpec("step_speed", 14.0, "wind_type step: hub speed after the step", "m/s", minimum=0.0,
+                  maximum=40.0, read_only=True),
+    ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
+                  read_only=True),
+    ParameterSpec("tower_shadow", True, "potential-flow tower shadow on the blade elements", read_only=True),
+    ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
+    ParameterSpec("initial_azimuth", 0.0, "azimuth of blade 1 at time 0", "rad", minimum=0.0,
+                  maximum=2 * math.pi, read_only=True),
+    ParameterSpec("resend_period", 0.5, "lockstep: wall time after which an unanswered step is sent again", "s",
+                  minimum=0.01, maximum=60.0),
+    ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
+)
+
+
+def _stamp(seconds: float) -> Time:
+    nanoseconds = int(round(seconds * 1e9))
+    return Time(sec=nanoseconds // 1_000_000_000, nanosec=nanoseconds % 1_000_000_000)
+
+
+class PlantNode(Node):
+    """Thin node around TurbineModel."""
+
+    def __init__(self, **node_kwargs) -> None:
+        super().__init__("plant", **node_kwargs)
+        v = self.values = declare_parameters(self, PARAMETERS)
+        turbine = load_turbine(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
+        wind = make_wind(InflowSettings(
+            kind=v["wind_type"], wind_speed=v["wind_speed"], shear_exponent=v["shear_exponent"],
+            hub_height=turbine.hub_height, turbulence_class=v["turbulence_class"], seed=v["seed"],
+            field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
+            step_speed=v["step_speed"], step_time=v["step_time"]))
+        self.model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
+                                                             dynamic_inflow=v["dynamic_inflow"]))
+        self.output = self.model.reset_to_operating_point(v["initial_azimuth"])
+        self.actuator = turbine.pitch_actuator
+        self.blades = self.model.number_of_blades
+        self.command = (np.array(self.output.pitch), float(self.output.generator_torque))
+        self.step_index = 0
+        self.last_steps = int(round(v["duration"] / v["dt"])) if v["duration"] > 0 else None
+        self.lockstep = v["mode"] == "lockstep"
+        self.events = EventPublisher(self)
+        self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP)
+        self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP)
+        self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
+        self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
+        self.done = Future()
+        self.sent_at = time.monotonic()
+        self.latencies: List[float] = []
+        self.late_steps = 0
+        self.answered = -1
+        self.wall_start = time.monotonic()
+        self.get_logger().info(
+            f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
+            f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
+            f"pitch {math.degrees(self.output.pitch[0]):.2f} deg")
+        if self.lockstep:
+            self.create_timer(v["resend_period"], self._resend)
+            self._publish(self.output)
+        else:
+            self.create_timer(v["dt"], self._tick)
+
+    def _publish(self, out: TurbineOutput) -> None:
+        stamp = _stamp(out.time)
+        loads = BladeLoads(step=self.step_index, azimuth=out.azimuth, rotor_speed=out.rotor_speed,
+                           root_moment_oop=out.root_moment_oop.tolist(), root_moment_ip=out.root_moment_ip.tolist(),
+                           pitch=out.pitch.tolist())
+        loads.header.stamp = stamp
+        state = TurbineState(step=self.step_index, **{name: float(getattr(out, name)) for name in (
+            "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
+            "hub_wind_speed", "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp",
+            "hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment")})
+        state.header.stamp = stamp
+        if self.clock_publisher is not None:
+            self.clock_publisher.publish(Clock(clock=stamp))
+        self.loads_publisher.publish(loads)
+        self.state_publisher.publish(state)
+        self.sent_at = time.monotonic()
+
+    def _resend(self) -> None:
+        if not self.done.done() and time.monotonic() - self.sent_at >= self.values["resend_period"]:
+            self._publish(self.output)
+
+    def _rejection(self, msg: PitchCommand) -> Optional[str]:
+        """Why a command cannot be applied, or None."""
+        pitch = np.asarray(msg.pitch, dtype=float)
+        if pitch.shape != (self.blades,):
+            return f"pitch: expected {self.blades} values, found {len(msg.pitch)}"
+        if not (np.all(np.isfinite(pitch)) and math.isfinite(msg.generator_torque)):
+            return f"not finite: pitch {list(msg.pitch)}, generator_torque {msg.generator_torque}"
+        low, high = self.actuator.min_angle, self.actuator.max_angle
+        if np.any(pitch < low - 1e-9) or np.any(pitch > high + 1e-9):
+            return f"pitch {list(msg.pitch)} outside [{low}, {high}] rad"
+        if not 0.0 <= msg.generator_torque <= self.model.turbine.generator.max_torque * 1.0001:
+            return f"generator_torque {msg.generator_torque} outside [0, {self.model.turbine.generator.max_torque}] N*m"
+        return None
+
+    def _on_command(self, msg: PitchCommand) -> None:
+        if self.done.done():
+            return
+        reason = self._rejection(msg)
+        if reason is not None:
+            self.events(ControlEvent.ERROR, "invalid_input", f"control/pitch_command step {msg.step} not applied "
+                        f"({reason}); last valid command held", step=self.step_index, stamp=_stamp(self.output.time))
+        if self.lockstep:
+            if msg.step != self.step_index:
+                return
+            if reason is None:
+                self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
+            self._advance()
+        else:
+            if msg.step > self.answered:
+                self.answered = msg.step
+                self.latencies.append(time.monotonic() - self.sent_at - (self.step_index - msg.step) * self.values["dt"])
+                if msg.step < self.step_index:
+                    self.late_steps += 1
+            if reason is None:
+                self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
+
+    def _tick(self) -> None:
+        if not self.done.done():
+            self._advance()
+
+    def _advance(self) -> None:
+        self.output = self.model.step(*self.command)
+        self.step_index += 1
+        if self.step_index % max(1, int(round(self.values["report_period"] / self.values["dt"]))) == 0:
+            self._progress()
+        if self.last_steps is not None and self.step_index >= self.last_steps:
+            self._finish()
+            return
+        self._publish(self.output)
+
+    def _progress(self) -> None:
+        wall = time.monotonic() - self.wall_start
+        out = self.output
+        self.get_logger().info(
+            f"t={out.time:.1f} s ({out.time / wall:.1f}x real time): {out.rotor_speed * 30 / math.pi:.2f} rpm, "
+            f"{out.electrical_power / 1e6:.3f} MW, pitch {math.degrees(float(np.mean(out.pitch))):.2f} deg")
+
+    def _finish(self) -> None:
+        wall = time.monotonic() - self.wall_start
+        summary = f"finished {self.step_index} steps ({self.output.time:.2f} s simulated) in {wall:.1f} s wall"
+        if not self.lockstep and self.latencies:
+            latency = np.array(self.latencies) * 1e3
+            summary += (f"; loop latency p50 {np.percentile(latency, 50):.2f} ms, p99 "
+                        f"{np.percentile(latency, 99):.2f} ms, max {latency.max():.2f} ms; late steps "
+                        f"{self.late_steps}")
+        self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
+        self.done.set_result(True)
+
+
+main = node_entry_point(PlantNode)
