@@ -1,0 +1,89 @@
+"""Specification of hawt_plant.bem: induction, steady solution and NREL 5 MW performance."""
+import math
+
+import numpy as np
+import pytest
+
+from hawt_plant.bem import BemBlade, induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
+from hawt_plant.turbine import nrel_5mw
+
+
+@pytest.fixture(scope="module")
+def turbine():
+    return nrel_5mw()
+
+
+@pytest.fixture(scope="module")
+def blade(turbine):
+    return BemBlade.from_turbine(turbine)
+
+
+def test_power_coefficient_peaks_near_tsr_75_at_048(turbine, blade):
+    """Cp(lambda) at 0 deg pitch peaks near lambda = 7.5 with Cp = 0.48 within 5 % (Jonkman 2009 ch. 7)."""
+    ratios = np.arange(5.0, 10.01, 0.25)
+    cp = [rotor_performance(turbine, 8.0, tsr * 8.0 / 63.0, 0.0, blade).power_coefficient for tsr in ratios]
+    assert 7.0 <= ratios[int(np.argmax(cp))] <= 8.0
+    assert max(cp) == pytest.approx(0.48, rel=0.05)
+
+
+def test_power_at_rated_wind_and_speed_is_rated_shaft_power(turbine, blade):
+    """At 11.4 m/s, 12.1 rpm and 0 deg the rotor gives the rated 5.3 MW shaft power within 5 %."""
+    performance = rotor_performance(turbine, 11.4, 12.1 * math.pi / 30.0, 0.0, blade)
+    assert performance.power == pytest.approx(5.0e6 / 0.944, rel=0.05)
+    assert performance.tip_speed_ratio == pytest.approx(7.0, abs=0.01)
+
+
+def test_feathering_reduces_power_and_thrust(turbine, blade):
+    """More pitch to feather, less power and thrust at rated speed in 18 m/s."""
+    low, high = (rotor_performance(turbine, 18.0, 1.26711, math.radians(p), blade) for p in (10.0, 15.0))
+    assert high.power < low.power and high.thrust < low.thrust
+
+
+def test_steady_solution_balances_blade_element_and_momentum_thrust(turbine, blade):
+    """In the momentum region each annulus' blade-element thrust equals 4 pi r rho V^2 F a (1 - a) dr."""
+    speed, omega = 8.0, 7.5 * 8.0 / 63.0
+    vx = np.full(blade.radius.shape, speed * math.cos(turbine.rotor.cone_angle))
+    vy = omega * blade.radius
+    phi = solve_inflow_angle(vx, vy, 0.0, blade)
+    cl, _ = blade.polars.coefficients(phi - blade.twist)
+    loss = prandtl_loss(np.sin(phi), blade)
+    a, a_prime, _, _ = induction_factors(phi, cl, loss, blade.local_solidity)
+    w2 = (vx * (1 - a)) ** 2 + (vy * (1 + a_prime)) ** 2
+    element = 3 * 0.5 * w2 * blade.chord * cl * np.cos(phi)
+    momentum = 4 * math.pi * blade.radius * vx**2 * loss * a * (1 - a)
+    region = (a > 0.05) & (a < 0.38)
+    assert region.sum() >= 8
+    np.testing.assert_allclose(element[region], momentum[region], rtol=1e-6)
+
+
+def test_buhl_correction_joins_momentum_theory_at_k_two_thirds():
+    """The high-induction branch is continuous with a = k/(1+k) at k = 2/3 (a = 0.4 when F = 1)."""
+    phi = np.array([0.2, 0.2])
+    sin2 = math.sin(0.2) ** 2
+    solidity = 1.0
+    k = np.array([2 / 3 - 1e-9, 2 / 3 + 1e-9])
+    cl = k * 4.0 * sin2 / (solidity * math.cos(0.2))
+    a, _, k_found, _ = induction_factors(phi, cl, np.ones(2), np.full(2, solidity))
+    np.testing.assert_allclose(k_found, k)
+    np.testing.assert_allclose(a, 0.4, atol=1e-8)
+
+
+def test_buhl_correction_reaches_one_at_high_loading():
+    """With Buhl's empirical relation the induction rises towards 1, never beyond, at very high k."""
+    phi = np.full(4, 0.1)
+    cl = np.array([1.0, 10.0, 100.0, 1e4])
+    a, _, _, _ = induction_factors(phi, cl, np.ones(4), np.full(4, 0.2))
+    assert np.all(np.diff(a) > 0.0) and np.all(a < 1.0) and a[-1] > 0.99
+
+
+def test_prandtl_loss_vanishes_at_the_tip_and_is_one_mid_span(blade):
+    """F is near 1 mid-span and falls towards the tip."""
+    loss = prandtl_loss(np.full(blade.radius.shape, math.sin(0.1)), blade)
+    assert loss[8] == pytest.approx(1.0, abs=1e-3)
+    assert loss[-1] < 0.7 and np.all(np.diff(loss[8:]) < 0.0)
+
+
+def test_parked_rotor_has_the_undisturbed_inflow_angle(blade):
+    """Without rotation (vy = 0) the inflow angle is 90 deg and finite everywhere."""
+    phi = solve_inflow_angle(np.full(blade.radius.shape, 10.0), np.zeros(blade.radius.shape), 0.0, blade)
+    np.testing.assert_allclose(phi, math.pi / 2)

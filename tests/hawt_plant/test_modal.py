@@ -1,0 +1,66 @@
+"""Specification of hawt_plant.modal: generalized properties from the ElastoDyn data."""
+import math
+
+import numpy as np
+import pytest
+
+from hawt_plant.modal import blade_modal_properties, polynomial_mode, tower_modal_properties
+from hawt_plant.turbine import nrel_5mw
+
+
+@pytest.fixture(scope="module")
+def turbine():
+    return nrel_5mw()
+
+
+def test_mode_shape_has_unit_tip_and_zero_root_slope(turbine):
+    """phi(0) = phi'(0) = 0, phi(1) = 1; derivatives match finite differences."""
+    x = np.linspace(0.0, 1.0, 1001)
+    phi, d1, d2 = polynomial_mode(turbine.blade_structure.flap_mode_shape, x)
+    assert phi[0] == d1[0] == 0.0 and phi[-1] == pytest.approx(1.0, abs=1e-4)
+    np.testing.assert_allclose(np.gradient(phi, x)[1:-1], d1[1:-1], atol=1e-4)
+    np.testing.assert_allclose(np.gradient(d1, x)[1:-1], d2[1:-1], atol=1e-3)
+
+
+def test_blade_mass_and_centre_of_mass_match_jonkman(turbine):
+    """17 740 kg and 20.475 m from the root (Jonkman 2009 Table 2-1), within 1 %."""
+    blade = blade_modal_properties(turbine)
+    assert blade.mass == pytest.approx(17740.0, rel=0.01)
+    assert blade.first_moment / blade.mass == pytest.approx(20.475, rel=0.01)
+
+
+def test_blade_flap_frequency_is_near_jonkman_table_9_1(turbine):
+    """Non-rotating first flap of the blade alone, 0.667-0.70 Hz (Jonkman 2009 Table 9-1), within 5 %."""
+    frequency = blade_modal_properties(turbine).natural_frequency / (2 * math.pi)
+    assert 0.667 * 0.95 <= frequency <= 0.70 * 1.05
+
+
+def test_rotation_stiffens_the_flap_mode(turbine):
+    """At rated speed the centrifugal stiffening raises the flap frequency by a few percent."""
+    blade = blade_modal_properties(turbine)
+    omega = turbine.schedule.rated_rotor_speed
+    rotating = math.sqrt((blade.stiffness + blade.centrifugal_stiffness * omega**2) / blade.modal_mass)
+    assert 1.02 < rotating / blade.natural_frequency < 1.10
+
+
+def test_rotor_inertia_matches_the_elastodyn_summary(turbine):
+    """Hub plus three coned blades: 38 677 040 kg m^2 (ROSCO NREL5MW.yaml rotor_inertia) within 1 %."""
+    blade = blade_modal_properties(turbine)
+    rh = turbine.rotor.hub_radius
+    about_apex = blade.second_moment + 2 * rh * blade.first_moment + rh**2 * blade.mass
+    inertia = turbine.rotor.hub_inertia + 3 * math.cos(turbine.rotor.cone_angle) ** 2 * about_apex
+    assert inertia == pytest.approx(38_677_040.613, rel=0.01)
+
+
+def test_gravity_softens_the_tower(turbine):
+    """The gravity stiffness makes the tower softer with a heavier top mass."""
+    light = tower_modal_properties(turbine, "fa", 1.0)
+    heavy = tower_modal_properties(turbine, "fa", 350_000.0)
+    assert heavy.stiffness < light.stiffness
+    assert heavy.top_slope == light.top_slope > 0.0
+
+
+def test_unknown_tower_direction_is_rejected(turbine):
+    """Only 'fa' and 'ss' exist."""
+    with pytest.raises(ValueError, match="direction"):
+        tower_modal_properties(turbine, "yaw", 1.0)

@@ -1,0 +1,128 @@
+"""Specification of hawt_plant.turbine: the NREL 5 MW definition and the checked loader."""
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from hawt_plant.turbine import TurbineDefinitionError, load_turbine, nrel_5mw
+
+PACKAGED = Path(__file__).resolve().parents[2] / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
+
+
+@pytest.fixture(scope="module")
+def turbine():
+    return nrel_5mw()
+
+
+@pytest.fixture
+def editable_copy(tmp_path):
+    """A copy of the packaged definition and a function that edits one key of it."""
+    target = tmp_path / "nrel_5mw"
+    shutil.copytree(PACKAGED, target)
+    path = target / "turbine.yaml"
+
+    def edit(keys, value):
+        doc = yaml.safe_load(path.read_text())
+        node = doc
+        for key in keys[:-1]:
+            node = node[key]
+        if value is None:
+            del node[keys[-1]]
+        else:
+            node[keys[-1]] = value
+        path.write_text(yaml.safe_dump(doc))
+        return path
+
+    return edit
+
+
+def test_nrel_5mw_hub_height_is_90_m(turbine):
+    """Tower height, shaft height, overhang and tilt put the apex at 90 m (Jonkman 2009)."""
+    assert turbine.hub_height == pytest.approx(90.0, abs=1e-3)
+
+
+def test_nrel_5mw_geometry_matches_elastodyn(turbine):
+    """Rotor radius, blade count, precone and tilt are the ElastoDyn values in SI units."""
+    rotor = turbine.rotor
+    assert (rotor.number_of_blades, rotor.tip_radius, rotor.hub_radius) == (3, 63.0, 1.5)
+    assert rotor.cone_angle == pytest.approx(math.radians(2.5), rel=1e-6)
+    assert rotor.shaft_tilt == pytest.approx(math.radians(5.0), rel=1e-6)
+    assert turbine.blade_length == 61.5
+
+
+def test_nrel_5mw_has_17_aero_elements_tiling_the_blade(turbine):
+    """The AeroDyn nodes are element midpoints and the widths add up to the blade length."""
+    aero = turbine.blade_aerodynamics
+    assert aero.span.size == 17
+    assert aero.width.sum() == pytest.approx(61.5, abs=1e-3)
+    assert aero.airfoil[0] == "Cylinder1" and aero.airfoil[-1] == "NACA64_A17"
+
+
+def test_nrel_5mw_airfoil_polars_cover_the_circle(turbine):
+    """All eight polars run from -pi to pi in radians."""
+    assert len(turbine.airfoils) == 8
+    for polar in turbine.airfoils.values():
+        assert polar.alpha[0] == pytest.approx(-math.pi) and polar.alpha[-1] == pytest.approx(math.pi)
+        assert np.all(np.diff(polar.alpha) > 0.0)
+
+
+def test_nrel_5mw_du21_polar_is_transcribed_in_radians(turbine):
+    """DU21_A17 at 0 deg has cl 0.521 and cd 0.0057 as in AeroData/DU21_A17.dat."""
+    polar = turbine.airfoils["DU21_A17"]
+    assert np.interp(0.0, polar.alpha, polar.cl) == pytest.approx(0.521)
+    assert np.interp(0.0, polar.alpha, polar.cd) == pytest.approx(0.0057)
+
+
+def test_nrel_5mw_limits_and_rated_values(turbine):
+    """Pitch 0-90 deg at 8 deg/s, rated 5 MW at 12.1 rpm, gearbox 97."""
+    assert turbine.pitch_actuator.max_angle == pytest.approx(math.pi / 2, rel=1e-6)
+    assert turbine.pitch_actuator.max_rate == pytest.approx(math.radians(8.0), rel=1e-6)
+    assert turbine.generator.rated_power == 5.0e6
+    assert turbine.schedule.rated_rotor_speed == pytest.approx(12.1 * math.pi / 30, rel=1e-5)
+    assert turbine.drivetrain.gearbox_ratio == 97.0
+
+
+def test_missing_key_is_named_with_its_file(editable_copy):
+    """A missing key gives an error naming the file and the dotted key."""
+    path = editable_copy(["generator", "max_torque"], None)
+    with pytest.raises(TurbineDefinitionError, match=r"turbine\.yaml: generator\.max_torque: missing"):
+        load_turbine(path)
+
+
+def test_wrong_array_length_is_named(editable_copy):
+    """An array of the wrong length names the key and both lengths."""
+    path = editable_copy(["blade", "aerodynamics", "chord"], [3.0] * 16)
+    with pytest.raises(TurbineDefinitionError, match=r"blade\.aerodynamics\.chord: expected 17 values, found 16"):
+        load_turbine(path)
+
+
+def test_widths_that_do_not_tile_the_blade_are_rejected(editable_copy):
+    """Element widths must add up to the blade length."""
+    path = editable_copy(["blade", "aerodynamics", "width"], [4.0] * 17)
+    with pytest.raises(TurbineDefinitionError, match=r"blade\.aerodynamics\.width: widths add up to"):
+        load_turbine(path)
+
+
+def test_mass_distribution_is_checked_against_the_stated_blade_mass(editable_copy):
+    """A blade mass far from the integrated distribution is reported."""
+    path = editable_copy(["blade", "structure", "reference_mass"], 20000.0)
+    with pytest.raises(TurbineDefinitionError, match=r"reference_mass: the distributed properties give"):
+        load_turbine(path)
+
+
+def test_non_numeric_value_is_rejected(editable_copy):
+    """A string where a number belongs names the key."""
+    path = editable_copy(["rotor", "tip_radius"], "sixty-three")
+    with pytest.raises(TurbineDefinitionError, match=r"rotor\.tip_radius: expected a finite number"):
+        load_turbine(path)
+
+
+def test_missing_airfoil_file_is_named(editable_copy, tmp_path):
+    """An element referring to an airfoil without a polar file names that file."""
+    (tmp_path / "nrel_5mw" / "airfoils" / "DU21_A17.yaml").unlink()
+    path = editable_copy(["name"], "edited")
+    with pytest.raises(TurbineDefinitionError, match=r"DU21_A17\.yaml: cannot read the file"):
+        load_turbine(path)
