@@ -1,0 +1,315 @@
+"""Specification of hawt_plant.model: the turbine model's loads, dynamics and interface."""
+import dataclasses
+import math
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.modal import blade_modal_properties
+from hawt_plant.shear_wind import PowerLawWind
+from hawt_plant.turbine import nrel_5mw
+
+RATED_SPEED = 12.1 * math.pi / 30.0
+BLADE_LOADS_FIELDS = ["azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch"]
+TURBINE_STATE_FIELDS = [
+    "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust", "hub_wind_speed",
+    "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp", "hub_tilt_moment",
+    "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment",
+]
+
+
+@pytest.fixture(scope="module")
+def turbine():
+    return nrel_5mw()
+
+
+def variant(turbine, tilt=True, gravity=True, air=True):
+    """The turbine without shaft tilt, gravity or air, as a test needs."""
+    rotor = turbine.rotor if tilt else replace(turbine.rotor, shaft_tilt=0.0)
+    environment = replace(turbine.environment, gravity=turbine.environment.gravity if gravity else 0.0,
+                          air_density=turbine.environment.air_density if air else 0.0)
+    return replace(turbine, rotor=rotor, environment=environment)
+
+
+def simulate(model, steps, pitch=None, torque=None):
+    """Hold the initial (or given) commands for `steps` steps; outputs stacked per field."""
+    first = model.output
+    pitch = first.pitch.copy() if pitch is None else pitch
+    torque = first.generator_torque if torque is None else torque
+    outputs = [model.step(pitch, torque) for _ in range(steps)]
+    return {f.name: np.array([getattr(o, f.name) for o in outputs]) for f in dataclasses.fields(TurbineOutput)}
+
+
+def whole_revolutions(run, settle):
+    """Index of the samples after `settle` seconds spanning a whole number of revolutions, and their azimuth."""
+    azimuth = np.unwrap(run["azimuth"])
+    start = int(np.searchsorted(run["time"], settle))
+    turns = int((azimuth[-1] - azimuth[start]) // (2 * math.pi))
+    stop = int(np.searchsorted(azimuth, azimuth[start] + 2 * math.pi * turns))
+    return slice(start, stop), azimuth[start:stop]
+
+
+def harmonic(signal, azimuth, n):
+    """Complex amplitude of harmonic n (nP) of a signal sampled over whole revolutions."""
+    return 2.0 * np.mean((signal - signal.mean()) * np.exp(-1j * n * azimuth))
+
+
+def mbc_1p(moments, azimuth):
+    """Forward MBC of DESIGN.md §3: (2/B) sum M_i cos psi_i and (2/B) sum M_i sin psi_i."""
+    b = moments.shape[1]
+    psi = azimuth[:, None] + 2 * math.pi * np.arange(b) / b
+    return 2 / b * np.sum(moments * np.cos(psi), axis=1), 2 / b * np.sum(moments * np.sin(psi), axis=1)
+
+
+def damped_frequency(signal, dt):
+    """Mean frequency [Hz] of a decaying oscillation from its upward zero crossings."""
+    crossings = np.flatnonzero(np.diff(np.sign(signal - signal.mean())) > 0)
+    return (crossings.size - 1) / ((crossings[-1] - crossings[0]) * dt)
+
+
+def test_output_fields_are_the_message_fields_of_design_5(turbine):
+    """TurbineOutput carries time and exactly the BladeLoads and TurbineState fields."""
+    names = [f.name for f in dataclasses.fields(TurbineOutput)]
+    assert sorted(names) == sorted(["time"] + BLADE_LOADS_FIELDS + TURBINE_STATE_FIELDS)
+
+
+def test_starts_at_the_rated_operating_point(turbine):
+    """Above rated the model starts at 12.1 rpm and 5 MW: rated generator torque at 1173.7 rpm."""
+    model = TurbineModel(turbine, PowerLawWind(13.0, shear_exponent=0.2))
+    out = model.output
+    assert out.time == 0.0 and out.rotor_speed == pytest.approx(RATED_SPEED, rel=1e-4)
+    assert out.electrical_power == pytest.approx(5.0e6, rel=2e-3)
+    assert out.generator_speed == pytest.approx(97 * RATED_SPEED, rel=1e-4)
+    assert out.generator_torque == pytest.approx(turbine.generator.rated_torque, rel=2e-3)
+    assert out.pitch.shape == (3,) and np.all(out.pitch > 0.0)
+
+
+def test_below_rated_starts_at_the_optimal_tip_speed_ratio(turbine):
+    """At 8 m/s the rotor turns at lambda = 7.55 with the pitch at its minimum."""
+    out = TurbineModel(turbine, PowerLawWind(8.0)).output
+    assert out.rotor_speed * 63.0 / 8.0 == pytest.approx(7.55, rel=1e-6)
+    assert np.all(out.pitch == 0.0) and out.electrical_power < 5.0e6
+
+
+def test_operating_point_needs_no_transient(turbine):
+    """Held at its initial commands in steady sheared wind, speed and tower stay put for 20 s."""
+    model = TurbineModel(turbine, PowerLawWind(16.0, shear_exponent=0.2))
+    first = model.output
+    run = simulate(model, 2000)
+    assert np.max(np.abs(run["rotor_speed"] / first.rotor_speed - 1.0)) < 5e-3
+    assert np.max(np.abs(run["tower_top_fa_disp"] - first.tower_top_fa_disp)) < 0.02
+    assert np.max(np.abs(run["electrical_power"] / 5.0e6 - 1.0)) < 0.01
+
+
+def test_aero_power_at_rated_wind_speed_and_pitch_zero(turbine):
+    """11.4 m/s, 12.1 rpm, 0 deg: the model's aerodynamic power is the rated 5.3 MW within 5 %."""
+    model = TurbineModel(turbine, PowerLawWind(11.4), ModelConfig(tower_shadow=False))
+    out = model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+    assert out.aero_torque * out.rotor_speed == pytest.approx(5.0e6 / 0.944, rel=0.05)
+
+
+def test_uniform_wind_without_tilt_gives_no_1p_in_oop(turbine):
+    """Axisymmetric inflow (uniform, no tilt, no shadow, no gravity): no 1P in M_oop."""
+    model = TurbineModel(variant(turbine, tilt=False, gravity=False), PowerLawWind(11.4),
+                         ModelConfig(tower_shadow=False))
+    model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+    run = simulate(model, 1200)
+    window, azimuth = whole_revolutions(run, 2.0)
+    oop = run["root_moment_oop"][window, 0]
+    assert abs(harmonic(oop, azimuth, 1)) < 1e-6 * oop.mean()
+
+
+def test_shear_gives_dominant_1p_in_oop_with_steady_mbc_components(turbine):
+    """Power-law shear: 1P dominates M_oop, and the MBC 1P components are constant over revolutions."""
+    model = TurbineModel(turbine, PowerLawWind(11.4, shear_exponent=0.2), ModelConfig(tower_shadow=False))
+    model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+    run = simulate(model, 3000)
+    window, azimuth = whole_revolutions(run, 8.0)
+    moments = run["root_moment_oop"][window]
+    amplitudes = [abs(harmonic(moments[:, 0], azimuth, n)) for n in range(1, 7)]
+    assert amplitudes[0] > 5 * max(amplitudes[1:])
+    cosine, sine = mbc_1p(moments, azimuth)
+    assert cosine.mean() > 0.0  # more wind, more bending, with the blade up
+    revolution = ((azimuth - azimuth[0]) // (2 * math.pi)).astype(int)
+    for component in (cosine, sine):
+        means = np.array([component[revolution == k].mean() for k in range(revolution.max() + 1)])
+        assert np.ptp(means) < 0.02 * np.abs(means).mean()
+
+
+def test_tower_shadow_adds_3p_to_the_rotor_mean_oop(turbine):
+    """With the tower's potential flow the rotor-mean M_oop carries 3P; without it, none."""
+    amplitudes = []
+    for shadow in (False, True):
+        model = TurbineModel(variant(turbine, gravity=False), PowerLawWind(11.4), ModelConfig(tower_shadow=shadow))
+        model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+        run = simulate(model, 1500)
+        window, azimuth = whole_revolutions(run, 3.0)
+        mean = run["root_moment_oop"][window].mean(axis=1)
+        amplitudes.append(abs(harmonic(mean, azimuth, 3)) / mean.mean())
+    assert amplitudes[1] > 2e-3 and amplitudes[1] > 20 * amplitudes[0]
+
+
+def test_gravity_gives_1p_in_plane_moment_of_blade_weight(turbine):
+    """In vacuum the in-plane root moment is m g r_cg cos(tilt) sin(psi): positive descending."""
+    model = TurbineModel(variant(turbine, air=False), PowerLawWind(11.4))
+    model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+    run = simulate(model, 1200)
+    window, azimuth = whole_revolutions(run, 0.5)
+    blade = blade_modal_properties(turbine)
+    expected = blade.first_moment * turbine.environment.gravity * math.cos(turbine.rotor.shaft_tilt)
+    component = harmonic(run["root_moment_ip"][window, 0], azimuth, 1)
+    assert abs(component) == pytest.approx(expected, rel=0.01)
+    assert -component.imag == pytest.approx(expected, rel=0.01)  # the sin(psi) coefficient
+
+
+@pytest.mark.parametrize("rotor_speed", [0.0, RATED_SPEED])
+def test_free_decay_recovers_the_blade_flap_frequency(turbine, rotor_speed):
+    """Asymmetric flap free decay in vacuum: 0.6675 Hz (Jonkman 2009 Table 9-1) within 5 % at rest,
+    higher with the centrifugal stiffening at rated speed."""
+    runs = []
+    for offset in (None, [0.0, 1.0, -1.0]):
+        model = TurbineModel(variant(turbine, air=False), PowerLawWind(11.4))
+        model.reset_to_operating_point(rotor_speed=rotor_speed, pitch=0.0, flap_offset=offset)
+        runs.append(simulate(model, 2000)["root_moment_oop"][:, 1])
+    frequency = damped_frequency(runs[1] - runs[0], 0.01)
+    if rotor_speed == 0.0:
+        assert frequency == pytest.approx(0.6675, rel=0.05)
+    else:
+        assert 0.70 < frequency < 0.78
+
+
+def test_free_decay_recovers_the_tower_fore_aft_frequency(turbine):
+    """Tower fore-aft free decay: 0.324 Hz (Jonkman 2009 Table 9-1, FAST) within 5 %."""
+    runs = []
+    for offset in (None, (0.3, 0.0)):
+        model = TurbineModel(variant(turbine, air=False), PowerLawWind(11.4))
+        model.reset_to_operating_point(rotor_speed=0.0, pitch=0.0, tower_offset=offset)
+        runs.append(simulate(model, 2500)["tower_top_fa_disp"])
+    assert damped_frequency(runs[1] - runs[0], 0.01) == pytest.approx(0.324, rel=0.05)
+
+
+def test_aerodynamics_damp_the_tower_fore_aft_motion(turbine):
+    """In operation the fore-aft decay is much faster than the 1 % structural damping in vacuum."""
+    decay = []
+    for air in (False, True):
+        runs = []
+        for offset in (None, (0.3, 0.0)):
+            model = TurbineModel(variant(turbine, air=air), PowerLawWind(11.4), ModelConfig(tower_shadow=False))
+            model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0, tower_offset=offset)
+            runs.append(simulate(model, 1000)["tower_top_fa_disp"])
+        difference = np.abs(runs[1] - runs[0])
+        decay.append(difference[700:].max() / 0.3)
+    assert decay[0] > 0.7 and decay[1] < 0.5 * decay[0]
+
+
+def test_pitching_to_feather_reduces_thrust_and_slows_the_rotor(turbine):
+    """A 4 deg collective pitch step at fixed torque: less thrust, lower speed."""
+    model = TurbineModel(turbine, PowerLawWind(13.0))
+    first = model.output
+    run = simulate(model, 800, pitch=first.pitch + math.radians(4.0))
+    assert run["rotor_thrust"][-1] < 0.9 * first.rotor_thrust
+    assert run["rotor_speed"][-1] < first.rotor_speed
+    assert np.max(np.diff(run["pitch"][:, 0])) <= turbine.pitch_actuator.max_rate * 0.01 * (1 + 1e-9)
+
+
+def test_dynamic_inflow_lags_a_pitch_step_and_settles_like_quasi_steady(turbine):
+    """Øye dynamic inflow: after a pitch step the thrust undershoots, then settles within 1 % of
+    the quasi-steady value (rotor speed held by a huge inertia)."""
+    stiff = replace(turbine, rotor=replace(turbine.rotor, hub_inertia=1e13))
+    thrust = {}
+    for dynamic in (False, True):
+        model = TurbineModel(stiff, PowerLawWind(11.4), ModelConfig(dynamic_inflow=dynamic, tower_shadow=False))
+        model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+        run = simulate(model, 4500, pitch=np.full(3, math.radians(3.0)))
+        thrust[dynamic] = run["rotor_thrust"]
+    assert thrust[True][-1] == pytest.approx(thrust[False][-1], rel=0.01)
+    assert thrust[True][100:300].min() < 0.95 * thrust[False][-1]
+    assert np.ptp(thrust[False][1000:]) < 0.005 * thrust[False][-1]
+
+
+def test_hub_moments_follow_the_mbc_of_the_blade_moments(turbine):
+    """Hub tilt and yaw are (B/2) times the MBC 1P components of M_oop, up to the hub offset."""
+    model = TurbineModel(turbine, PowerLawWind(11.4, shear_exponent=0.2), ModelConfig(tower_shadow=False))
+    run = simulate(model, 1200)
+    window, azimuth = whole_revolutions(run, 2.0)
+    cosine, sine = mbc_1p(run["root_moment_oop"][window], azimuth)
+    assert run["hub_tilt_moment"][window].mean() == pytest.approx(1.5 * cosine.mean(), rel=0.1)
+    assert run["hub_yaw_moment"][window].mean() == pytest.approx(1.5 * sine.mean(), rel=0.1)
+
+
+def test_tower_base_moment_is_thrust_times_height(turbine):
+    """Mean tower-base fore-aft moment is about thrust x hub height (plus the overhung weight)."""
+    model = TurbineModel(turbine, PowerLawWind(11.4), ModelConfig(tower_shadow=False))
+    run = simulate(model, 500)
+    moment = run["tower_base_fa_moment"].mean()
+    assert moment == pytest.approx(run["rotor_thrust"].mean() * turbine.hub_height, rel=0.1)
+
+
+def test_same_inputs_give_bit_identical_outputs(turbine):
+    """Two models with the same inputs produce the same bits."""
+    runs = []
+    for _ in range(2):
+        model = TurbineModel(turbine, PowerLawWind(13.0, shear_exponent=0.2), ModelConfig(dynamic_inflow=True))
+        first = model.output
+        outputs = [model.step(first.pitch + 0.01 * math.sin(0.01 * k), first.generator_torque) for k in range(300)]
+        runs.append(np.concatenate([np.hstack([np.atleast_1d(getattr(o, f)) for f in BLADE_LOADS_FIELDS
+                                               + TURBINE_STATE_FIELDS]) for o in outputs]))
+    assert runs[0].tobytes() == runs[1].tobytes()
+
+
+def test_reset_restarts_the_same_run(turbine):
+    """After a reset the model repeats its first run exactly."""
+    model = TurbineModel(turbine, PowerLawWind(9.0, shear_exponent=0.1))
+    first = simulate(model, 50)
+    model.reset_to_operating_point()
+    second = simulate(model, 50)
+    assert first["root_moment_oop"].tobytes() == second["root_moment_oop"].tobytes()
+    assert second["time"][-1] == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize(("pitch", "torque", "message"), [
+    ([0.0, 0.0], 1000.0, r"pitch_command: expected length B=3, found shape \(2,\)"),
+    ([0.0, float("nan"), 0.0], 1000.0, "pitch_command: NaN"),
+    ([0.0, 0.0, 2.0], 1000.0, "pitch_command: .* outside the actuator range"),
+    ([0.0, 0.0, -0.1], 1000.0, "pitch_command: .* outside the actuator range"),
+    ([0.0, 0.0, 0.0], float("inf"), "generator_torque_command: NaN or infinite"),
+    ([0.0, 0.0, 0.0], -1.0, "generator_torque_command: .* outside"),
+    ([0.0, 0.0, 0.0], 5.0e4, "generator_torque_command: .* outside"),
+    ([0.0, 0.0, 0.0], "x", "generator_torque_command: expected a number"),
+])
+def test_invalid_commands_are_rejected_by_name(turbine, pitch, torque, message):
+    """Commands are checked at the boundary; the error names the argument."""
+    model = TurbineModel(turbine, PowerLawWind(8.0))
+    with pytest.raises(ValueError, match=message):
+        model.step(pitch, torque)
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"dt": 0.0}, "dt"), ({"bem_iterations": 0}, "bem_iterations"), ({"bem_relaxation": 1.5}, "bem_relaxation"),
+])
+def test_invalid_configuration_is_rejected_by_name(kwargs, message):
+    """ModelConfig checks its fields."""
+    with pytest.raises(ValueError, match=message):
+        ModelConfig(**kwargs)
+
+
+def test_plant_rate_is_configurable(turbine):
+    """At 50 Hz the model runs stably and reaches the same state as at 100 Hz."""
+    speeds = []
+    for dt in (0.01, 0.02):
+        model = TurbineModel(turbine, PowerLawWind(13.0, shear_exponent=0.2), ModelConfig(dt=dt))
+        first = model.output
+        run = simulate(model, round(5.0 / dt), pitch=first.pitch + math.radians(2.0))
+        speeds.append(run["rotor_speed"][-1])
+    assert speeds[1] == pytest.approx(speeds[0], rel=1e-3)
+
+
+def test_importing_the_core_does_not_import_rclpy():
+    """The numeric core stays free of ROS: importing it loads no rclpy."""
+    code = ("import sys; import hawt_plant.model, hawt_plant.turbine, hawt_plant.shear_wind, "
+            "hawt_plant.tower_shadow, hawt_plant.bem; assert 'rclpy' not in sys.modules")
+    subprocess.run([sys.executable, "-c", code], check=True, env={"PYTHONPATH": ":".join(sys.path)})
