@@ -1,0 +1,147 @@
+"""What a person reads of ``hawt analyze`` / ``hawt compare``: text tables and a report folder.
+
+Tables show display units (MN·m, °, °/s, rpm, MW); the JSON beside them stays SI.
+A report folder holds ``index.html`` (the table, then the figures of
+`hawt_analysis.plots`), the PNGs and ``summary.json`` / ``comparison.json``.
+"""
+import html
+import json
+import math
+import os
+from pathlib import Path
+from typing import Mapping, Sequence
+
+from .errors import BagError
+
+__all__ = ["analysis_text", "comparison_text", "write_analysis_report", "write_comparison_report"]
+
+_MN = 1e-6
+_DEG = 180.0 / math.pi
+_RPM = 60.0 / (2.0 * math.pi)
+_PITCH_METRICS = {"travel_rad": (_DEG, "°", "travel"), "max_rate_rad_s": (_DEG, "°/s", "max rate"),
+                  "max_acceleration_rad_s2": (_DEG, "°/s²", "max acceleration"),
+                  "duty_cycle": (100.0, "%", "duty cycle")}
+_LEVELS = {10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR"}
+
+
+def _unit(channel: str) -> tuple[float, str]:
+    return (_DEG, "°") if channel.startswith("pitch") else (_MN, "MN·m")
+
+
+def _fmt(value, factor: float = 1.0, digits: int = 4) -> str:
+    return "-" if value is None else f"{factor * value:.{digits}g}"
+
+
+def _change(value) -> str:
+    return "" if value is None else f" ({value:+.1f}%)"
+
+
+def analysis_text(summary: Mapping) -> str:
+    """The ``hawt analyze`` table: operating point, DELs, 1P–3P harmonics, pitch activity, events."""
+    bag = summary.get("bag", {})
+    lines = [f"hawt analyze: {bag.get('file', '')} (namespace {bag.get('namespace', '/')}), "
+             f"steps {bag.get('first_step', '?')}..{bag.get('last_step', '?')}",
+             f"duration {summary['duration_s']:.2f} s at {summary['sample_rate_hz']:.4g} Hz, "
+             f"B = {summary['n_blades']}",
+             f"rotor speed {_RPM * summary['rotor_speed']['mean']:.4g} rpm mean, "
+             f"{_RPM * summary['rotor_speed']['std']:.3g} rpm std"]
+    if summary.get("power"):
+        lines.append(f"electrical power {_MN * summary['power']['mean']:.4g} MW mean")
+    lines += ["", "damage-equivalent loads (1 Hz) and harmonic amplitudes (azimuth-domain fit):",
+              f"{'channel':<24}{'m':>4}{'DEL':>12}{'1P':>11}{'2P':>11}{'3P':>11}  unit"]
+    for name in dict.fromkeys([*summary["del"], *summary["harmonics"]]):
+        factor, unit = _unit(name)
+        entry = summary["del"].get(name)
+        amplitudes = dict(zip(summary["harmonics"].get(name, {}).get("n", []),
+                              summary["harmonics"].get(name, {}).get("amplitude", [])))
+        lines.append(f"{name:<24}{_fmt(entry and entry['m']):>4}{_fmt(entry and entry['value'], factor):>12}"
+                     + "".join(f"{_fmt(amplitudes.get(n), factor):>11}" for n in (1, 2, 3)) + f"  {unit}")
+    lines.append("")
+    for label, pitch in (("pitch (measured)", summary.get("pitch")), ("pitch (command)", summary.get("pitch_command"))):
+        if pitch:
+            lines.append(f"{label:<18} travel {_DEG * pitch['travel_rad']['total']:.4g}° (all blades), "
+                         f"max rate {_DEG * pitch['max_rate_rad_s']['max']:.3g}°/s, "
+                         f"duty cycle {100 * pitch['duty_cycle']['mean']:.3g} %")
+    command = summary.get("pitch_command")
+    if command and command.get("flag_steps"):
+        lines.append("command flags      " + ", ".join(f"{name} {count} steps"
+                                                       for name, count in command["flag_steps"].items()))
+    events = summary.get("events") or []
+    lines += ["", f"events ({len(events)}):" if events else "events: none recorded"]
+    lines += [f"  t={e['time']:10.3f} s  step {e['step']:>8}  {_LEVELS.get(e['level'], e['level'])!s:<5} "
+              f"{e['source']}: {e['kind']}" + (f" — {e['detail']}" if e['detail'] else "") for e in events]
+    return "\n".join(lines)
+
+
+def comparison_text(comparison: Mapping) -> str:
+    """The ``hawt compare`` table: each run's DELs, harmonics 1P–3P, pitch, rotor speed and power, with the change
+    against the first run."""
+    labels = comparison["labels"]
+    width = max(20, *(len(label) + 2 for label in labels))
+    lines = [f"hawt compare: {len(labels)} runs, changes against {comparison['reference']}",
+             f"{'quantity':<34}" + "".join(f"{label:>{width}}" for label in labels)]
+
+    def row(name: str, values: Sequence, changes: Sequence, factor: float) -> str:
+        return f"{name:<34}" + "".join(f"{_fmt(v, factor) + (_change(c) if k else ''):>{width}}"
+                                       for k, (v, c) in enumerate(zip(values, changes)))
+
+    for name, entry in comparison["del"].items():
+        factor, unit = _unit(name)
+        lines.append(row(f"DEL {name} [{unit}]", entry["value"], entry["change_percent"], factor))
+    for name, entry in comparison["harmonics"].items():
+        factor, unit = _unit(name)
+        for j, n in enumerate(entry["n"][:3]):
+            lines.append(row(f"{n}P {name} [{unit}]", [a[j] for a in entry["amplitude"]],
+                             [c[j] for c in entry["change_percent"]], factor))
+    if comparison.get("pitch"):
+        for metric, entry in comparison["pitch"].items():
+            factor, unit, name = _PITCH_METRICS[metric]
+            lines.append(row(f"pitch {name} [{unit}]", entry["value"], entry["change_percent"], factor))
+    for statistic, entry in comparison["rotor_speed"].items():
+        lines.append(row(f"rotor speed {statistic} [rpm]", entry["value"], entry["change_percent"], _RPM))
+    if comparison.get("power"):
+        entry = comparison["power"]["mean"]
+        lines.append(row("electrical power mean [MW]", entry["value"], entry["change_percent"], _MN))
+    return "\n".join(lines)
+
+
+def _index(directory: Path, title: str, text: str, images: Sequence[Path], data_file: str) -> Path:
+    figures = "\n".join(f'<h2>{html.escape(p.stem.replace("_", " "))}</h2>\n<img src="{html.escape(p.name)}" '
+                        f'alt="{html.escape(p.stem)}" style="max-width:100%">' for p in images)
+    page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title></head>\n"
+            f"<body>\n<h1>{html.escape(title)}</h1>\n<pre>{html.escape(text)}</pre>\n"
+            f"<p>All numbers in SI units: <a href=\"{data_file}\">{data_file}</a></p>\n{figures}\n</body></html>\n")
+    path = directory / "index.html"
+    path.write_text(page, encoding="utf-8")
+    return path
+
+
+def _folder(directory: os.PathLike) -> Path:
+    directory = Path(directory)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise BagError(f"{directory}: cannot create the report folder ({error.strerror})") from None
+    return directory
+
+
+def write_analysis_report(analysis, directory: os.PathLike) -> Path:
+    """Write ``index.html``, the PNGs of `hawt_analysis.plots.write_report` and ``summary.json``; return the index."""
+    from hawt_analysis.plots import write_report
+
+    directory = _folder(directory)
+    images = write_report(analysis.run.channels, analysis.summary, directory)
+    (directory / "summary.json").write_text(json.dumps(analysis.summary, indent=1))
+    return _index(directory, f"hawt analyze: {analysis.path.name}", analysis_text(analysis.summary), images,
+                  "summary.json")
+
+
+def write_comparison_report(comparison: Mapping, directory: os.PathLike) -> Path:
+    """Write ``index.html``, ``comparison.png`` and ``comparison.json``; return the index."""
+    from hawt_analysis.plots import write_comparison_report as plot
+
+    directory = _folder(directory)
+    images = plot(comparison, directory)
+    (directory / "comparison.json").write_text(json.dumps(comparison, indent=1))
+    return _index(directory, f"hawt compare: {', '.join(comparison['labels'])}", comparison_text(comparison),
+                  images, "comparison.json")

@@ -1,0 +1,206 @@
+"""A recorded run's plant and control topics as the channel arrays `hawt_analysis` expects.
+
+Topics (DESIGN §5), relative to the turbine's namespace (``/wt1/plant/blade_loads`` …):
+``plant/blade_loads`` and ``plant/state`` are required; ``control/pitch_command`` and
+``control/events`` are read when present. Rows are matched by ``step`` (one row per
+plant step, DESIGN §3); ``time`` is the blade loads' ``header.stamp`` [s].
+"""
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from .errors import BagError
+from .msg_definition import parse_schema, short_type_name
+from .reader import BagReader
+from .topic_columns import TopicColumns, read_topic_columns
+
+__all__ = [
+    "BLADE_LOADS",
+    "CONTROL_EVENTS",
+    "PITCH_COMMAND",
+    "TURBINE_STATE",
+    "PlantRun",
+    "find_namespace",
+    "load_plant_run",
+    "topic_in",
+]
+
+BLADE_LOADS = "plant/blade_loads"
+TURBINE_STATE = "plant/state"
+PITCH_COMMAND = "control/pitch_command"
+CONTROL_EVENTS = "control/events"
+
+_LOAD_FIELDS = ("azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch")
+_STATE_FIELDS = ("generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
+                 "hub_wind_speed", "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp",
+                 "tower_top_ss_disp", "hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment",
+                 "tower_base_ss_moment")
+"""TurbineState fields that are channels of `hawt_analysis.record` (all but header and step)."""
+
+
+def topic_in(namespace: str, relative: str) -> str:
+    """``("/wt1", "plant/state")`` → ``/wt1/plant/state``; ``("", …)`` → ``/plant/state``."""
+    return f"{namespace.rstrip('/')}/{relative}" if namespace.strip("/") else f"/{relative}"
+
+
+def _normalise(namespace: str) -> str:
+    stripped = namespace.strip("/")
+    return f"/{stripped}" if stripped else ""
+
+
+def find_namespace(topics: list[str], namespace: Optional[str] = None) -> str:
+    """The namespace of the turbine whose ``plant/blade_loads`` the bag holds ("" for the root).
+
+    Parameters
+    ----------
+    topics : list of str
+        The bag's topics.
+    namespace : str, optional
+        Chosen by the user; checked. Needed when the bag holds several turbines.
+
+    Raises
+    ------
+    BagError
+        If no topic ends in ``plant/blade_loads`` (in the given namespace), or several
+        do and none was chosen.
+    """
+    suffix = "/" + BLADE_LOADS
+    found = sorted(topic[: -len(suffix)] for topic in topics if topic.endswith(suffix))
+    if namespace is not None:
+        chosen = _normalise(namespace)
+        if chosen not in found:
+            raise BagError(f"missing topic {topic_in(chosen, BLADE_LOADS)}"
+                           + (f" (turbines in the bag: {', '.join(n or '/' for n in found)})" if found else ""))
+        return chosen
+    if not found:
+        raise BagError(f"missing topic {BLADE_LOADS} (under any namespace)")
+    if len(found) > 1:
+        raise BagError(f"several turbines in the bag ({', '.join(n or '/' for n in found)}): choose one with "
+                       "--namespace")
+    return found[0]
+
+
+@dataclass(frozen=True)
+class PlantRun:
+    """One turbine's run from a bag.
+
+    Attributes
+    ----------
+    namespace : str
+    channels : dict
+        For `hawt_analysis.summary.summarize`: ``time`` [s], the blade loads' fields and
+        the TurbineState channels, one row per plant step present in both topics.
+    steps : numpy.ndarray of int, shape (n,)
+    pitch_command : dict or None
+        ``time`` [s], ``step``, ``pitch`` (n, B) [rad], ``collective`` [rad], ``individual``
+        (n, B) [rad], ``generator_torque`` [N·m], ``flags``; None if the topic is absent.
+    flag_names : dict
+        Bit value → name of the PitchCommand ``FLAG_*`` constants.
+    events : list of dict
+        ``time`` [s], ``step``, ``source``, ``level``, ``kind``, ``detail``, in step order.
+    counts : dict
+        Topic → messages read.
+    """
+
+    namespace: str
+    channels: dict
+    steps: np.ndarray
+    pitch_command: Optional[dict]
+    flag_names: dict
+    events: list
+    counts: dict
+
+
+def _by_step(columns: TopicColumns) -> np.ndarray:
+    """Row indices ordered by step, first message of each step (a step recorded twice counts once)."""
+    _, first = np.unique(columns.fields["step"], return_index=True)
+    return first
+
+
+def _required(reader: BagReader, topic: str, fields: tuple) -> TopicColumns:
+    if topic not in reader.topic_names():
+        raise BagError(f"{reader.path}: missing topic {topic}")
+    columns = read_topic_columns(reader, topic, ("header.stamp", "step", *fields))
+    if len(columns) < 3:
+        raise BagError(f"{reader.path}: {topic} holds {len(columns)} messages, too few to analyse (need 3)")
+    return columns
+
+
+def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
+                   progress: Callable[[str], None] = lambda _: None) -> PlantRun:
+    """Read one turbine's plant and control topics into channel arrays.
+
+    Parameters
+    ----------
+    reader : BagReader
+    namespace : str, optional
+        See `find_namespace`.
+    progress : callable
+        Called with a short line before each topic is read.
+
+    Raises
+    ------
+    BagError
+        Naming the bag and the topic: missing, too short, steps missing in the middle,
+        or header stamps that do not increase.
+    """
+    namespace = find_namespace(reader.topic_names(), namespace)
+    loads_topic, state_topic = topic_in(namespace, BLADE_LOADS), topic_in(namespace, TURBINE_STATE)
+    progress(f"reading {loads_topic}")
+    loads = _required(reader, loads_topic, _LOAD_FIELDS)
+    progress(f"reading {state_topic}")
+    state = _required(reader, state_topic, _STATE_FIELDS)
+    load_rows, state_rows = _by_step(loads), _by_step(state)
+    steps, in_loads, in_state = np.intersect1d(loads.fields["step"][load_rows], state.fields["step"][state_rows],
+                                               return_indices=True)
+    load_rows, state_rows = load_rows[in_loads], state_rows[in_state]
+    gaps = np.flatnonzero(np.diff(steps) != 1)
+    if gaps.size:
+        raise BagError(f"{reader.path}: {loads_topic} and {state_topic} have steps missing: {gaps.size} gap(s), "
+                       f"the first after step {int(steps[gaps[0]])}")
+    time = loads.stamp()[load_rows]
+    if np.any(np.diff(time) <= 0.0):
+        raise BagError(f"{reader.path}: {loads_topic}: header.stamp does not increase from step to step "
+                       f"(first at step {int(steps[np.argmax(np.diff(time) <= 0.0) + 1])})")
+    channels = {"time": time}
+    channels.update({name: loads.fields[name][load_rows] for name in _LOAD_FIELDS})
+    channels.update({name: state.fields[name][state_rows] for name in _STATE_FIELDS if name in state.fields})
+    counts = {loads_topic: len(loads), state_topic: len(state)}
+    command, flag_names = _pitch_command(reader, topic_in(namespace, PITCH_COMMAND), counts, progress)
+    events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts)
+    return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts)
+
+
+def _pitch_command(reader: BagReader, topic: str, counts: dict, progress) -> tuple[Optional[dict], dict]:
+    if topic not in reader.topic_names():
+        return None, {}
+    progress(f"reading {topic}")
+    columns = read_topic_columns(reader, topic, ("header.stamp", "step", "pitch", "collective", "individual",
+                                                 "generator_torque", "flags"))
+    counts[topic] = len(columns)
+    schema = reader.schema(topic)
+    definition = parse_schema(schema.data.decode(), schema.name)[short_type_name(schema.name)]
+    flag_names = {int(value): name for name, value in definition.constants.items() if name.startswith("FLAG_")}
+    if not len(columns):
+        return None, flag_names
+    rows = _by_step(columns)
+    command = {name: columns.fields[name][rows] for name in ("step", "pitch", "collective", "individual",
+                                                             "generator_torque", "flags")}
+    command["time"] = columns.stamp()[rows]
+    return command, flag_names
+
+
+def _events(reader: BagReader, topic: str, counts: dict) -> list:
+    if topic not in reader.topic_names():
+        return []
+    columns = read_topic_columns(reader, topic)
+    counts[topic] = len(columns)
+    if not len(columns):
+        return []
+    time = columns.stamp()
+    order = np.lexsort((np.arange(len(columns)), columns.fields["step"]))
+    return [{"time": float(time[i]), "step": int(columns.fields["step"][i]),
+             "source": str(columns.fields["source"][i]), "level": int(columns.fields["level"][i]),
+             "kind": str(columns.fields["kind"][i]), "detail": str(columns.fields["detail"][i])}
+            for i in order.tolist()]

@@ -1,0 +1,114 @@
+"""The numbers of ``hawt analyze`` and ``hawt compare`` for bags: `hawt_analysis` on the recorded topics.
+
+`analyze_bag` reads one turbine's run (`plant_run.load_plant_run`) and returns the
+dict of `hawt_analysis.summary.summarize` (DESIGN §8) with three more keys:
+``bag`` (file, namespace, messages per topic), ``pitch_command`` (activity of the
+commanded pitch and the steps each PitchCommand flag was set; None without that
+topic) and ``events`` (the ``control/events`` timeline).
+"""
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+from hawt_analysis.comparison import compare_summaries
+from hawt_analysis.pitch_activity import pitch_activity
+from hawt_analysis.summary import AnalysisOptions, summarize
+
+from .errors import BagError
+from .plant_run import PlantRun, load_plant_run
+from .reader import BagReader
+
+__all__ = ["BagAnalysis", "analyze_bag", "compare_bags"]
+
+
+@dataclass(frozen=True)
+class BagAnalysis:
+    """One analysed bag: the run's arrays and the JSON-ready summary."""
+
+    path: Path
+    run: PlantRun
+    summary: dict
+
+
+def _command_summary(run: PlantRun, options: AnalysisOptions) -> Optional[dict]:
+    command = run.pitch_command
+    if command is None or command["time"].size < 3 or command["pitch"].ndim != 2:
+        return None
+    activity = pitch_activity(command["time"], command["pitch"], rate_threshold=options.pitch_rate_threshold,
+                              lowpass_cutoff=options.pitch_lowpass_cutoff)
+    flags = command["flags"].astype(np.int64)
+    return {
+        "steps": int(command["time"].size),
+        "travel_rad": {"per_blade": activity.travel.tolist(), "total": activity.total_travel},
+        "max_rate_rad_s": {"per_blade": activity.max_rate.tolist(), "max": activity.overall_max_rate},
+        "duty_cycle": {"per_blade": activity.duty_cycle.tolist(), "mean": activity.mean_duty_cycle},
+        "individual_rms_rad": np.sqrt(np.mean(command["individual"] ** 2, axis=0)).tolist()
+        if command["individual"].ndim == 2 and command["individual"].shape[1] else None,
+        "flag_steps": {name: int(np.count_nonzero(flags & bit)) for bit, name in sorted(run.flag_names.items())},
+    }
+
+
+def analyze_bag(path: os.PathLike, namespace: Optional[str] = None, options: AnalysisOptions = AnalysisOptions(),
+                progress: Callable[[str], None] = lambda _: None) -> BagAnalysis:
+    """Analyse one turbine's run in a bag.
+
+    Parameters
+    ----------
+    path : path-like
+    namespace : str, optional
+        The turbine's namespace (``/wt1``); found automatically when the bag holds one.
+    options : hawt_analysis.summary.AnalysisOptions
+    progress : callable
+        Called with a short line at each stage (reading a topic, analysing).
+
+    Returns
+    -------
+    BagAnalysis
+
+    Raises
+    ------
+    BagError
+        Naming the file and the topic or channel at fault.
+    """
+    with BagReader(path) as reader:
+        run = load_plant_run(reader, namespace, progress)
+    progress(f"analysing {run.steps.size} steps")
+    try:
+        summary = summarize(run.channels, options)
+    except ValueError as error:
+        raise BagError(f"{path}: {error}") from None
+    summary["bag"] = {"file": str(path), "namespace": run.namespace or "/", "messages": run.counts,
+                      "first_step": int(run.steps[0]), "last_step": int(run.steps[-1])}
+    summary["pitch_command"] = _command_summary(run, options)
+    summary["events"] = run.events
+    return BagAnalysis(Path(path), run, summary)
+
+
+def compare_bags(paths: Sequence[os.PathLike], namespace: Optional[str] = None,
+                 options: AnalysisOptions = AnalysisOptions(),
+                 progress: Callable[[str], None] = lambda _: None) -> tuple[list[BagAnalysis], dict]:
+    """Analyse several bags and compare each with the first (`hawt_analysis.comparison.compare_summaries`).
+
+    Labels are the file names (their paths if names repeat).
+
+    Returns
+    -------
+    (list of BagAnalysis, dict)
+        The analyses, and the comparison dict.
+    """
+    if len(paths) < 2:
+        raise BagError(f"compare: expected at least two bags, found {len(paths)}")
+    analyses = []
+    for number, path in enumerate(paths, 1):
+        progress(f"[{number}/{len(paths)}] {path}")
+        analyses.append(analyze_bag(path, namespace, options, progress))
+    labels = [Path(p).name for p in paths]
+    if len(set(labels)) != len(labels):
+        labels = [str(p) for p in paths]
+    try:
+        comparison = compare_summaries([a.summary for a in analyses], labels)
+    except ValueError as error:
+        raise BagError(f"compare: {error}") from None
+    return analyses, comparison
