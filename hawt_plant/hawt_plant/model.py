@@ -236,10 +236,12 @@ class TurbineModel:
         self._torsion = 0.0
         self._pitch = np.full(b, op.pitch if pitch is None else float(pitch))
         self._pitch_rate = np.zeros(b)
-        self._tower = np.zeros(2)
-        self._tower_rate = np.zeros(2)
-        self._flap = np.zeros(b)
-        self._flap_rate = np.zeros(b)
+        # Structural coordinates [tower fa, tower ss, flap 1..B] and their rates; the
+        # tower and flap arrays are views into them.
+        self._displacement = np.zeros(2 + b)
+        self._velocity = np.zeros(2 + b)
+        self._tower, self._flap = self._displacement[:2], self._displacement[2:]
+        self._tower_rate, self._flap_rate = self._velocity[:2], self._velocity[2:]
         self._generator_torque = 0.0
         self._induction = np.zeros((b, n))
         self._tangential_induction = np.zeros((b, n))
@@ -252,15 +254,15 @@ class TurbineModel:
             self._azimuth = azimuth % (2.0 * math.pi)
             self._generator_torque = min(max(shaft / self._gearbox_ratio, 0.0), generator.max_torque)
             self._torsion = shaft / self._torsional_stiffness
-            self._tower = self._tower + tower_residual / self._tower_stiffness
+            self._tower += tower_residual / self._tower_stiffness
             if refine_pitch:
                 correction = self._rated_pitch_correction(shaft, target_power)
                 self._pitch[:] = min(max(float(self._pitch[0]) + correction, actuator.min_angle), actuator.max_angle)
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
-            self._flap = self._flap + self._flap_residual / self._flap_stiffness_now
-        self._flap = self._flap + flap_offset
-        self._tower = self._tower + tower_offset
+            self._flap += self._flap_residual / self._flap_stiffness_now
+        self._flap += flap_offset
+        self._tower += tower_offset
         self._sample_inflow()
         self._evaluate_loads(update_induction=False)
         self._output = self._make_output(self._accelerations(self._generator_torque))
@@ -327,11 +329,8 @@ class TurbineModel:
         dt = self._config.dt
         limit = self._turbine.generator.max_torque_rate * dt
         self._generator_torque += min(max(torque_command - self._generator_torque, -limit), limit)
-        acc = self._accelerations(self._generator_torque)
-        self._tower_rate = self._tower_rate + dt * acc[0:2]
-        self._tower = self._tower + dt * self._tower_rate
-        self._flap_rate = self._flap_rate + dt * acc[2:]
-        self._flap = self._flap + dt * self._flap_rate
+        self._velocity += dt * self._accelerations(self._generator_torque)
+        self._displacement += dt * self._velocity
         self._rotor_speed += dt * self._rotor_acceleration
         self._generator_speed += dt * self._generator_acceleration(self._generator_torque)
         self._torsion += dt * (self._rotor_speed - self._generator_speed)

@@ -63,10 +63,8 @@ class DiscretePitchActuator:
             At the end of the step.
         """
         p = self._parameters
-        phi, gamma = self._phi, self._gamma
-        new_angle = phi[0, 0] * angle + phi[0, 1] * rate + gamma[0] * command
-        new_rate = phi[1, 0] * angle + phi[1, 1] * rate + gamma[1] * command
-        new_angle = np.minimum(np.maximum(new_angle, angle - self._max_step), angle + self._max_step)
+        new_angle, new_rate = self._phi @ np.array((angle, rate)) + np.multiply.outer(self._gamma, command)
+        step = np.minimum(np.maximum(new_angle - angle, -self._max_step), self._max_step)
         new_rate = np.minimum(np.maximum(new_rate, -p.max_rate), p.max_rate)
-        limited = np.minimum(np.maximum(new_angle, p.min_angle), p.max_angle)
-        return limited, new_rate * (limited == new_angle)
+        limited = np.minimum(np.maximum(angle + step, p.min_angle), p.max_angle)
+        return limited, new_rate * (limited == angle + step)
