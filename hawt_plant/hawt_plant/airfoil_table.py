@@ -44,7 +44,8 @@ class ElementPolars:
             table[k, :-1, 2] = np.diff(cl)
             table[k, :-1, 3] = np.diff(cd)
             table[k, -1, 2:] = 0.0
-        self._table = table.reshape(n * (intervals + 1), 4)
+        flat = table.reshape(n * (intervals + 1), 4)
+        self._cl, self._cd, self._cl_step, self._cd_step = (np.ascontiguousarray(flat[:, k]) for k in range(4))
         self._offsets = np.arange(n) * (intervals + 1)
         self._intervals = float(intervals)
         self._scale = intervals / (2.0 * math.pi)
@@ -66,5 +67,6 @@ class ElementPolars:
         np.mod(u, self._intervals, out=u)
         index = u.astype(np.intp)
         fraction = u - index
-        row = np.take(self._table, index + self._offsets, axis=0)
-        return row[..., 0] + fraction * row[..., 2], row[..., 1] + fraction * row[..., 3]
+        index += self._offsets
+        return (self._cl.take(index) + fraction * self._cl_step.take(index),
+                self._cd.take(index) + fraction * self._cd_step.take(index))

@@ -150,7 +150,6 @@ class TurbineModel:
         self._setup_constants()
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
         self._shadow = TowerShadow.from_tower(turbine.tower) if self._config.tower_shadow else None
-        self._operating_point: OperatingPoint | None = None
         self._output: TurbineOutput
         self.reset_to_operating_point()
 
@@ -178,8 +177,7 @@ class TurbineModel:
 
     @property
     def operating_point(self) -> OperatingPoint:
-        """The schedule's operating point the last reset started from."""
-        assert self._operating_point is not None
+        """The schedule's operating point at the wind's mean speed (from the last reset)."""
         return self._operating_point
 
     def reset_to_operating_point(self, azimuth: float = 0.0, *, rotor_speed: float | None = None,
@@ -218,7 +216,8 @@ class TurbineModel:
             raise ValueError(f"rotor_speed: expected a finite value >= 0 rad/s, found {rotor_speed}")
         actuator = self._turbine.pitch_actuator
         if pitch is not None and not actuator.min_angle <= pitch <= actuator.max_angle:
-            raise ValueError(f"pitch: expected a value in [{actuator.min_angle}, {actuator.max_angle}] rad, found {pitch}")
+            raise ValueError(
+                f"pitch: expected a value in [{actuator.min_angle}, {actuator.max_angle}] rad, found {pitch}")
         b, n = self._b, self._n
         flap_offset = np.zeros(b) if flap_offset is None else np.asarray(flap_offset, dtype=float)
         if flap_offset.shape != (b,) or not np.all(np.isfinite(flap_offset)):
@@ -291,9 +290,10 @@ class TurbineModel:
             self._evaluate_loads(update_induction=False)
             torque = self._aero_torque + self._gravity_torque
             shaft += torque
+            # Side-side: the drivetrain's roll reaction in equilibrium is the whole rotor torque.
+            roll = self._slope_ss * self._cos_tilt
             tower += (self._residual_fa,
-                      self._residual_ss + self._slope_ss * self._cos_tilt * self._shaft_torque * (1.0 - 1.0 / self._gearbox_ratio)
-                      - self._slope_ss * self._cos_tilt * torque)
+                      self._residual_ss + roll * (self._shaft_torque * (1.0 - 1.0 / self._gearbox_ratio) - torque))
         return shaft / _PASSAGE_SAMPLES, tower / _PASSAGE_SAMPLES
 
     def _rated_pitch_correction(self, shaft_torque: float, target_power: float) -> float:
@@ -363,7 +363,8 @@ class TurbineModel:
         try:
             torque = float(generator_torque_command)
         except (TypeError, ValueError) as err:
-            raise ValueError(f"generator_torque_command: expected a number, found {generator_torque_command!r}") from err
+            raise ValueError(
+                f"generator_torque_command: expected a number, found {generator_torque_command!r}") from err
         if not math.isfinite(torque):
             raise ValueError(f"generator_torque_command: NaN or infinite value {torque}")
         max_torque = self._turbine.generator.max_torque
@@ -473,7 +474,8 @@ class TurbineModel:
             2.0 * ss.damping_ratio * math.sqrt(ss.stiffness * self._ss_mass),
         ])
         # Per-blade features, each a linear function of (cos psi_i, sin psi_i, 1): rows of
-        # `features @ [cos; sin; 1]`, starting with e_n, e_t, e_z (x, y, z each). Blade unit vectors: radial e_r = cos psi e_zs - sin psi e_ys,
+        # `features @ [cos; sin; 1]`, starting with e_n, e_t, e_z (x, y, z each). Blade unit
+        # vectors: radial e_r = cos psi e_zs - sin psi e_ys,
         # tangential (direction of rotation) e_t = -sin psi e_zs - cos psi e_ys, with the shaft
         # x_s = (ct, 0, -st), e_ys = (0, 1, 0), e_zs = (st, 0, ct); blade axis
         # e_z = cb e_r - sb x_s; out-of-plane e_n = cb x_s + sb e_r.
@@ -614,8 +616,9 @@ class TurbineModel:
         q_ss = float(tower_forces[1]) - self._slope_ss * self._cos_tilt * shaft * (1.0 - 1.0 / self._gearbox_ratio)
         self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
         self._flap_residual = loads[2] - self._flap_damping * self._flap_rate - self._flap_stiffness_now * self._flap
-        self._residual_fa = q_fa - self._tower_damping[0] * self._tower_rate[0] - self._tower_stiffness[0] * self._tower[0]
-        self._residual_ss = q_ss - self._tower_damping[1] * self._tower_rate[1] - self._tower_stiffness[1] * self._tower[1]
+        damping, stiffness = self._tower_damping, self._tower_stiffness
+        self._residual_fa = q_fa - damping[0] * self._tower_rate[0] - stiffness[0] * self._tower[0]
+        self._residual_ss = q_ss - damping[1] * self._tower_rate[1] - stiffness[1] * self._tower[1]
         # Mass matrix reduced to the tower coordinates (Schur complement of the flap block).
         coupling = features[rows["coupling"]]
         fa_mass = features[rows["fa_mass"]]

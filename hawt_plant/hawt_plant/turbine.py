@@ -446,7 +446,8 @@ class _Section:
             raise self.error(key, f"expected an integer >= {low}, found {value!r}")
         return value
 
-    def array(self, key: str, length: int | None = None, positive: bool = False, increasing: bool = False) -> np.ndarray:
+    def array(self, key: str, length: int | None = None, positive: bool = False,
+              increasing: bool = False) -> np.ndarray:
         value = self.raw(key)
         if not isinstance(value, list) or not all(
             isinstance(v, (int, float)) and not isinstance(v, bool) for v in value
