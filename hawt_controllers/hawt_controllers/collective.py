@@ -391,9 +391,9 @@ class BaselineCollectiveController:
         generator_speed : float
             Measured generator speed, HSS [rad/s].
         measured_pitch : float
-            Measured collective pitch [rad] (mean over the blades, which holds
-            no IPC part for harmonics n not multiple of B); the rate limit is
-            measured from it, as in the DISCON.
+            Measured collective pitch [rad] (mean over the blades); it starts
+            the controller on its first call. The rate limit counts from the
+            previous command (see the note in the code).
         dt : float
             Time since the previous step [s].
 
@@ -426,7 +426,11 @@ class BaselineCollectiveController:
             ki=c.integral_gain,
             saturation=BoxSaturation(c.min_pitch / gain, c.max_pitch / gain),
         )
-        limited = limit_pitch(np.array([float(demand)]), np.array([measured_pitch]), dt, c.pitch_limits)
+        # The rate limit counts from the previous collective command, not from the measured mean
+        # pitch as Jonkman's DISCON does: with B blades, IPC of harmonics n = B, 2B, … moves every
+        # blade alike, so the measured mean carries it and the collective would follow it (that
+        # feedback made 3P IPC unstable on the NREL 5 MW, measured in this project).
+        limited = limit_pitch(np.array([float(demand)]), np.array([self.pitch_command]), dt, c.pitch_limits)
         self.pitch_command = float(limited.pitch[0])
         return CollectiveOutput(
             pitch=self.pitch_command,
