@@ -145,7 +145,10 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
         Naming the bag and the topic: missing, too short, steps missing in the middle,
         or header stamps that do not increase.
     """
-    namespace = find_namespace(reader.topic_names(), namespace)
+    try:
+        namespace = find_namespace(reader.topic_names(), namespace)
+    except BagError as error:
+        raise BagError(f"{reader.path}: {error}") from None
     loads_topic, state_topic = topic_in(namespace, BLADE_LOADS), topic_in(namespace, TURBINE_STATE)
     progress(f"reading {loads_topic}")
     loads = _required(reader, loads_topic, _LOAD_FIELDS)

@@ -65,7 +65,7 @@ class BagInfo:
         """The report of ``hawt bag info``: file, size, duration, start/end, then one line per topic."""
         def stamp(ns: int) -> str:
             moment = datetime.fromtimestamp(ns * 1e-9, timezone.utc)
-            return f"{moment:%b %d %Y %H:%M:%S}.{ns % 1_000_000_000:09d} UTC ({ns * 1e-9:.9f})"
+            return f"{moment:%b %d %Y %H:%M:%S}.{ns % 1_000_000_000:09d} UTC ({ns // 1_000_000_000}.{ns % 1_000_000_000:09d})"
 
         lines = [
             f"Files:             {self.path}",
@@ -129,13 +129,13 @@ class BagReader:
             self._reader = SeekingReader(self._file)
             self._header = self._reader.get_header()
             self._summary = self._reader.get_summary() or self._scan_summary()
+        except BagError:
+            self._file.close()
+            raise
         except _FAULTS as error:
             self._file.close()
             raise BagError(f"{self.path}: truncated or unfinished MCAP ({_one_line(error)}); "
                            f"'hawt bag recover {self.path}' rescues its complete chunks") from None
-        except BagError:
-            self._file.close()
-            raise
 
     def _scan_summary(self) -> Summary:
         """A summary built by reading the whole file (a finished file written without one)."""

@@ -5,11 +5,16 @@ one-line message naming the file, field or parameter at fault.
 """
 import argparse
 import json
+import os
+import signal
+import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 from typing import Dict, List, Optional
+
+from hawt_bag.errors import BagError
 
 from hawt_tools.graph_file import GraphError, load_graph
 
@@ -54,9 +59,114 @@ def _cmd_launch(args: argparse.Namespace) -> int:
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
     overrides = parse_overrides(graph, args.param)
     global_parameters = {"mode": args.mode} if args.mode else {}
-    if args.composed:
-        return run_composed(graph, overrides, args.duration, global_parameters)
-    return ProcessGraph(graph, overrides, global_parameters).run(args.duration)
+    recorder = _start_recorder(Path(args.record)) if args.record else None
+    try:
+        if args.composed:
+            code = run_composed(graph, overrides, args.duration, global_parameters)
+        else:
+            code = ProcessGraph(graph, overrides, global_parameters).run(args.duration)
+    finally:
+        if recorder is not None:
+            recorded = _stop_recorder(recorder)
+    if recorder is not None and recorded != 0:
+        raise RuntimeError(f"the recorder of {args.record} failed (exit code {recorded})")
+    return code
+
+
+def _start_recorder(path: Path) -> subprocess.Popen:
+    """Start the ``record`` executable of hawt_bag on ``path`` and wait until it has created the bag."""
+    from hawt_tools.launcher import package_prefix
+
+    if path.exists():
+        raise BagError(f"{path}: exists; refusing to overwrite a bag (choose another --record name)")
+    prefix = package_prefix("hawt_bag")
+    executable = Path(prefix or "") / "lib" / "hawt_bag" / "record"
+    if prefix is None or not executable.is_file():
+        raise RuntimeError("hawt_bag's record executable is not installed (run scripts/setup.sh)")
+    recorder = subprocess.Popen([str(executable), "-o", str(path)], stdin=subprocess.DEVNULL,
+                                start_new_session=True)
+    deadline = time.monotonic() + 20.0
+    while not path.exists():
+        if recorder.poll() is not None:
+            raise RuntimeError(f"the recorder of {path} exited before recording (exit code {recorder.returncode})")
+        if time.monotonic() > deadline:
+            _stop_recorder(recorder)
+            raise RuntimeError(f"the recorder of {path} did not start within 20 s")
+        time.sleep(0.02)
+    return recorder
+
+
+def _stop_recorder(recorder: subprocess.Popen) -> int:
+    """Stop the recorder after the graph (SIGINT: it takes what is still arriving, then finishes the bag)."""
+    for sig, timeout in ((signal.SIGINT, 30.0), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
+        if recorder.poll() is not None:
+            break
+        os.killpg(recorder.pid, sig)
+        try:
+            recorder.wait(timeout)
+        except subprocess.TimeoutExpired:
+            continue
+    return recorder.wait()
+
+
+def _cmd_record(args: argparse.Namespace) -> int:
+    from hawt_bag.recorder import options_from, record
+
+    return record(options_from(args))
+
+
+def _cmd_replay(args: argparse.Namespace) -> int:
+    from hawt_bag.replayer import ReplayOptions, parse_remaps, replay
+
+    options = ReplayOptions(rate=args.rate, loop=args.loop, start_offset=args.start, topics=tuple(args.topics),
+                            clock_hz=args.clock, remaps=parse_remaps(args.remap), start_paused=args.start_paused,
+                            wait_for_subscribers=args.wait_for_subscribers, wait_timeout=args.wait_timeout,
+                            step_trigger=args.step_trigger, step_timeout=args.step_timeout)
+    result = replay(args.bag, options)
+    print(f"replayed {result.published} messages" + (f" in {result.steps} steps" if args.step_trigger else ""))
+    return 0
+
+
+def _cmd_bag_info(args: argparse.Namespace) -> int:
+    from hawt_bag.reader import BagReader
+
+    with BagReader(args.bag) as reader:
+        print(reader.info().text())
+    return 0
+
+
+def _cmd_bag_recover(args: argparse.Namespace) -> int:
+    from hawt_bag.recover import recover_bag
+
+    print(recover_bag(args.bag, args.output).text())
+    return 0
+
+
+def _progress(line: str) -> None:
+    print(f"hawt: {line}", file=sys.stderr, flush=True)
+
+
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    from hawt_bag.analysis_report import analysis_text, write_analysis_report
+    from hawt_bag.run_analysis import analyze_bag
+
+    analysis = analyze_bag(args.bag, args.namespace, progress=_progress)
+    print(json.dumps(analysis.summary) if args.json else analysis_text(analysis.summary))
+    if args.report:
+        _progress(f"writing the report into {args.report}")
+        _progress(f"report: {write_analysis_report(analysis, args.report)}")
+    return 0
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from hawt_bag.analysis_report import comparison_text, write_comparison_report
+    from hawt_bag.run_analysis import compare_bags
+
+    _, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
+    print(json.dumps(comparison) if args.json else comparison_text(comparison))
+    if args.report:
+        _progress(f"report: {write_comparison_report(comparison, args.report)}")
+    return 0
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
@@ -108,7 +218,72 @@ def _parser() -> argparse.ArgumentParser:
     launch.add_argument("--composed", action="store_true", help="run all nodes in this process on one executor")
     launch.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
                         help="override a parameter of one node (repeatable)")
+    launch.add_argument("--record", metavar="FILE.mcap",
+                        help="record every topic into this new bag; the recorder starts before the graph "
+                             "and stops after it")
     launch.set_defaults(run=_cmd_launch)
+
+    from hawt_bag.recorder import add_record_arguments
+
+    record = commands.add_parser("record", help="record topics of the running graph into an MCAP bag",
+                                 description="Record all topics (or the chosen ones) into a new MCAP bag until "
+                                             "Ctrl-C/SIGTERM; topics that appear later are picked up.")
+    add_record_arguments(record)
+    record.set_defaults(run=_cmd_record)
+
+    replay = commands.add_parser("replay", help="publish a bag's messages again, timed or step by step",
+                                 description="Replay a bag at its recorded timing (times --rate), or step by step "
+                                             "through a graph with --step-trigger. Live control: parameters "
+                                             "'paused' and 'rate' of node hawt_player, topic "
+                                             "/hawt_player/play_next (std_msgs/Empty) while paused.")
+    replay.add_argument("bag", metavar="FILE.mcap")
+    replay.add_argument("-r", "--rate", type=float, default=1.0, metavar="R", help="speed factor (default 1)")
+    replay.add_argument("-l", "--loop", action="store_true", help="start again at the end")
+    replay.add_argument("--start", type=float, default=0.0, metavar="S",
+                        help="start S seconds after the bag's first message")
+    replay.add_argument("--topics", nargs="+", default=[], metavar="T", help="publish only these topics")
+    replay.add_argument("--clock", type=float, nargs="?", const=40.0, default=0.0, metavar="HZ",
+                        help="publish /clock at HZ (default 40 when given without a value); in step replay, "
+                             "once per step")
+    replay.add_argument("--remap", "-m", nargs="+", default=[], metavar="FROM:=TO", help="publish a topic under "
+                                                                                         "another name")
+    replay.add_argument("-p", "--start-paused", action="store_true", help="start paused")
+    replay.add_argument("--wait-for-subscribers", action="store_true",
+                        help="start only once every topic has a subscriber")
+    replay.add_argument("--wait-timeout", type=float, default=10.0, metavar="S",
+                        help="how long to wait for subscribers and the trigger's publisher (default 10)")
+    replay.add_argument("--step-trigger", metavar="TOPIC",
+                        help="step replay: after publishing the messages of step k, wait for step k on TOPIC "
+                             "(e.g. /wt1/control/pitch_command)")
+    replay.add_argument("--step-timeout", type=float, default=10.0, metavar="S",
+                        help="step replay: how long to wait for each step's answer (default 10)")
+    replay.set_defaults(run=_cmd_replay)
+
+    bag = commands.add_parser("bag", help="inspect or rescue a bag (info, recover)")
+    bag_commands = bag.add_subparsers(dest="bag_command", required=True, metavar="SUBCOMMAND")
+    info = bag_commands.add_parser("info", help="duration, size, compression, topics with type, QoS and count")
+    info.add_argument("bag", metavar="FILE.mcap")
+    info.set_defaults(run=_cmd_bag_info)
+    recover = bag_commands.add_parser("recover", help="rewrite what an unfinished bag holds into a complete one")
+    recover.add_argument("bag", metavar="FILE.mcap")
+    recover.add_argument("-o", "--output", metavar="OUT.mcap", help="default: FILE.recovered.mcap")
+    recover.set_defaults(run=_cmd_bag_recover)
+
+    analyze = commands.add_parser("analyze", help="DELs, harmonics, spectra, pitch activity and events of a run",
+                                  description="Analyse one turbine's run in a bag: plant/blade_loads and "
+                                              "plant/state (required), control/pitch_command and control/events.")
+    analyze.add_argument("bag", metavar="FILE.mcap")
+    analyze.add_argument("--json", action="store_true", help="print the JSON object of DESIGN §8")
+    analyze.add_argument("--report", metavar="DIR", help="write index.html, plots and summary.json into DIR")
+    analyze.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when the bag holds several")
+    analyze.set_defaults(run=_cmd_analyze)
+
+    compare = commands.add_parser("compare", help="several runs side by side, changes against the first")
+    compare.add_argument("bags", nargs="+", metavar="FILE.mcap")
+    compare.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    compare.add_argument("--report", metavar="DIR", help="write index.html, comparison.png and comparison.json")
+    compare.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when a bag holds several")
+    compare.set_defaults(run=_cmd_compare)
 
     listing = commands.add_parser("list", help="the nodes and topics (with types) of the running graph")
     listing.add_argument("--settle", type=float, default=1.0, metavar="S",
@@ -125,7 +300,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     args = _parser().parse_args(argv)
     try:
         return args.run(args)
-    except GraphError as error:
+    except (GraphError, BagError) as error:
         print(f"hawt {args.command}: {error}", file=sys.stderr)
         return 2
     except RuntimeError as error:

@@ -1,0 +1,261 @@
+"""The recorder node: every topic (or the chosen ones) of the running graph into a bag (``hawt record``).
+
+Like ``ros2 bag record``: topics are found by polling the graph (every 0.1 s), so
+topics that appear later are picked up; each is subscribed with ``raw=True`` (the
+serialized bytes are written, never deserialized) and a QoS adapted to its publishers
+(rosbag2 ``Rosbag2QoS::adapt_request_to_offers``: reliable if all publishers are,
+transient-local if all are). ``log_time`` is the middleware's receive time,
+``publish_time`` the message's ``header.stamp`` when its type starts with a
+``std_msgs/Header`` (DESIGN §7), else the receive time.
+
+Stopping: SIGINT or SIGTERM ends discovery, the messages already on their way are
+taken until the topics are quiet for 0.1 s (at most 1 s), and the bag is finished
+(summary and statistics). Chunks are closed at least every ``chunk_interval`` so a
+SIGKILL loses at most that much (``hawt bag recover``). A write error (full disk)
+stops the recording with exit code 1 and says how to recover.
+"""
+import argparse
+import re
+import signal
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import List, Optional, Sequence
+
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+
+from .errors import BagError
+from .interface_files import schema_text
+from .message_types import message_class
+from .msg_definition import parse_msg
+from .qos_profiles import QosOffer
+from .writer import BagWriter
+
+__all__ = ["Recorder", "RecorderOptions", "add_record_arguments", "main", "options_from", "record"]
+
+_QUIET = 0.1
+_DRAIN_LIMIT = 1.0
+
+
+@dataclass(frozen=True)
+class RecorderOptions:
+    """What to record and how.
+
+    Attributes
+    ----------
+    output : str
+        The new bag file (refused if it exists).
+    topics : tuple of str
+        Topics to record (absolute names); with ``regex`` both select. All if neither.
+    regex : str or None
+        Record topics whose name matches (``re.search``).
+    include_hidden : bool
+        Also topics with a hidden component (``/_x``), which ``--all`` skips in rosbag2.
+    poll_period : float
+        Graph discovery period [s].
+    chunk_size : int
+        Chunk size [bytes].
+    chunk_interval : float
+        Longest time a chunk stays open [s]; bounds what a SIGKILL loses.
+    depth : int
+        Subscription queue depth (keep-last).
+    """
+
+    output: str
+    topics: tuple[str, ...] = ()
+    regex: Optional[str] = None
+    include_hidden: bool = False
+    poll_period: float = 0.1
+    chunk_size: int = 1024 * 1024
+    chunk_interval: float = 1.0
+    depth: int = 1000
+    node_name: str = "hawt_recorder"
+
+
+def _has_header(type_name: str) -> bool:
+    fields = parse_msg(schema_text(type_name).split("\n" + "=" * 80, 1)[0], type_name).fields
+    return bool(fields) and fields[0].type == "std_msgs/Header"
+
+
+def _offer(profile) -> QosOffer:
+    return QosOffer.from_enums(profile.history, profile.depth, profile.reliability, profile.durability,
+                               profile.deadline.nanoseconds, profile.lifespan.nanoseconds, profile.liveliness,
+                               profile.liveliness_lease_duration.nanoseconds,
+                               profile.avoid_ros_namespace_conventions)
+
+
+class Recorder(Node):
+    """Subscribes to the selected topics as they appear and writes what arrives to ``writer``."""
+
+    def __init__(self, options: RecorderOptions, writer: BagWriter, **node_kwargs) -> None:
+        super().__init__(options.node_name, **node_kwargs)
+        self.options = options
+        self.writer = writer
+        self.counts: dict[str, int] = {}
+        self.failure: Optional[str] = None
+        self.last_message = time.monotonic()
+        self._pattern = re.compile(options.regex) if options.regex else None
+        self._wanted = {"/" + t.strip("/") for t in options.topics}
+        self._skipped: set[str] = set()
+        self._recorded = {}
+        self.create_timer(options.poll_period, self.discover)
+        self.create_timer(options.chunk_interval, self._close_chunk)
+        self.discover()
+
+    def _selected(self, topic: str) -> bool:
+        if not self._wanted and self._pattern is None:
+            return self.options.include_hidden or not any(part.startswith("_") for part in topic.split("/"))
+        return topic in self._wanted or bool(self._pattern and self._pattern.search(topic))
+
+    def discover(self) -> None:
+        """Subscribe to every selected topic that has publishers and is not recorded yet."""
+        for topic, types in self.get_topic_names_and_types():
+            if topic in self._recorded or topic in self._skipped or not self._selected(topic):
+                continue
+            publishers = self.get_publishers_info_by_topic(topic)
+            if not publishers:
+                continue
+            if len(types) != 1:
+                self._skip(topic, f"it has several types ({', '.join(types)})")
+                continue
+            try:
+                self._subscribe(topic, types[0], publishers)
+            except BagError as error:
+                self._skip(topic, str(error))
+
+    def _skip(self, topic: str, reason: str) -> None:
+        self._skipped.add(topic)
+        self.get_logger().warning(f"not recording {topic}: {reason}")
+
+    def _subscribe(self, topic: str, type_name: str, publishers) -> None:
+        kind = message_class(type_name)
+        offers = [_offer(p.qos_profile) for p in publishers]
+        reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in publishers)
+        latched = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers)
+        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=self.options.depth,
+                         reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+        channel = self.writer.add_topic(topic, type_name, offers)
+        stamped = _has_header(type_name)
+        self.counts[topic] = 0
+
+        def write(data: bytes, info) -> None:
+            received = info["received_timestamp"]
+            publish = received
+            if stamped and len(data) >= 12:
+                sec = int.from_bytes(data[4:8], "little", signed=True)
+                publish = max(sec * 1_000_000_000 + int.from_bytes(data[8:12], "little"), 0)
+            try:
+                self.writer.write(channel, received, data, publish)
+            except OSError as error:
+                self._fail(f"writing {self.writer.path} failed ({error.strerror})")
+                return
+            self.counts[topic] += 1
+            self.last_message = time.monotonic()
+
+        self._recorded[topic] = self.create_subscription(kind, topic, write, qos, raw=True)
+        self.get_logger().info(f"recording {topic} [{type_name}] "
+                               f"({'reliable' if reliable else 'best effort'}, {len(publishers)} publisher(s))")
+
+    def _close_chunk(self) -> None:
+        try:
+            self.writer.flush()
+        except OSError as error:
+            self._fail(f"writing {self.writer.path} failed ({error.strerror})")
+
+    def _fail(self, reason: str) -> None:
+        if self.failure is None:
+            self.failure = reason
+            self.get_logger().error(reason)
+
+
+def add_record_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``hawt record`` (and of the ``record`` executable)."""
+    parser.add_argument("-o", "--output", metavar="FILE.mcap",
+                        help="the new bag (default: bags/run_<date>_<time>.mcap); an existing file is refused")
+    parser.add_argument("--topics", nargs="+", default=[], metavar="T", help="record only these topics")
+    parser.add_argument("-e", "--regex", metavar="R", help="record topics whose name matches this regex")
+    parser.add_argument("--include-hidden-topics", action="store_true", help="also topics such as /_x")
+    parser.add_argument("--chunk-size", type=int, default=1024 * 1024, metavar="BYTES",
+                        help="chunk size before compression (default 1 MiB)")
+    parser.add_argument("--chunk-interval", type=float, default=1.0, metavar="S",
+                        help="close a chunk at least every S seconds: what a kill can lose (default 1)")
+    parser.add_argument("--node-name", default="hawt_recorder", help="the recorder node's name")
+
+
+def options_from(args: argparse.Namespace) -> RecorderOptions:
+    """RecorderOptions from parsed `add_record_arguments` options (default output name by date)."""
+    output = args.output or time.strftime("bags/run_%Y%m%d_%H%M%S.mcap")
+    if args.regex:
+        try:
+            re.compile(args.regex)
+        except re.error as error:
+            raise BagError(f"--regex {args.regex!r}: {error}") from None
+    if args.chunk_interval <= 0:
+        raise BagError(f"--chunk-interval: expected a positive number of seconds, found {args.chunk_interval}")
+    return RecorderOptions(output, tuple(args.topics), args.regex, args.include_hidden_topics,
+                           chunk_size=args.chunk_size, chunk_interval=args.chunk_interval, node_name=args.node_name)
+
+
+def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, report=print) -> int:
+    """Record until SIGINT/SIGTERM; returns the exit code (0, or 1 after a write error).
+
+    ``report`` is print-like (called with ``file=sys.stderr`` for errors).
+
+    Raises
+    ------
+    BagError
+        If the output exists or cannot be created.
+    """
+    Path(options.output).parent.mkdir(parents=True, exist_ok=True)
+    writer = BagWriter(options.output, chunk_size=options.chunk_size)
+    stop = []
+    previous = {sig: signal.signal(sig, lambda *_: stop.append(True)) for sig in (signal.SIGINT, signal.SIGTERM)}
+    counts, failure = {}, None
+    try:
+        with rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
+            recorder = Recorder(options, writer)
+            executor = SingleThreadedExecutor()
+            executor.add_node(recorder)
+            report(f"recording to {options.output} (Ctrl-C to stop)")
+            while not stop and recorder.failure is None:
+                executor.spin_once(timeout_sec=0.05)
+            drain_end = time.monotonic() + _DRAIN_LIMIT
+            while recorder.failure is None and time.monotonic() < drain_end and \
+                    time.monotonic() - recorder.last_message < _QUIET:
+                executor.spin_once(timeout_sec=0.02)
+            counts, failure = recorder.counts, recorder.failure
+            executor.shutdown()
+            recorder.destroy_node()
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        try:
+            writer.finish()
+        except OSError as error:
+            failure = f"could not finish the bag ({error.strerror})"
+    report(f"recorded {sum(counts.values())} messages on {len(counts)} topics into {options.output}")
+    if failure is not None:
+        report(f"hawt record: {options.output}: {failure}; 'hawt bag recover {options.output}' rescues its "
+               "complete chunks", file=sys.stderr)
+        return 1
+    return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> None:
+    """The ``record`` executable (what ``hawt launch --record`` starts): ``record -o FILE [options]``."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
+    own = argv[:len(argv) - len(ros_args)]
+    parser = argparse.ArgumentParser(prog="record", description="Record topics of the running graph into a bag.")
+    add_record_arguments(parser)
+    try:
+        sys.exit(record(options_from(parser.parse_args(own)), ["record", *ros_args]))
+    except BagError as error:
+        print(f"record: {error}", file=sys.stderr)
+        sys.exit(2)
