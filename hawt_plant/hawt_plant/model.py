@@ -521,8 +521,8 @@ class TurbineModel:
         self._rows = rows
         self._trig = np.ones((3, b))
         self._wind_points = np.empty((3, b * n + 1))
-        self._grid = self._wind_points[:, :-1].reshape(3, b, n)
-        assert np.shares_memory(self._grid, self._wind_points)
+        self._blade_span = np.empty((b, 2, n))  # per blade: apex distance and flap deflection
+        self._blade_span[:, 0, :] = s_abs
         self._motion = np.zeros((2, b, 3))
         self._apex_columns = np.array([0, 3, 6])  # loads rows of F_n, F_t, F_z
 
@@ -542,12 +542,13 @@ class TurbineModel:
         apex = np.array((self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
                          self._tower_height + self._apex_z_top + x_top * u0z))
         self._apex = apex
-        grid = self._grid
-        axes = features[0:9, :, None]
-        np.multiply(axes[6:9], self._apex_distance, out=grid)
-        grid += axes[0:3] * np.multiply.outer(self._flap, self._element_mode)
-        grid += apex[:, None, None]
+        # Element positions: apex + s e_z + w e_n, as (B, 3, 2) @ (B, 2, N).
+        span = self._blade_span
+        np.multiply.outer(self._flap, self._element_mode, out=span[:, 1, :])
+        axes = features[0:9].reshape(3, 3, b)[[2, 0]].transpose(2, 1, 0)
+        grid = (axes @ span).transpose(1, 0, 2) + apex[:, None, None]
         points = self._wind_points
+        points[:, :-1] = grid.reshape(3, b * n)
         points[:, -1] = apex
         velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
         self._hub_wind_speed = float(velocity[0, -1])
