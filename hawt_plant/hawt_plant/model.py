@@ -187,7 +187,8 @@ class TurbineModel:
 
         Rotor speed and pitch come from the baseline schedule
         (:func:`~hawt_plant.operating_point.baseline_operating_point`); above rated the pitch
-        is refined so that this model's mean power is rated power. The induction is the
+        is refined so that this model's mean power is rated power (unless ``rotor_speed`` or
+        ``pitch`` is given). The generator torque is limited to [0, max_torque]. The induction is the
         converged steady BEM solution in the wind at time 0; the generator torque, shaft
         torsion and tower deflections balance the loads averaged over one blade passage, the
         blade deflections the loads at time 0. All rates start at zero.

@@ -241,12 +241,14 @@ def test_hub_moments_follow_the_mbc_of_the_blade_moments(turbine):
     assert run["hub_yaw_moment"][window].mean() == pytest.approx(1.5 * sine.mean(), rel=0.1)
 
 
-def test_tower_base_moment_is_thrust_times_height(turbine):
-    """Mean tower-base fore-aft moment is about thrust x hub height (plus the overhung weight)."""
+def test_tower_base_moments_are_thrust_times_height_and_the_rotor_torque(turbine):
+    """Mean tower-base fore-aft moment is about thrust x hub height (plus the overhung weight);
+    the side-side one is about the rotor torque the drivetrain passes to the nacelle."""
     model = TurbineModel(turbine, PowerLawWind(11.4), ModelConfig(tower_shadow=False))
     run = simulate(model, 500)
-    moment = run["tower_base_fa_moment"].mean()
-    assert moment == pytest.approx(run["rotor_thrust"].mean() * turbine.hub_height, rel=0.1)
+    assert run["tower_base_fa_moment"].mean() == pytest.approx(
+        run["rotor_thrust"].mean() * turbine.hub_height, rel=0.1)
+    assert run["tower_base_ss_moment"].mean() == pytest.approx(run["aero_torque"].mean(), rel=0.15)
 
 
 def test_same_inputs_give_bit_identical_outputs(turbine):
