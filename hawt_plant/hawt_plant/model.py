@@ -92,6 +92,17 @@ class TurbineOutput:
     """Measurements of one model step; field names are those of DESIGN.md §5.
 
     Arrays have one entry per blade, blade 1 first. Units: SI (rad, rad/s, N m, N, m, W).
+    ``time`` is the simulation time of the step [s]; ``azimuth`` is wrapped to [0, 2 pi).
+    ``root_moment_oop`` / ``root_moment_ip`` are OpenFAST RootMyc / RootMxc: out-of-plane
+    (positive bending downwind) and in-plane (positive in the direction of rotation) about
+    the axes of the coned blade-root frame, which does not pitch with the blade; aerodynamic,
+    gravity and inertial parts included. ``generator_torque`` is the torque applied over the
+    step (high-speed shaft), ``rotor_thrust`` and ``aero_torque`` are aerodynamic only,
+    ``hub_wind_speed`` is the undisturbed longitudinal wind at the rotor apex. Tower-top
+    accelerations and displacements are those of the first modes (positive downwind and to
+    the left looking downwind). Hub moments: about the non-rotating shaft axes y_s, z_s at
+    the apex (OpenFAST LSSTipMys, LSSTipMzs signs); tower-base moments: about y and x at
+    the base (TwrBsMyt, TwrBsMxt).
     """
 
     time: float
