@@ -143,7 +143,9 @@ def _cmd_bag_recover(args: argparse.Namespace) -> int:
 
 
 def _progress(line: str) -> None:
-    print(f"hawt: {line}", file=sys.stderr, flush=True)
+    """Stage lines of long work, on an interactive terminal only (stderr stays one error line otherwise)."""
+    if sys.stderr.isatty():
+        print(f"hawt: {line}", file=sys.stderr, flush=True)
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
