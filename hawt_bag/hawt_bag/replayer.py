@@ -43,6 +43,9 @@ from .reader import BagMessage, BagReader, TopicInfo
 
 __all__ = ["Player", "ReplayOptions", "ReplayResult", "parse_remaps", "replay"]
 
+_SPIN = 300_000
+"""The last 0.3 ms before a message is due are waited by polling the clock, not by sleeping [ns]."""
+
 
 @dataclass(frozen=True)
 class ReplayOptions:
@@ -236,10 +239,11 @@ def _timed(player: Player, reader: BagReader, topics: list[str], start: int, opt
                         due = clock.wall_time_of(message.log_time)
                         if due is not None and now >= due:
                             break
-                        wait = 100_000_000 if due is None else due - now
+                        wait = 100_000_000 if due is None else due - now - _SPIN
                         if period is not None:
                             wait = min(wait, next_tick - now)
-                        control.condition.wait(wait * 1e-9)
+                        if wait > 0:
+                            control.condition.wait(wait * 1e-9)
                 if control.stop:
                     return
                 player.outputs[message.topic].publish(message.data)
