@@ -40,7 +40,7 @@ PARAMETERS = (
     ParameterSpec("wind_type", "steady", "inflow model", choices=WIND_KINDS, read_only=True),
     ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s", minimum=3.0, maximum=30.0,
                   read_only=True),
-    ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=1.0,
+    ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=0.99,
                   read_only=True),
     ParameterSpec("turbulence_class", "B", "IEC turbulence category", choices=("A", "B", "C"), read_only=True),
     ParameterSpec("seed", 0, "seed of the turbulent field", minimum=0, maximum=2**31 - 1, read_only=True),
@@ -139,7 +139,7 @@ class PlantNode(Node):
         low, high = self.actuator.min_angle, self.actuator.max_angle
         if np.any(pitch < low - 1e-9) or np.any(pitch > high + 1e-9):
             return f"pitch {list(msg.pitch)} outside [{low}, {high}] rad"
-        if not 0.0 <= msg.generator_torque <= self.model.turbine.generator.max_torque * 1.0001:
+        if not 0.0 <= msg.generator_torque <= self.model.turbine.generator.max_torque:
             return f"generator_torque {msg.generator_torque} outside [0, {self.model.turbine.generator.max_torque}] N*m"
         return None
 
