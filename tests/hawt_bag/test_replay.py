@@ -125,3 +125,37 @@ def test_step_replay_through_the_relay_gives_exactly_the_recorded_relayed_messag
     assert set(got) == set(expected)
     for name, values in expected.items():
         assert values.dtype == got[name].dtype and values.tobytes() == got[name].tobytes(), name
+
+
+def test_paused_replay_plays_one_message_per_play_next_and_resumes_on_the_parameter(processes, probe, tmp_path):
+    """--start-paused: nothing flows; each std_msgs/Empty on /hawt_player/play_next releases one message;
+    setting the player's 'paused' parameter to false plays the rest."""
+    from rclpy.parameter import Parameter
+    from rclpy.parameter_client import AsyncParameterClient
+    from std_msgs.msg import Empty
+
+    bag, n = tmp_path / "paused.mcap", 20
+    with BagWriter(bag) as writer:
+        write_topics(writer, [TopicData("/paused/loads", "hawt_msgs/msg/BladeLoads",
+                                        {"step": np.arange(n, dtype=np.uint64)}, 10_000_000 * np.arange(n))])
+    arrivals = _Arrivals(probe, "/paused/loads")
+    next_publisher = probe.node.create_publisher(Empty, "/hawt_player/play_next", 10)
+    replay = processes.hawt("replay", str(bag), "--start-paused", "--wait-for-subscribers")
+    arrivals.wait_matched()
+    deadline = time.monotonic() + 30
+    while next_publisher.get_subscription_count() < 1:
+        assert time.monotonic() < deadline
+        time.sleep(0.02)
+    time.sleep(1.0)
+    assert arrivals.items == []
+    for _ in range(3):
+        next_publisher.publish(Empty())
+    time.sleep(1.0)
+    assert len(arrivals.items) == 3
+    client = AsyncParameterClient(probe.node, "hawt_player")
+    assert client.wait_for_services(timeout_sec=30)
+    future = client.set_parameters([Parameter("paused", value=False)])
+    out, err = replay.communicate(timeout=60)
+    assert replay.returncode == 0, err
+    assert future.result().results[0].successful
+    assert len(arrivals.items) == n
