@@ -57,6 +57,9 @@ PARAMETERS = (
                   maximum=2 * math.pi, read_only=True),
     ParameterSpec("resend_period", 0.5, "lockstep: wall time after which an unanswered step is sent again", "s",
                   minimum=0.01, maximum=60.0),
+    ParameterSpec("wait_for_subscribers", 0, "lockstep: send step 0 only once plant/blade_loads has this many "
+                  "subscribers (a recorder or test that must see every step)", minimum=0, maximum=1000,
+                  read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
 )
 
@@ -97,14 +100,14 @@ class PlantNode(Node):
         self.latencies: List[float] = []
         self.late_steps = 0
         self.answered = -1
+        self.started = False
         self.wall_start = time.monotonic()
         self.get_logger().info(
             f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
             f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
             f"pitch {math.degrees(self.output.pitch[0]):.2f} deg")
         if self.lockstep:
-            self.create_timer(v["resend_period"], self._resend)
-            self._publish(self.output)
+            self.create_timer(min(v["resend_period"], 0.05), self._resend)
         else:
             self.create_timer(v["dt"], self._tick)
 
@@ -126,7 +129,15 @@ class PlantNode(Node):
         self.sent_at = time.monotonic()
 
     def _resend(self) -> None:
-        if not self.done.done() and time.monotonic() - self.sent_at >= self.values["resend_period"]:
+        """Send step 0 once enough subscribers are there; send an unanswered step again after resend_period."""
+        if self.done.done():
+            return
+        if self.step_index == 0 and not self.started:
+            if self.loads_publisher.get_subscription_count() < self.values["wait_for_subscribers"]:
+                return
+            self.started = True
+            self._publish(self.output)
+        elif time.monotonic() - self.sent_at >= self.values["resend_period"]:
             self._publish(self.output)
 
     def _rejection(self, msg: PitchCommand) -> Optional[str]:
