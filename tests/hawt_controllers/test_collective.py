@@ -90,13 +90,13 @@ def test_region_three_holds_the_generator_power_constant(speed):
 def test_torque_is_capped_at_the_maximum_and_rate_limited():
     """T ≤ 47 402.91 N·m and |dT/dt| ≤ 15 000 N·m/s."""
     controller = BaselineCollectiveController(CONFIG)
-    controller.reset(generator_speed=80.0, pitch=0.0, generator_torque=0.0)
-    out = controller.step(130.0, 0.0, DT)
+    controller.reset(generator_speed=80.0, pitch=0.8, generator_torque=0.0)
+    out = controller.step(130.0, 0.8, DT)
     assert out.generator_torque == pytest.approx(15000.0 * DT)
     assert out.torque_saturated
     torque = out.generator_torque
-    for _ in range(2000):
-        out = controller.step(100.0, math.radians(5), DT)
+    for _ in range(500):  # region 3 while the pitch falls from 0.8 rad at 8 deg/s (5.6 s to 1 deg)
+        out = controller.step(100.0, 0.8, DT)
         assert abs(out.generator_torque - torque) <= 15000.0 * DT + 1e-9
         torque = out.generator_torque
     assert torque == pytest.approx(CONFIG.max_generator_torque)
