@@ -54,22 +54,30 @@ def _launch_arguments(words: List[str]) -> Dict[str, str]:
 
 
 def _cmd_launch(args: argparse.Namespace) -> int:
-    from hawt_tools.launcher import ProcessGraph, package_prefix, parse_overrides, run_composed
+    from hawt_tools.launcher import package_prefix
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
-    overrides = parse_overrides(graph, args.param)
-    global_parameters = {"mode": args.mode} if args.mode else {}
-    recorder = _start_recorder(Path(args.record)) if args.record else None
+    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record)
+
+
+def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
+               record: Optional[str]) -> int:
+    """Run a checked graph (separate processes or composed), recording it into ``record`` if given."""
+    from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
+
+    overrides = parse_overrides(graph, parameters)
+    global_parameters = {"mode": mode} if mode else {}
+    recorder = _start_recorder(Path(record)) if record else None
     try:
-        if args.composed:
-            code = run_composed(graph, overrides, args.duration, global_parameters)
+        if composed:
+            code = run_composed(graph, overrides, duration, global_parameters)
         else:
-            code = ProcessGraph(graph, overrides, global_parameters).run(args.duration)
+            code = ProcessGraph(graph, overrides, global_parameters).run(duration)
     finally:
         if recorder is not None:
             recorded = _stop_recorder(recorder)
     if recorder is not None and recorded != 0:
-        raise RuntimeError(f"the recorder of {args.record} failed (exit code {recorded})")
+        raise RuntimeError(f"the recorder of {record} failed (exit code {recorded})")
     return code
 
 
@@ -179,24 +187,28 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    """Run the example graph (source -> relay -> sink, three processes) and say what the sink saw."""
-    from hawt_tools.launcher import ProcessGraph, package_prefix, parse_overrides
+    """Baseline and IPC graphs on the same turbulent wind, each recorded; their loads compared."""
+    from hawt_bag.analysis_report import comparison_text, write_comparison_report
+    from hawt_bag.run_analysis import compare_bags
+    from hawt_tools.launcher import package_prefix
 
-    with tempfile.TemporaryDirectory(prefix="hawt_demo_") as folder:
-        record = Path(folder) / "received.json"
-        graph = load_graph(find_graph("example"), {"record_file": str(record)}, package_prefix)
-        started = time.monotonic()
-        ProcessGraph(graph, parse_overrides(graph, [])).run(args.duration)
-        elapsed = time.monotonic() - started
-        if not record.is_file():
-            print("hawt demo: the sink received no message", file=sys.stderr)
-            return 1
-        received = {int(k): v for k, v in json.loads(record.read_text()).items()}
-    source, relay = graph.node("source"), graph.node("relay")
-    gain = dict(p for s in relay.parameters for p in getattr(s, "values", ())).get("gain")
-    print(f"\nhawt demo: {len(graph.nodes)} nodes in {len(graph.nodes)} processes ran {elapsed:.1f} s; "
-          f"{source.label} -> {relay.label} (gain {gain}) -> sink: {len(received)} BladeLoads messages, "
-          f"steps {min(received)}..{max(received)}, blade-1 M_oop of the last {received[max(received)][0]:.4g} N*m")
+    run = time.strftime("demo-%Y%m%d-%H%M%S")
+    bags = Path(args.output) / run
+    bags.mkdir(parents=True, exist_ok=False)
+    wind = {"wind_type": "turbulent", "wind_speed": str(args.wind_speed), "seed": str(args.seed),
+            "duration": str(args.duration)}
+    paths = []
+    for name in ("baseline", "ipc"):
+        path = bags / f"{name}.mcap"
+        _progress(f"hawt demo: {name} graph, {args.duration:g} s of IEC class B turbulence at {args.wind_speed:g} m/s "
+                  f"(seed {args.seed}), recording {path}")
+        graph = load_graph(find_graph(name), wind, package_prefix)
+        # plant/blade_loads has three subscribers (cpc, mbc, recorder): step 0 waits for all of them
+        _run_graph(graph, ["plant.wait_for_subscribers:=3"], None, None, False, str(path))
+        paths.append(path)
+    _, comparison = compare_bags([str(p) for p in paths], None, progress=_progress)
+    print(comparison_text(comparison))
+    print(f"\nreport: {write_comparison_report(comparison, bags / 'report')}")
     return 0
 
 
@@ -292,8 +304,15 @@ def _parser() -> argparse.ArgumentParser:
                          help="discovery: wait until the node list is unchanged for S seconds")
     listing.set_defaults(run=_cmd_list)
 
-    demo = commands.add_parser("demo", help="run the example graph and print what it saw")
-    demo.add_argument("--duration", type=float, default=4.0, metavar="S", help="wall-clock seconds to run")
+    demo = commands.add_parser(
+        "demo", help="run the baseline and IPC graphs on the same turbulent wind and compare their loads",
+        description="Runs the baseline graph (plant, cpc, mbc) and the IPC graph (+ ipc_h1..h3), one process per "
+                    "node, in lockstep on the same IEC turbulent wind, records both to MCAP and prints the "
+                    "load comparison (DELs, harmonics, pitch activity) with the report it wrote.")
+    demo.add_argument("--duration", type=float, default=60.0, metavar="S", help="simulated seconds per run")
+    demo.add_argument("--wind-speed", type=float, default=18.0, metavar="M_PER_S", help="mean hub wind speed")
+    demo.add_argument("--seed", type=int, default=1, help="turbulence seed")
+    demo.add_argument("--output", default="bags", metavar="DIR", help="folder for the run's bags and report")
     demo.set_defaults(run=_cmd_demo)
     return parser
 
