@@ -60,6 +60,9 @@ PARAMETERS = (
     ParameterSpec("wait_for_subscribers", 0, "lockstep: send step 0 only once plant/blade_loads has this many "
                   "subscribers (a recorder or test that must see every step)", minimum=0, maximum=1000,
                   read_only=True),
+    ParameterSpec("wait_for_recorder", False, "lockstep: send step 0 only once the node hawt_recorder subscribes "
+                  "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
+                  read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
 )
 
@@ -135,10 +138,22 @@ class PlantNode(Node):
         if self.step_index == 0 and not self.started:
             if self.loads_publisher.get_subscription_count() < self.values["wait_for_subscribers"]:
                 return
+            if self.values["wait_for_recorder"] and not self._recorder_ready():
+                return
             self.started = True
             self._publish(self.output)
         elif time.monotonic() - self.sent_at >= self.values["resend_period"]:
             self._publish(self.output)
+
+    def _recorder_ready(self) -> bool:
+        """True once hawt_recorder subscribes to every topic with a publisher; after 10 s, True with a warning."""
+        missing = [topic for topic, _ in self.get_topic_names_and_types()
+                   if self.get_publishers_info_by_topic(topic)
+                   and not any(s.node_name == "hawt_recorder" for s in self.get_subscriptions_info_by_topic(topic))]
+        if missing and time.monotonic() - self.wall_start > 10.0:
+            self.events(ControlEvent.WARN, "recorder", f"starting without the recorder on {', '.join(missing)}")
+            return True
+        return not missing
 
     def _rejection(self, msg: PitchCommand) -> Optional[str]:
         """Why a command cannot be applied, or None."""

@@ -67,6 +67,8 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
 
     overrides = parse_overrides(graph, parameters)
     global_parameters = {"mode": mode} if mode else {}
+    if record:
+        global_parameters["wait_for_recorder"] = True  # the plant starts once every topic is being recorded
     recorder = _start_recorder(Path(record)) if record else None
     try:
         if composed:
