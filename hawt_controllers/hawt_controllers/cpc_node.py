@@ -14,7 +14,7 @@ from hawt_controllers.collective import DEFAULT_BASELINE_FILE, BaselineCollectiv
 from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import ParameterSpec, declare_parameters
-from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
 from hawt_tools.step_sync import StepJoin, StepVerdict, classify_step
 from hawt_tools.topics import BLADE_LOADS, COLLECTIVE, TURBINE_STATE
 
@@ -35,7 +35,7 @@ class CollectivePitchNode(Node):
         self.values = declare_parameters(self, PARAMETERS)
         self.controller = BaselineCollectiveController(load_baseline_config(self.values["controller_file"]))
         self.events = EventPublisher(self)
-        self.publisher = self.create_publisher(CollectivePitch, COLLECTIVE, CONTROL_LOOP)
+        self.publisher = self.create_publisher(CollectivePitch, COLLECTIVE, CONTROL_LOOP_HISTORY)
         self.join = StepJoin(("state", "loads"))
         self.last: CollectivePitch = None
         self.create_subscription(TurbineState, TURBINE_STATE, lambda m: self._input("state", m), CONTROL_LOOP)

@@ -18,7 +18,7 @@ from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
                                    rejection)
-from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
 from hawt_tools.step_sync import StepVerdict, classify_step
 from hawt_tools.topics import ipc_topic, mbc_topic
 
@@ -84,7 +84,7 @@ class IpcNode(Node):
             self.law.activate()
         self.pending = None
         self.events = EventPublisher(self)
-        self.publisher = self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP)
+        self.publisher = self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP_HISTORY)
         self.last: HarmonicPitch = None
         self.create_subscription(HarmonicLoads, mbc_topic(self.harmonic), self._on_loads, CONTROL_LOOP)
         self.add_on_set_parameters_callback(self._check_parameters)

@@ -23,7 +23,7 @@ from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
                                    rejection)
-from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
 from hawt_tools.step_sync import StepJoin, StepVerdict, classify_step
 from hawt_tools.topics import BLADE_LOADS, COLLECTIVE, PITCH_COMMAND, ipc_topic, mbc_topic
 
@@ -62,9 +62,9 @@ class MbcNode(Node):
             check_configuration(n, self.blades)
         self.limits = self._limits(self.values)
         self.events = EventPublisher(self)
-        self.forward = {n: self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP)
+        self.forward = {n: self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP_HISTORY)
                         for n in self.values["harmonics"]}
-        self.command_publisher = self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP)
+        self.command_publisher = self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY)
         self.lockstep = self.values["mode"] == "lockstep"
         self.join = StepJoin(())
         self.demands = {}

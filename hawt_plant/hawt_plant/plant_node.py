@@ -26,7 +26,7 @@ from hawt_plant.turbine import load_turbine, nrel_5mw
 from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import ParameterSpec, declare_parameters
-from hawt_tools.qos import CONTROL_LOOP
+from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
 from hawt_tools.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
@@ -94,8 +94,8 @@ class PlantNode(Node):
         self.last_steps = int(round(v["duration"] / v["dt"])) if v["duration"] > 0 else None
         self.lockstep = v["mode"] == "lockstep"
         self.events = EventPublisher(self)
-        self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP)
-        self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP)
+        self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP_HISTORY)
+        self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
         self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
         self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
         self.done = Future()

@@ -1,12 +1,22 @@
 """Quality-of-service profiles of the control loop (DESIGN.md §4)."""
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-__all__ = ["CONTROL_LOOP", "EVENTS"]
+__all__ = ["CONTROL_LOOP", "CONTROL_LOOP_HISTORY", "EVENTS"]
 
 #: Measurements and commands: reliable, keep the last sample only.
 CONTROL_LOOP = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=1,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
+
+#: What a control-loop publisher keeps: reliable like CONTROL_LOOP, but a reader that falls
+#: behind (a recorder, a test, a plot) by up to this many samples still gets every one of them.
+#: Depth is not part of QoS matching, so controllers still read with CONTROL_LOOP (latest only).
+CONTROL_LOOP_HISTORY = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=200,
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
