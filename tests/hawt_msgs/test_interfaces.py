@@ -66,9 +66,15 @@ def _round_trip(node: Node, kind, sent: list, timeout: float = 15.0) -> list:
     publisher = node.create_publisher(kind, f"echo_in/{kind.__name__}", qos)
     try:
         deadline = time.monotonic() + timeout
-        while (publisher.get_subscription_count() == 0 or subscription.get_publisher_count() == 0) \
-                and time.monotonic() < deadline:
-            rclpy.spin_once(node, timeout_sec=0.05)
+        # Both directions are matched once a warm-up message has come back; send it until it does.
+        while not received and time.monotonic() < deadline:
+            publisher.publish(kind())
+            end = time.monotonic() + 0.2
+            while not received and time.monotonic() < end:
+                rclpy.spin_once(node, timeout_sec=0.02)
+        for _ in range(10):
+            rclpy.spin_once(node, timeout_sec=0.01)
+        received.clear()
         for msg in sent:
             publisher.publish(msg)
         while len(received) < len(sent) and time.monotonic() < deadline:
