@@ -15,7 +15,7 @@ from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import ParameterSpec, declare_parameters
 from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
-from hawt_tools.step_sync import StepJoin, StepVerdict, classify_step
+from hawt_tools.step_sync import StepAnswer, StepJoin
 from hawt_tools.topics import BLADE_LOADS, COLLECTIVE, TURBINE_STATE
 
 __all__ = ["CollectivePitchNode", "PARAMETERS", "main"]
@@ -35,18 +35,13 @@ class CollectivePitchNode(Node):
         self.values = declare_parameters(self, PARAMETERS)
         self.controller = BaselineCollectiveController(load_baseline_config(self.values["controller_file"]))
         self.events = EventPublisher(self)
-        self.publisher = self.create_publisher(CollectivePitch, COLLECTIVE, CONTROL_LOOP_HISTORY)
+        self.answer = StepAnswer(self.create_publisher(CollectivePitch, COLLECTIVE, CONTROL_LOOP_HISTORY).publish)
         self.join = StepJoin(("state", "loads"))
-        self.last: CollectivePitch = None
         self.create_subscription(TurbineState, TURBINE_STATE, lambda m: self._input("state", m), CONTROL_LOOP)
         self.create_subscription(BladeLoads, BLADE_LOADS, lambda m: self._input("loads", m), CONTROL_LOOP)
 
     def _input(self, name: str, msg) -> None:
-        verdict = classify_step(msg.step, None if self.last is None else self.last.step)
-        if verdict == StepVerdict.REPEAT:
-            self.publisher.publish(self.last)
-            return
-        if verdict == StepVerdict.OLD:
+        if self.answer.handled(msg.step):
             return
         inputs = self.join.add(name, msg.step, msg)
         if inputs is not None:
@@ -58,19 +53,21 @@ class CollectivePitchNode(Node):
             self.events(ControlEvent.ERROR, "invalid_input",
                         f"generator_speed={state.generator_speed}, mean pitch={pitch}: not finite; command held",
                         step=state.step, stamp=state.header.stamp)
-            if self.last is not None:
-                self.last.step, self.last.header = state.step, state.header
-                self.publisher.publish(self.last)
+            if self.answer.last is not None:
+                held = self.answer.last
+                self.answer.send(CollectivePitch(header=state.header, step=state.step, pitch=held.pitch,
+                                                 generator_torque=held.generator_torque,
+                                                 generator_speed_filtered=held.generator_speed_filtered,
+                                                 region=held.region, wind_speed_estimate=held.wind_speed_estimate))
             return
-        if self.last is None:
+        if self.answer.last is None:
             self.controller.reset(state.generator_speed, pitch, state.generator_torque)
         out = self.controller.step(state.generator_speed, pitch, self.values["dt"])
         msg = CollectivePitch(step=state.step, pitch=out.pitch, generator_torque=out.generator_torque,
                               generator_speed_filtered=out.generator_speed_filtered, region=int(out.region),
                               wind_speed_estimate=out.wind_speed_estimate)
         msg.header = state.header
-        self.last = msg
-        self.publisher.publish(msg)
+        self.answer.send(msg)
 
 
 main = node_entry_point(CollectivePitchNode)

@@ -19,7 +19,7 @@ from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
                                    rejection)
 from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
-from hawt_tools.step_sync import StepVerdict, classify_step
+from hawt_tools.step_sync import StepAnswer
 from hawt_tools.topics import ipc_topic, mbc_topic
 
 __all__ = ["IpcNode", "PARAMETERS", "main"]
@@ -84,8 +84,8 @@ class IpcNode(Node):
             self.law.activate()
         self.pending = None
         self.events = EventPublisher(self)
-        self.publisher = self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP_HISTORY)
-        self.last: HarmonicPitch = None
+        self.answer = StepAnswer(
+            self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP_HISTORY).publish)
         self.create_subscription(HarmonicLoads, mbc_topic(self.harmonic), self._on_loads, CONTROL_LOOP)
         self.add_on_set_parameters_callback(self._check_parameters)
         self.add_post_set_parameters_callback(self._store_parameters)
@@ -116,11 +116,7 @@ class IpcNode(Node):
         self.pending = None
 
     def _on_loads(self, msg: HarmonicLoads) -> None:
-        verdict = classify_step(msg.step, None if self.last is None else self.last.step)
-        if verdict == StepVerdict.REPEAT:
-            self.publisher.publish(self.last)
-            return
-        if verdict == StepVerdict.OLD:
+        if self.answer.handled(msg.step):
             return
         if self.pending is not None:
             self._apply_pending(msg.step, msg.header.stamp)
@@ -128,16 +124,16 @@ class IpcNode(Node):
             self.events(ControlEvent.ERROR, "invalid_input", f"control/mbc/h{self.harmonic} step {msg.step}: "
                         f"cos={msg.cos}, sin={msg.sin}, collective_pitch={msg.collective_pitch}; demand held",
                         step=msg.step, stamp=msg.header.stamp)
-            out = HarmonicPitch(harmonic=self.harmonic, cos=self.last.cos if self.last else 0.0,
-                                sin=self.last.sin if self.last else 0.0, phase_offset=self.values["phase_offset"])
+            held = self.answer.last
+            out = HarmonicPitch(harmonic=self.harmonic, cos=held.cos if held else 0.0, sin=held.sin if held else 0.0,
+                                phase_offset=self.values["phase_offset"])
         else:
             result = self.law.step(msg.cos, msg.sin, self.dt, operating_point=msg.collective_pitch,
                                    pitch_headroom=msg.collective_pitch - self.values["min_pitch"])
             out = HarmonicPitch(harmonic=self.harmonic, cos=result.cos, sin=result.sin,
                                 phase_offset=result.phase_offset)
         out.step, out.header = msg.step, msg.header
-        self.last = out
-        self.publisher.publish(out)
+        self.answer.send(out)
 
 
 main = node_entry_point(IpcNode)

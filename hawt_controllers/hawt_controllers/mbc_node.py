@@ -24,7 +24,7 @@ from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
                                    rejection)
 from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
-from hawt_tools.step_sync import StepJoin, StepVerdict, classify_step
+from hawt_tools.step_sync import StepAnswer, StepJoin
 from hawt_tools.topics import BLADE_LOADS, COLLECTIVE, PITCH_COMMAND, ipc_topic, mbc_topic
 
 __all__ = ["MbcNode", "PARAMETERS", "main"]
@@ -64,7 +64,7 @@ class MbcNode(Node):
         self.events = EventPublisher(self)
         self.forward = {n: self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP_HISTORY)
                         for n in self.values["harmonics"]}
-        self.command_publisher = self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY)
+        self.answer = StepAnswer(self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY).publish)
         self.lockstep = self.values["mode"] == "lockstep"
         self.join = StepJoin(())
         self.demands = {}
@@ -72,7 +72,6 @@ class MbcNode(Node):
         self._set_ipc_harmonics(_active(self.values["ipc_harmonics"]))
         self.loads: BladeLoads = None
         self.loads_received = 0.0
-        self.last: PitchCommand = None
         self.create_subscription(BladeLoads, BLADE_LOADS, self._on_loads, CONTROL_LOOP)
         self.create_subscription(CollectivePitch, COLLECTIVE, lambda m: self._input("collective", m), CONTROL_LOOP)
         self.add_on_set_parameters_callback(self._check_parameters)
@@ -133,11 +132,7 @@ class MbcNode(Node):
     def _input(self, name: str, msg) -> None:
         if name.startswith("h"):
             self.demands[msg.harmonic] = msg
-        verdict = classify_step(msg.step, None if self.last is None else self.last.step)
-        if verdict == StepVerdict.REPEAT and self.lockstep:
-            self.command_publisher.publish(self.last)
-            return
-        if verdict != StepVerdict.NEW or self.loads is None:
+        if self.answer.handled(msg.step) or self.loads is None:
             return
         inputs = self.join.add(name, msg.step, msg)
         if inputs is not None:
@@ -160,19 +155,19 @@ class MbcNode(Node):
             self.events(ControlEvent.ERROR, "invalid_input",
                         f"control/collective step {collective.step}: pitch {collective.pitch}, torque "
                         f"{collective.generator_torque} not finite; command held", step=collective.step)
-            if self.last is None:
+            if self.answer.last is None:
                 return
-            collective = CollectivePitch(pitch=self.last.collective, generator_torque=self.last.generator_torque,
+            collective = CollectivePitch(pitch=self.answer.last.collective,
+                                         generator_torque=self.answer.last.generator_torque,
                                          step=collective.step, header=collective.header)
             flags |= PitchCommand.FLAG_INVALID_INPUT
-        previous = np.asarray(self.last.pitch if self.last is not None else loads.pitch)
+        previous = np.asarray(self.answer.last.pitch if self.answer.last is not None else loads.pitch)
         limited = limit_pitch(collective.pitch + individual, previous, self.values["dt"], self.limits)
         msg = PitchCommand(step=collective.step, pitch=limited.pitch.tolist(),
                            generator_torque=collective.generator_torque, collective=collective.pitch,
                            individual=(limited.pitch - collective.pitch).tolist(), flags=flags | int(limited.flags))
         msg.header = collective.header
-        self.last = msg
-        self.command_publisher.publish(msg)
+        self.answer.send(msg)
 
 
 main = node_entry_point(MbcNode)

@@ -6,9 +6,9 @@ The plant re-sends step k if no command comes (discovery races, a restarted
 node), so a controller that already answered step k answers again with the same
 message and does not advance its state.
 """
-from typing import Any, Dict, Iterable, Optional
+from typing import Any, Callable, Dict, Iterable, Optional
 
-__all__ = ["StepJoin", "StepVerdict", "classify_step"]
+__all__ = ["StepAnswer", "StepJoin", "StepVerdict", "classify_step"]
 
 
 class StepVerdict:
@@ -53,3 +53,23 @@ class StepJoin:
             self._fired = True
             return dict(self.inputs)
         return None
+
+
+class StepAnswer:
+    """A node's last answer, so that a step that is not new is answered again or dropped, never recomputed."""
+
+    def __init__(self, publish: Callable[[Any], None]) -> None:
+        self.publish = publish
+        self.last: Any = None
+
+    def handled(self, step: int) -> bool:
+        """True if ``step`` is not new: a repeat of the last answered step is answered again, an older one dropped."""
+        verdict = classify_step(step, None if self.last is None else self.last.step)
+        if verdict == StepVerdict.REPEAT:
+            self.publish(self.last)
+        return verdict != StepVerdict.NEW
+
+    def send(self, message: Any) -> None:
+        """Publish the answer of a new step and keep it."""
+        self.last = message
+        self.publish(message)
