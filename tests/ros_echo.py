@@ -13,8 +13,8 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-MESSAGE_TYPES = ("BladeLoads", "TurbineState", "HarmonicLoads", "HarmonicPitch", "CollectivePitch",
-                 "PitchCommand", "ControlEvent")
+from message_samples import MESSAGE_TYPES
+
 LISTING = {"names": ["ipc_h1", "ipc_h2", "cpc"], "types": ["ipc", "ipc", "cpc"],
            "states": ["active", "inactive", "unconfigured"]}
 

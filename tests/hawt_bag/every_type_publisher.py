@@ -3,39 +3,14 @@
 Topics are ``/every/<Type>``; message i of a type is ``filled(kind, i)``, the same in the
 test that checks the bag. Usage: ``python every_type_publisher.py COUNT SUBSCRIBERS``.
 """
-import random
 import sys
 import time
+from pathlib import Path
 
 import hawt_msgs.msg
-from builtin_interfaces.msg import Time
 
-MESSAGE_TYPES = ("BladeLoads", "TurbineState", "HarmonicLoads", "HarmonicPitch", "CollectivePitch",
-                 "PitchCommand", "ControlEvent")
-
-
-def filled(kind, index: int):
-    """Message ``index`` of ``kind``: every field a distinct value; strings of varying length; B = 3."""
-    rng = random.Random(f"{kind.__name__}-{index}")
-    msg = kind()
-    for field, type_name in kind.get_fields_and_field_types().items():
-        if type_name == "std_msgs/Header":
-            msg.header.stamp = Time(sec=1000 + index, nanosec=rng.randrange(10**9))
-            msg.header.frame_id = "f" * rng.randrange(5)
-        elif field == "step":
-            msg.step = index
-        elif type_name == "sequence<double>":
-            setattr(msg, field, [rng.uniform(-1e7, 1e7) for _ in range(3)])
-        elif type_name == "double":
-            setattr(msg, field, rng.uniform(-1e7, 1e7))
-        elif type_name.startswith("uint"):
-            setattr(msg, field, rng.randrange(2 ** int(type_name[4:])))
-        elif type_name == "string":
-            setattr(msg, field, f"{field} {rng.random()} ψ"[: rng.randrange(1, 30)])
-        else:
-            raise AssertionError(f"{kind.__name__}.{field}: no filler for {type_name}")
-    return msg
-
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from message_samples import MESSAGE_TYPES, filled  # noqa: E402
 
 def main(count: int, subscribers: int) -> None:
     import rclpy

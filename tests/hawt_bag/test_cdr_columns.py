@@ -10,6 +10,7 @@ from rclpy.serialization import deserialize_message, serialize_message
 
 from hawt_bag.cdr_columns import FieldReader, decode_columns, encode_messages
 from hawt_bag.errors import BagError
+from message_samples import MESSAGE_TYPES, filled
 from hawt_bag.interface_files import schema_text
 from hawt_bag.msg_definition import parse_msg, parse_schema
 from hawt_bag.reader import BagReader
@@ -17,7 +18,6 @@ from hawt_bag.topic_columns import read_topic_columns
 from hawt_bag.writer import BagWriter
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from every_type_publisher import MESSAGE_TYPES, filled  # noqa: E402
 
 
 def _definitions(name: str):

@@ -15,11 +15,11 @@ from mcap_ros2.decoder import DecoderFactory
 from rclpy.serialization import deserialize_message
 
 from hawt_bag.errors import BagError
+from message_samples import MESSAGE_TYPES, filled
 from hawt_bag.reader import BagReader
 from hawt_bag.topic_columns import read_topic_columns
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from every_type_publisher import MESSAGE_TYPES, filled  # noqa: E402
 from ros_helpers import HERE, wait_for_file  # noqa: E402
 
 pytestmark = pytest.mark.ros

@@ -1,7 +1,6 @@
 """Every hawt_msgs message and service crosses a real process boundary over DDS unchanged."""
 import json
 import math
-import random
 import subprocess
 import sys
 import time
@@ -10,36 +9,14 @@ from pathlib import Path
 import hawt_msgs.msg
 import pytest
 import rclpy
-from builtin_interfaces.msg import Time
 from hawt_msgs.srv import ListControllers, SwitchControllers
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from ros_echo import LISTING, MESSAGE_TYPES  # noqa: E402
+from message_samples import MESSAGE_TYPES, filled
+from ros_echo import LISTING
 
 pytestmark = pytest.mark.ros
-
-
-def _filled(kind, blades: int, rng: random.Random):
-    """A message of ``kind`` whose every field holds a distinct random value; arrays of length ``blades``."""
-    msg = kind()
-    for field, type_name in kind.get_fields_and_field_types().items():
-        if type_name == "std_msgs/Header":
-            msg.header.stamp = Time(sec=rng.randrange(2**31), nanosec=rng.randrange(10**9))
-            msg.header.frame_id = f"frame{rng.randrange(100)}"
-        elif type_name == "sequence<double>":
-            setattr(msg, field, [rng.uniform(-1e7, 1e7) for _ in range(blades)])
-        elif type_name == "double":
-            setattr(msg, field, rng.uniform(-1e7, 1e7))
-        elif type_name.startswith("uint"):
-            bits = int(type_name[4:])
-            setattr(msg, field, rng.randrange(2**bits))
-        elif type_name == "string":
-            setattr(msg, field, f"{field} {rng.random()} ψ θ")
-        else:
-            raise AssertionError(f"{kind.__name__}.{field}: no filler for {type_name}")
-    return msg
 
 
 @pytest.fixture(scope="module")
@@ -89,8 +66,7 @@ def _round_trip(node: Node, kind, sent: list, timeout: float = 15.0) -> list:
 def test_every_message_field_round_trips_between_processes(node, type_name):
     """Each field of each message, with arrays of B = 2 and B = 3, comes back from another process unchanged."""
     kind = getattr(hawt_msgs.msg, type_name)
-    rng = random.Random(type_name)
-    sent = [_filled(kind, blades, rng) for blades in (2, 3, 3, 2)]
+    sent = [filled(kind, index, blades) for index, blades in enumerate((2, 3, 3, 2))]
     received = _round_trip(node, kind, sent)
     assert received == sent
 

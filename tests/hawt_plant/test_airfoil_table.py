@@ -2,15 +2,8 @@
 import math
 
 import numpy as np
-import pytest
 
 from hawt_plant.airfoil_table import ElementPolars
-from hawt_plant.turbine import nrel_5mw
-
-
-@pytest.fixture(scope="module")
-def turbine():
-    return nrel_5mw()
 
 
 def test_lookup_matches_interpolating_the_source_polars(turbine):

@@ -4,18 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from hawt_plant.bem import BemBlade, induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
-from hawt_plant.turbine import nrel_5mw
-
-
-@pytest.fixture(scope="module")
-def turbine():
-    return nrel_5mw()
-
-
-@pytest.fixture(scope="module")
-def blade(turbine):
-    return BemBlade.from_turbine(turbine)
+from hawt_plant.bem import induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
 
 
 def test_power_coefficient_peaks_near_tsr_75_at_048(turbine, blade):

@@ -5,12 +5,6 @@ import numpy as np
 import pytest
 
 from hawt_plant.modal import blade_modal_properties, polynomial_mode, tower_modal_properties
-from hawt_plant.turbine import nrel_5mw
-
-
-@pytest.fixture(scope="module")
-def turbine():
-    return nrel_5mw()
 
 
 def test_mode_shape_has_unit_tip_and_zero_root_slope(turbine):

@@ -11,7 +11,6 @@ import pytest
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.modal import blade_modal_properties
 from hawt_plant.shear_wind import PowerLawWind
-from hawt_plant.turbine import nrel_5mw
 
 RATED_SPEED = 12.1 * math.pi / 30.0
 BLADE_LOADS_FIELDS = ["azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch"]
@@ -20,11 +19,6 @@ TURBINE_STATE_FIELDS = [
     "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp", "hub_tilt_moment",
     "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment",
 ]
-
-
-@pytest.fixture(scope="module")
-def turbine():
-    return nrel_5mw()
 
 
 def variant(turbine, tilt=True, gravity=True, air=True):

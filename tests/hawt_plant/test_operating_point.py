@@ -3,19 +3,7 @@ import math
 
 import pytest
 
-from hawt_plant.bem import BemBlade
 from hawt_plant.operating_point import baseline_operating_point
-from hawt_plant.turbine import nrel_5mw
-
-
-@pytest.fixture(scope="module")
-def turbine():
-    return nrel_5mw()
-
-
-@pytest.fixture(scope="module")
-def blade(turbine):
-    return BemBlade.from_turbine(turbine)
 
 
 def test_below_rated_the_rotor_runs_at_the_optimal_tip_speed_ratio(turbine, blade):

@@ -7,14 +7,9 @@ import numpy as np
 import pytest
 import yaml
 
-from hawt_plant.turbine import TurbineDefinitionError, load_turbine, nrel_5mw
+from hawt_plant.turbine import TurbineDefinitionError, load_turbine
 
 PACKAGED = Path(__file__).resolve().parents[2] / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
-
-
-@pytest.fixture(scope="module")
-def turbine():
-    return nrel_5mw()
 
 
 @pytest.fixture

@@ -1,0 +1,34 @@
+"""Sample hawt_msgs messages for the tests: every message type, every field a distinct value.
+
+``filled(kind, i)`` is the same message wherever it is made (a publisher process, the test
+that reads the bag back, the echo test), so a test can rebuild what another process sent.
+"""
+import random
+
+from builtin_interfaces.msg import Time
+
+MESSAGE_TYPES = ("BladeLoads", "TurbineState", "HarmonicLoads", "HarmonicPitch", "CollectivePitch",
+                 "PitchCommand", "ControlEvent")
+
+
+def filled(kind, index: int, blades: int = 3):
+    """Message ``index`` of ``kind``: every field a distinct value; strings of varying length; arrays of ``blades``."""
+    rng = random.Random(f"{kind.__name__}-{index}-{blades}")
+    msg = kind()
+    for field, type_name in kind.get_fields_and_field_types().items():
+        if type_name == "std_msgs/Header":
+            msg.header.stamp = Time(sec=1000 + index, nanosec=rng.randrange(10**9))
+            msg.header.frame_id = "f" * rng.randrange(5)
+        elif field == "step":
+            msg.step = index
+        elif type_name == "sequence<double>":
+            setattr(msg, field, [rng.uniform(-1e7, 1e7) for _ in range(blades)])
+        elif type_name == "double":
+            setattr(msg, field, rng.uniform(-1e7, 1e7))
+        elif type_name.startswith("uint"):
+            setattr(msg, field, rng.randrange(2 ** int(type_name[4:])))
+        elif type_name == "string":
+            setattr(msg, field, f"{field} {rng.random()} ψ"[: rng.randrange(1, 30)])
+        else:
+            raise AssertionError(f"{kind.__name__}.{field}: no filler for {type_name}")
+    return msg
