@@ -22,7 +22,6 @@ import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
 
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
-from rclpy.experimental import EventsExecutor
 
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
 from hawt_tools.node_main import first_done, spin_nodes
@@ -290,7 +289,7 @@ def _node_class(graph: Graph, spec: NodeSpec) -> type:
 
 
 def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] = None,
-                 global_parameters: Mapping[str, object] = (), events_executor: bool = False) -> int:
+                 global_parameters: Mapping[str, object] = ()) -> int:
     """Run every node of the graph in this process on one executor; returns the exit code.
 
     Stops when a node with ``on_exit: shutdown`` is done, after ``duration`` wall
@@ -304,7 +303,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
             with rclpy.init():
                 nodes = [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
                          for spec, node_class in zip(graph.nodes, classes)]
-                executor = (EventsExecutor if events_executor else SingleThreadedExecutor)()
+                executor = SingleThreadedExecutor()
                 until = first_done([n for n, s in zip(nodes, graph.nodes) if s.shutdown_on_exit])
                 try:
                     spin_nodes(executor, nodes, until, timeout=duration)

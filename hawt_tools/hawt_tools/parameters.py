@@ -1,4 +1,4 @@
-"""One parameter table per node: declared with descriptors, checked on every set, documented from itself.
+"""One parameter table per node: declared with descriptors and ranges, checked on every set.
 
 Each node lists its parameters once as :class:`ParameterSpec` rows (name, default,
 SI unit, range, description, read-only), in the shape of ros2_controllers'
@@ -14,7 +14,7 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-__all__ = ["ParameterSpec", "ParameterError", "declare_parameters", "check_values", "accepted", "rejection", "describe"]
+__all__ = ["ParameterSpec", "ParameterError", "declare_parameters", "check_values", "accepted", "rejection"]
 
 
 class ParameterError(ValueError):
@@ -103,15 +103,3 @@ def accepted() -> SetParametersResult:
 def rejection(error: Exception) -> SetParametersResult:
     """The answer to a parameter set that is refused, with the reason."""
     return SetParametersResult(successful=False, reason=str(error))
-
-
-def describe(table: Sequence[ParameterSpec]) -> str:
-    """The table as Markdown, for the parameter reference in the docs."""
-    lines = ["| parameter | default | unit | range | live | description |", "|---|---|---|---|---|---|"]
-    for spec in table:
-        bounds = "" if spec.minimum is None and spec.maximum is None else \
-            f"[{'' if spec.minimum is None else spec.minimum}, {'' if spec.maximum is None else spec.maximum}]"
-        bounds = bounds or ", ".join(spec.choices)
-        lines.append(f"| `{spec.name}` | `{spec.default!r}` | {spec.unit} | {bounds} | "
-                     f"{'no' if spec.read_only else 'yes'} | {spec.description} |")
-    return "\n".join(lines)
