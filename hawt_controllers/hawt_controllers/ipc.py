@@ -59,7 +59,7 @@ from .filters import DiscreteFilter, cascade, first_order_lowpass, notch, second
 from .pi import PIController
 from .saturation import NormSaturation
 
-__all__ = ["HarmonicIpc", "HarmonicIpcConfig", "IpcOutput", "soft_start_factor"]
+__all__ = ["HarmonicIpc", "HarmonicIpcConfig", "IpcOutput", "design_prefilter", "soft_start_factor"]
 
 _DT_TOLERANCE = 0.01  # relative change of dt that triggers a filter redesign
 
@@ -199,7 +199,7 @@ class HarmonicIpcConfig:
                 require_below_nyquist("lowpass_corner_frequency", self.lowpass_corner_frequency, dt)
             if self.notch_frequency > 0.0:
                 require_below_nyquist("notch_frequency", self.notch_frequency, dt)
-            _design_prefilter(self, dt)
+            design_prefilter(self, dt)
 
     def _validate_schedule(self) -> None:
         points = np.asarray(self.schedule_breakpoints, dtype=float)
@@ -227,7 +227,12 @@ class HarmonicIpcConfig:
         return factor
 
 
-def _design_prefilter(config: HarmonicIpcConfig, dt: float) -> DiscreteFilter | None:
+def design_prefilter(config: HarmonicIpcConfig, dt: float) -> DiscreteFilter | None:
+    """The low-pass/notch cascade on (cos, sin) that the law applies (None if the config has neither).
+
+    Public because the gain design (:mod:`hawt_controllers.ipc_design`) needs the same filter's
+    gain and phase at the crossover.
+    """
     stages = []
     if config.lowpass_order == 1:
         stages.append(first_order_lowpass(config.lowpass_corner_frequency, dt, channels=(2,)))
@@ -308,7 +313,7 @@ class HarmonicIpc:
         config.validate(dt)
         self.config = config
         self.dt = float(dt)
-        self.prefilter = _design_prefilter(config, self.dt)
+        self.prefilter = design_prefilter(config, self.dt)
         self.law = PIController(shape=(2,))
         self.ramp = 0.0
         self.ramp_target = 0.0
@@ -458,7 +463,7 @@ class HarmonicIpc:
     def _redesign(self, dt: float) -> None:
         self.config.validate(dt)
         self.dt = float(dt)
-        self.prefilter = _design_prefilter(self.config, self.dt)
+        self.prefilter = design_prefilter(self.config, self.dt)
         if self.prefilter is not None:
             self.prefilter.reset(self._filtered)
 

@@ -25,7 +25,7 @@ from typing import Dict, List, Sequence
 import numpy as np
 import yaml
 
-from hawt_controllers.ipc import HarmonicIpcConfig, _design_prefilter
+from hawt_controllers.ipc import HarmonicIpcConfig, design_prefilter
 from hawt_controllers.ipc_tuning import design_integral_gain
 from hawt_controllers.mbc import mbc_forward, mbc_inverse
 from hawt_plant.model import ModelConfig, TurbineModel
@@ -89,7 +89,7 @@ def design(turbine: Turbine, harmonics: Sequence[int], wind_speeds: Sequence[flo
     for n in harmonics:
         responses: List[HarmonicResponse] = [measure_harmonic_response(turbine, v, n, dt=dt) for v in wind_speeds]
         reference = min(responses, key=lambda r: abs(r.wind_speed - reference_speed))
-        prefilter = _design_prefilter(HarmonicIpcConfig(harmonic=n), dt)
+        prefilter = design_prefilter(HarmonicIpcConfig(harmonic=n), dt)
         gain = design_integral_gain(reference.sensitivity, bandwidth, loop_delay, prefilter)
         ordered = sorted(responses, key=lambda r: r.collective_pitch)
         nodes[f"/**/ipc_h{n}"] = {"ros__parameters": {
