@@ -11,7 +11,7 @@ induction and kept in the loads.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -28,6 +28,16 @@ __all__ = [
 ]
 
 _SIN_FLOOR = 1e-6  # |sin(phi)| used in the loss and induction formulas is at least this
+
+# Constants of the loss and induction formulas as 0-d arrays: numpy 2 combines an array of a
+# few dozen elements with a 0-d array about twice as fast as with a Python float, which it
+# converts on every call (the stepping model evaluates these formulas every step).
+_ZERO, _ONE, _TWO, _FOUR = np.array(0.0), np.array(1.0), np.array(2.0), np.array(4.0)
+_TWO_THIRDS, _FOUR_THIRDS = np.array(2.0 / 3.0), np.array(4.0 / 3.0)
+_FOUR_NINTHS, _TEN_NINTHS = np.array(4.0 / 9.0), np.array(10.0 / 9.0)
+_FLOOR, _FLOOR_SQUARED = np.array(_SIN_FLOOR), np.array(_SIN_FLOOR**2)
+_TWO_OVER_PI_SQUARED, _LOSS_FLOOR = np.array(4.0 / math.pi**2), np.array(1e-4)
+_DIVISOR_FLOOR = np.array(1e-9)
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,6 +61,10 @@ class BemBlade:
     loss_exponents : ndarray, shape (2, N)
         Prandtl exponents times |sin phi|: B/2 (R - r)/r (tip) and B/2 (r - R_hub)/R_hub
         (hub; infinite, i.e. no hub loss, when R_hub = 0).
+
+    The per-element arrays may also have a row per blade, shape (B, N) (and
+    ``loss_exponents`` (2, B, N)), as :meth:`tiled` makes them: evaluating all blades at
+    once then combines arrays of one shape, which numpy does faster than broadcasting.
     """
 
     radius: np.ndarray
@@ -87,6 +101,15 @@ class BemBlade:
             loss_exponents=np.stack((half_b * (tip - radius) / radius, hub_exponent)),
         )
 
+    def tiled(self, rows: int) -> "BemBlade":
+        """The same blade with every per-element array repeated in ``rows`` rows, shape (rows, N)."""
+        def tile(values: np.ndarray) -> np.ndarray:
+            return np.repeat(values[..., None, :], rows, axis=-2)
+
+        return replace(self, radius=tile(self.radius), width=tile(self.width), chord=tile(self.chord),
+                       twist=tile(self.twist), local_solidity=tile(self.local_solidity),
+                       loss_exponents=tile(self.loss_exponents))
+
 
 @dataclass(frozen=True)
 class RotorPerformance:
@@ -121,21 +144,23 @@ def prandtl_loss(sin_phi: np.ndarray, blade: BemBlade) -> np.ndarray:
     Parameters
     ----------
     sin_phi : ndarray, shape (..., N)
-        Sine of the inflow angle.
+        Sine of the inflow angle; (..., B, N) for a :meth:`BemBlade.tiled` blade.
     blade : BemBlade
 
     Returns
     -------
-    ndarray, shape (..., N)
+    ndarray, shape of ``sin_phi``
         ``F = (2/pi)^2 acos(exp(-f_tip)) acos(exp(-f_hub))`` with
         ``f_tip = B/2 (R - r) / (r |sin phi|)``, ``f_hub = B/2 (r - R_hub) / (R_hub |sin phi|)``
         (Ning 2014 eqs. 13-15; Hansen, Aerodynamics of Wind Turbines, eq. 6.34); no hub
         loss when the hub radius is 0.
     """
-    s = np.maximum(np.abs(sin_phi), _SIN_FLOOR)
-    exponents = blade.loss_exponents.reshape((2,) + (1,) * (s.ndim - 1) + blade.radius.shape)
+    s = np.maximum(np.abs(sin_phi), _FLOOR)
+    exponents = blade.loss_exponents
+    if s.ndim > blade.radius.ndim:
+        exponents = exponents.reshape((2,) + (1,) * (s.ndim - blade.radius.ndim) + blade.radius.shape)
     factors = np.arccos(np.exp(-exponents / s))
-    return np.maximum(factors[0] * factors[1] * (4.0 / math.pi**2), 1e-4)
+    return np.maximum(factors[0] * factors[1] * _TWO_OVER_PI_SQUARED, _LOSS_FLOOR)
 
 
 def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_solidity: np.ndarray,
@@ -173,21 +198,21 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
     """
     sin_phi = np.sin(phi) if sin_phi is None else sin_phi
     cos_phi = np.cos(phi) if cos_phi is None else cos_phi
-    lift = local_solidity * cl / (4.0 * loss)
-    k = lift * cos_phi / np.maximum(sin_phi * sin_phi, _SIN_FLOOR**2)
+    lift = local_solidity * cl / (_FOUR * loss)
+    k = lift * cos_phi / np.maximum(sin_phi * sin_phi, _FLOOR_SQUARED)
     k_prime = lift / cos_phi  # cos(phi) of a floating-point phi is never exactly 0
-    a = k / np.maximum(1.0 + k, 1e-9)
-    if k.max() > 2.0 / 3.0:
+    a = k / np.maximum(_ONE + k, _DIVISOR_FLOOR)
+    high = k > _TWO_THIRDS
+    if high.any():
         # Buhl: (g1 - sqrt(g2)) / g3 = (2Fk - 4/9) / (g1 + sqrt(g2)), since
         # g1^2 - g2 = g3 (2Fk - 4/9); the second form has no pole where g3 = 0.
-        two_fk = 2.0 * loss * k
-        root = np.sqrt(np.maximum(two_fk - loss * (4.0 / 3.0 - loss), 0.0))
-        buhl = (two_fk - 4.0 / 9.0) / (two_fk - 10.0 / 9.0 + loss + root)
-        a = np.where(k > 2.0 / 3.0, buhl, a)
+        two_fk = _TWO * loss * k
+        root = np.sqrt(np.maximum(two_fk - loss * (_FOUR_THIRDS - loss), _ZERO))
+        np.copyto(a, (two_fk - _FOUR_NINTHS) / (two_fk - _TEN_NINTHS + loss + root), where=high)
     if phi.min() <= 0.0:
         brake = np.where(k > 1.0, k / np.maximum(k - 1.0, 1e-9), 0.0)
         a = np.where(phi > 0.0, a, brake)
-    a_prime = k_prime / (1.0 - k_prime)
+    a_prime = k_prime / (_ONE - k_prime)
     return a, a_prime, k, k_prime
 
 

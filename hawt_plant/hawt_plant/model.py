@@ -254,8 +254,7 @@ class TurbineModel:
         self._tower, self._flap = self._displacement[:2], self._displacement[2:]
         self._tower_rate, self._flap_rate = self._velocity[:2], self._velocity[2:]
         self._generator_torque = 0.0
-        self._induction = np.zeros((b, n))
-        self._tangential_induction = np.zeros((b, n))
+        self._induction = np.zeros((2, b, n))  # axial and tangential induction factors a, a'
         self._inflow_filter = np.zeros((3, b, n))
         generator = self._turbine.generator
         target_power = generator.rated_power / (generator.efficiency * self._turbine.drivetrain.gearbox_efficiency)
@@ -282,13 +281,14 @@ class TurbineModel:
     def _solve_steady_induction(self) -> None:
         """Converged steady BEM induction at the current state (Ning 2014)."""
         self._sample_inflow()
+        bem = self._rotor_bem
+        vx, vy = self._inflow
         pitch = self._pitch[:, None]
-        phi = solve_inflow_angle(self._vx, self._vy, pitch, self._bem)
-        cl, _ = self._bem.polars.coefficients(phi - pitch - self._bem.twist)
-        loss = prandtl_loss(np.sin(phi), self._bem)
-        self._induction, self._tangential_induction, _, _ = induction_factors(
-            phi, cl, loss, self._bem.local_solidity)
-        self._inflow_filter[:] = self._induction * self._vx
+        phi = solve_inflow_angle(vx, vy, pitch, bem)
+        cl, _ = bem.polars.coefficients(phi - pitch - bem.twist)
+        loss = prandtl_loss(np.sin(phi), bem)
+        self._induction[0], self._induction[1], _, _ = induction_factors(phi, cl, loss, bem.local_solidity)
+        self._inflow_filter[:] = self._induction[0] * vx
 
     def _passage_mean_loads(self) -> tuple[float, np.ndarray]:
         """Shaft torque and tower residual (without the generator torque) averaged over one
@@ -361,9 +361,10 @@ class TurbineModel:
         command = np.array(pitch_command, dtype=float)
         if command.shape != (self._b,):
             raise ValueError(f"pitch_command: expected length B={self._b}, found shape {command.shape}")
-        low, high = float(command.min()), float(command.max())
-        if not (math.isfinite(low) and math.isfinite(high)):
-            raise ValueError(f"pitch_command: NaN or infinite value in {command.tolist()}")
+        values = command.tolist()
+        if not all(map(math.isfinite, values)):
+            raise ValueError(f"pitch_command: NaN or infinite value in {values}")
+        low, high = min(values), max(values)
         p = self._turbine.pitch_actuator
         if low < p.min_angle - 1e-9 or high > p.max_angle + 1e-9:
             raise ValueError(
@@ -392,7 +393,8 @@ class TurbineModel:
         self._b = b = rotor.number_of_blades
         self._n = n = aero.span.size
         self._bem = BemBlade.from_turbine(t)
-        self._half_rho = 0.5 * t.environment.air_density
+        self._rotor_bem = self._bem.tiled(b)  # every element of every blade at once, (B, N) arrays
+        half_rho = 0.5 * t.environment.air_density
         self._g = g = t.environment.gravity
         self._blade_offsets = 2.0 * math.pi * np.arange(b) / b
         cone, tilt = rotor.cone_angle, rotor.shaft_tilt
@@ -401,9 +403,9 @@ class TurbineModel:
         span = aero.span
         self._hub_radius = rh = rotor.hub_radius
         s_abs = rh + span
-        self._apex_distance = s_abs
-        self._element_radius = radius = s_abs * cb  # distance from the shaft axis (deflection neglected)
-        self._chord_width = aero.chord * aero.width
+        radius = s_abs * cb  # distance from the shaft axis (deflection neglected)
+        # Dynamic pressure to element load: 1/2 rho c dr, per blade element.
+        self._pressure_to_load = np.tile(half_rho * aero.chord * aero.width, (b, 1))
         self._apex_x = xa = -rotor.overhang * ct  # rotor apex relative to the tower top
         self._apex_z_top = za = t.nacelle.shaft_above_tower_top + rotor.overhang * st
         self._tower_height = t.tower.height
@@ -416,12 +418,12 @@ class TurbineModel:
         edges = np.concatenate((span - aero.width / 2.0, [span[-1] + aero.width[-1] / 2.0]))
         mass = np.diff(np.interp(np.clip(edges, 0.0, length), fine, cumulative))
         mode = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)[0]
-        self._element_mode = mode
         # Element loads are summed per blade against the span functions 1, s (from the root)
         # and phi: the rows of `loads` are [F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z]
         # for the out-of-plane (e_n), in-plane (e_t) and axial (e_z) components.
         self._span_functions = np.column_stack((np.ones(n), span, mode))
-        self._motion_functions = np.vstack((np.ones(n), s_abs, mode))
+        # Positions and velocities of the elements are per blade combinations of 1, s_abs and phi.
+        self._element_basis = np.vstack((np.ones(n), s_abs, mode))
         sums = np.array([mass.sum(), mass @ span, mass @ mode])
         radius_sums = np.array([mass @ radius, mass @ (radius * span), mass @ (radius * mode)])
         self._mass_radius = float(radius_sums[0])
@@ -518,10 +520,13 @@ class TurbineModel:
                                     zip(columns, inertia_translation, inertia_nodding)]),
             "inertia_ss": np.array([y_part[d] * w for d, w in zip(columns, inertia_translation)]),
             "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
-            # Velocity of blade points per unit tower-top velocity: constant and s_abs parts
-            # along e_n and e_t, fore-aft then side-side.
-            "motion_fa": np.array([c0["n"], c1["n"], c0["t"], c1["t"]]),
-            "motion_ss": np.array([y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"]]),
+            # Inflow (vx, vy) of blade points per unit tower-top velocity: constant and s_abs
+            # parts of minus the speed along e_n, then of the speed along e_t; fore-aft, then
+            # side-side (whose rate enters with the apex gain).
+            "inflow_motion_fa": np.array([-c0["n"], -c1["n"], c0["t"], c1["t"]]),
+            "inflow_motion_ss": gain * np.array([-y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"]]),
+            # Wind velocity to inflow (vx, vy): e_n and -e_t.
+            "inflow_axes": np.concatenate((e_n, -e_t)),
             # e_n, e_t, e_z again, ordered by inertial component (x of each, y of each, z of each).
             "axes_by_component": unit.reshape(3, 3, 3).transpose(1, 0, 2).reshape(9, 3),
         }
@@ -531,86 +536,97 @@ class TurbineModel:
             start += len(block)
         self._features = np.vstack(list(blocks.values()))
         self._rows = rows
+        self._tower_force_rows = slice(rows["fa"].start, rows["ss"].stop)
+        self._inertia_rows = slice(rows["inertia_fa"].start, rows["inertia_ss"].stop)
+        self._inflow_motion_rows = slice(rows["inflow_motion_fa"].start, rows["inflow_motion_ss"].stop)
         self._trig = np.ones((3, b))
+        self._placement = np.empty((3, b, 3))  # per coordinate and blade: apex, e_z, flap e_n
         self._wind_points = np.empty((3, b * n + 1))
-        self._blade_span = np.empty((b, 2, n))  # per blade: apex distance and flap deflection
-        self._blade_span[:, 0, :] = s_abs
-        self._motion = np.zeros((2, b, 3))
-        self._apex_columns = np.array([0, 3, 6])  # loads rows of F_n, F_t, F_z
+        self._inflow_motion = np.zeros((b, 2, 3))  # per blade: (vx, vy) parts along 1, s_abs, phi
+        self._inflow = np.empty((2, b, n))
+        self._element_loads = np.empty((2, b, n))
+        self._apex_moments = np.empty((3, b))
+        self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
+        self._induction_bounds[0] = -1.0
+        self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
 
     # ------------------------------------------------------------------ loads
 
     def _sample_inflow(self) -> None:
-        """Geometry of the elements, the wind there and the inflow without induction."""
+        """Geometry of the elements, the wind there and the inflow (vx, vy) without induction.
+
+        Every blade's vectors are rows of ``features``; positions and velocities of its elements
+        are combinations of 1, s_abs and phi along the span (:attr:`_element_basis`), so
+        each is one matrix product for all blades.
+        """
         b, n = self._b, self._n
         trig = self._trig
         angle = self._azimuth + self._blade_offsets
         np.cos(angle, out=trig[0])
         np.sin(angle, out=trig[1])
-        features = self._features @ trig
+        features = np.dot(self._features, trig)
         self._feature_values = features
-        x_top, y_top = float(self._tower[0]), float(self._tower[1])
+        x_top, y_top = self._tower.tolist()
         u0x, u0z = self._apex_fa_motion
-        apex = np.array((self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
-                         self._tower_height + self._apex_z_top + x_top * u0z))
+        apex = (self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
+                self._tower_height + self._apex_z_top + x_top * u0z)
         self._apex = apex
-        # Element positions: apex + s e_z + w e_n, as (B, 3, 2) @ (B, 2, N).
-        span = self._blade_span
-        np.multiply.outer(self._flap, self._element_mode, out=span[:, 1, :])
-        axes = features[0:9].reshape(3, 3, b)[[2, 0]].transpose(2, 1, 0)
-        grid = (axes @ span).transpose(1, 0, 2) + apex[:, None, None]
+        # Element positions apex + s_abs e_z + flap phi e_n.
+        placement = self._placement
+        placement[0, :, 0], placement[1, :, 0], placement[2, :, 0] = apex
+        placement[:, :, 1] = features[6:9]
+        np.multiply(features[0:3], self._flap, out=placement[:, :, 2])
+        grid = np.dot(placement.reshape(3 * b, 3), self._element_basis).reshape(3, b, n)
         points = self._wind_points
         points[:, :-1] = grid.reshape(3, b * n)
         points[:, -1] = apex
         velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
         self._hub_wind_speed = float(velocity[0, -1])
-        inflow = velocity[:, :-1].reshape(3, b, n)
+        wind = velocity[:, :-1].reshape(3, b, n)
         if self._shadow is not None:
             du, dv = self._shadow.disturbance(grid[0] - x_top, grid[1] - y_top, grid[2])
-            shadowed = np.empty((3, b, n))
-            np.multiply(inflow[0], 1.0 + du, out=shadowed[0])
-            np.multiply(inflow[0], dv, out=shadowed[1])
-            shadowed[1] += inflow[1]
-            shadowed[2] = inflow[2]
-            inflow = shadowed
-        # Components along e_n and e_t of every element: (B, N, 3) @ (B, 3, 2).
-        projected = np.matmul(inflow.transpose(1, 2, 0), features[0:6].reshape(2, 3, b).transpose(2, 1, 0))
-        # Velocity of the elements from the tower and flap motion along e_n and e_t.
-        rows = self._rows
-        coefficients = (float(self._tower_rate[0]) * features[rows["motion_fa"]]
-                        + (float(self._tower_rate[1]) * self._ss_apex_gain) * features[rows["motion_ss"]])
-        motion = self._motion
-        motion[0, :, 0:2] = coefficients[0:2].T
-        motion[1, :, 0:2] = coefficients[2:4].T
-        motion[0, :, 2] = self._flap_rate
-        moving = motion @ self._motion_functions
-        self._vx = projected[:, :, 0] - moving[0]
-        self._vy = (self._rotor_speed * self._element_radius) + moving[1] - projected[:, :, 1]
+            u = wind[0]
+            wind[1] += u * dv
+            u *= 1.0 + du
+        # Element velocity from the tower and flap motion and the rotation (omega r, r = s_abs cos cone).
+        motion = self._inflow_motion
+        tower_parts = np.dot(self._tower_rate, features[self._inflow_motion_rows].reshape(2, 4 * b))
+        motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(2, 0, 1)
+        np.negative(self._flap_rate, out=motion[:, 0, 2])
+        motion[:, 1, 1] += self._rotor_speed * self._cos_cone
+        axes = features[self._rows["inflow_axes"]].reshape(2, 3, b).transpose(2, 0, 1)
+        np.add(np.matmul(axes, wind.transpose(1, 0, 2)).transpose(1, 0, 2),
+               np.matmul(motion, self._element_basis).transpose(1, 0, 2), out=self._inflow)
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix."""
-        bem = self._bem
-        vx, vy = self._vx, self._vy
+        bem = self._rotor_bem
+        b, n = self._b, self._n
+        vx, vy = self._inflow
         pitch_twist = self._pitch[:, None] + bem.twist
         iterations = self._config.bem_iterations if update_induction and not self._config.dynamic_inflow else 1
         for _ in range(iterations):
-            un = vx * (1.0 - self._induction)
-            ut = vy * (1.0 + self._tangential_induction)
+            un = vx * (1.0 - self._induction[0])
+            ut = vy * (1.0 + self._induction[1])
             phi = np.arctan2(un, ut)
             cl, cd = bem.polars.coefficients(phi - pitch_twist)
             sin_phi, cos_phi = np.sin(phi), np.cos(phi)
             if update_induction:
                 loss = prandtl_loss(sin_phi, bem)
-                a, a_prime = _bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity)
-                self._update_induction(a, a_prime)
-        q = self._half_rho * (un * un + ut * ut) * self._chord_width
-        aero_normal = (q * (cl * cos_phi + cd * sin_phi)) @ self._span_functions
-        aero_tangential = (q * (cl * sin_phi - cd * cos_phi)) @ self._span_functions
+                self._update_induction(_bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity,
+                                                          self._induction_bounds))
+        # Element loads along e_n and e_t, summed per blade against 1, s and phi.
+        q = (un * un + ut * ut) * self._pressure_to_load
+        element = self._element_loads
+        np.multiply(q, cl * cos_phi + cd * sin_phi, out=element[0])
+        np.multiply(q, cl * sin_phi - cd * cos_phi, out=element[1])
+        aero = np.dot(element.reshape(2 * b, n), self._span_functions).reshape(2, b, 3)
+        normal, tangential = aero.sum(axis=1).tolist()
         cb = self._cos_cone
-        self._aero_thrust = cb * float(aero_normal[:, 0].sum())
-        self._aero_torque = cb * float(aero_tangential[:, 1].sum() + self._hub_radius * aero_tangential[:, 0].sum())
+        self._aero_thrust = cb * normal[0]
+        self._aero_torque = cb * (tangential[1] + self._hub_radius * tangential[0])
         features, rows = self._feature_values, self._rows
-        self._gravity_torque = -self._g * self._mass_radius * float(features[5].sum())
+        self._gravity_torque = -self._g * self._mass_radius * sum(features[5].tolist())
         shaft = self._torsional_stiffness * self._torsion + self._torsional_damping * (
             self._rotor_speed - self._generator_speed)
         self._shaft_torque = shaft
@@ -619,55 +635,57 @@ class TurbineModel:
         # Per-blade load sums without the inertia of the structural accelerations (unknown yet).
         loads = features[rows["gravity"]] + (omega2 * self._centrifugal_sums
                                              + self._rotor_acceleration * self._angular_sums)[:, None]
-        loads[0:3] += aero_normal.T
-        loads[3:6] += aero_tangential.T
+        aero_loads = loads[0:6].reshape(2, 3, b)  # a view: rows F_n, s F_n, phi F_n, F_t, s F_t, phi F_t
+        aero_loads += aero.transpose(0, 2, 1)
         self._loads = loads
         # Generalized forces: flap from the phi-weighted normal loads, tower from projections.
-        b = self._b
-        tower_forces = features[rows["fa"].start:rows["ss"].stop].reshape(2, 8 * b) @ loads.reshape(8 * b)
-        q_fa = float(tower_forces[0]) + self._fa_gravity_force
-        q_ss = float(tower_forces[1]) - self._slope_ss * self._cos_tilt * shaft * (1.0 - 1.0 / self._gearbox_ratio)
+        tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, 8 * b), loads.reshape(8 * b)).tolist()
+        q_fa = tower_fa + self._fa_gravity_force
+        q_ss = tower_ss - self._slope_ss * self._cos_tilt * shaft * (1.0 - 1.0 / self._gearbox_ratio)
         self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
         self._flap_residual = loads[2] - self._flap_damping * self._flap_rate - self._flap_stiffness_now * self._flap
-        damping, stiffness = self._tower_damping, self._tower_stiffness
-        self._residual_fa = q_fa - damping[0] * self._tower_rate[0] - stiffness[0] * self._tower[0]
-        self._residual_ss = q_ss - damping[1] * self._tower_rate[1] - stiffness[1] * self._tower[1]
+        (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
+        (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
+        self._residual_fa = q_fa - damping_fa * rate_fa - stiffness_fa * x_top
+        self._residual_ss = q_ss - damping_ss * rate_ss - stiffness_ss * y_top
         # Mass matrix reduced to the tower coordinates (Schur complement of the flap block).
         coupling = features[rows["coupling"]]
         fa_mass = features[rows["fa_mass"]]
         linear, quadratic = self._fa_mass_azimuthal
-        mass_fa = self._fa_mass_constant + linear * float(fa_mass[0].sum()) + quadratic * float(fa_mass[1] @ fa_mass[1])
+        mass_fa = (self._fa_mass_constant + linear * sum(fa_mass[0].tolist())
+                   + quadratic * float(np.dot(fa_mass[1], fa_mass[1])))
         m = self._flap_mass
-        products = coupling @ coupling.T
-        projected = coupling @ self._flap_residual
+        (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
+        projected_fa, projected_ss = np.dot(coupling, self._flap_residual).tolist()
         self._coupling = coupling
         self._schur = (
-            mass_fa - float(products[0, 0]) / m,
-            -float(products[0, 1]) / m,
-            self._ss_mass - float(products[1, 1]) / m,
-            self._residual_fa - float(projected[0]) / m,
-            self._residual_ss - float(projected[1]) / m,
+            mass_fa - p00 / m,
+            -p01 / m,
+            self._ss_mass - p11 / m,
+            self._residual_fa - projected_fa / m,
+            self._residual_ss - projected_ss / m,
         )
 
-    def _update_induction(self, a: np.ndarray, a_prime: np.ndarray) -> None:
-        """Relaxed quasi-steady update, or Øye's dynamic inflow filter (Hansen 2008 §10.2)."""
+    def _update_induction(self, induction: np.ndarray) -> None:
+        """Relaxed quasi-steady update, or Øye's dynamic inflow filter (Hansen 2008 §10.2).
+
+        ``induction`` holds the quasi-steady a and a', shape (2, B, N).
+        """
         if not self._config.dynamic_inflow:
-            relaxation = self._config.bem_relaxation
-            self._induction += relaxation * (a - self._induction)
-            self._tangential_induction += relaxation * (a_prime - self._tangential_induction)
+            self._induction += self._config.bem_relaxation * (induction - self._induction)
             return
         dt = self._config.dt
-        vx = np.maximum(self._vx, _MIN_INFLOW)
-        quasi_steady = a * vx
+        vx = np.maximum(self._inflow[0], _MIN_INFLOW)
+        quasi_steady = induction[0] * vx
         intermediate, induced, previous = self._inflow_filter
-        tau1 = 1.1 / (1.0 - 1.3 * np.clip(self._induction, 0.0, 0.5)) * self._bem.tip_radius / vx
-        tau2 = (0.39 - 0.26 * (self._bem.radius / self._bem.tip_radius) ** 2) * tau1
+        tau1 = 1.1 / (1.0 - 1.3 * np.clip(self._induction[0], 0.0, 0.5)) * self._bem.tip_radius / vx
+        tau2 = (0.39 - 0.26 * (self._rotor_bem.radius / self._bem.tip_radius) ** 2) * tau1
         forcing = quasi_steady + 0.6 * tau1 * (quasi_steady - previous) / dt
         intermediate[:] = forcing + (intermediate - forcing) * np.exp(-dt / tau1)
         induced[:] = intermediate + (induced - intermediate) * np.exp(-dt / tau2)
         previous[:] = quasi_steady
-        self._induction = induced / vx
-        self._tangential_induction = a_prime
+        np.divide(induced, vx, out=self._induction[0])
+        self._induction[1] = induction[1]
 
     def _generator_acceleration(self, generator_torque: float) -> float:
         ratio = self._gearbox_ratio
@@ -682,40 +700,42 @@ class TurbineModel:
         y_acc = (a11 * r2 - a12 * r1) / det
         out = np.empty(2 + self._b)
         out[0], out[1] = x_acc, y_acc
-        out[2:] = (self._flap_residual - x_acc * self._coupling[0] - y_acc * self._coupling[1]) / self._flap_mass
+        out[2:] = (self._flap_residual - np.dot(out[:2], self._coupling)) / self._flap_mass
         return out
 
     # ------------------------------------------------------------------ outputs
 
     def _make_output(self, acc: np.ndarray) -> TurbineOutput:
-        x_acc, y_acc = float(acc[0]), float(acc[1])
+        x_acc, y_acc = acc[:2].tolist()
+        b = self._b
         features, rows = self._feature_values, self._rows
-        loads = self._loads - x_acc * features[rows["inertia_fa"]] - y_acc * features[rows["inertia_ss"]]
-        loads[0:3] -= np.multiply.outer(self._inertia_flap, acc[2:])
+        inertia = np.dot(acc[:2], features[self._inertia_rows].reshape(2, 8 * b))
+        loads = self._loads - inertia.reshape(8, b)
+        loads[0:3] -= self._inertia_flap[:, None] * acc[2:]
         flap = self._flap
         oop = loads[1] - flap * loads[7]
-        ip = loads[4].copy()
+        ip = loads[4]
         rh = self._hub_radius
         # Moments about the apex per blade: A about -e_t, B about e_n, C about -e_z; summed
         # against cos, sin and 1 of the blade azimuths.
-        apex_moments = np.empty((3, self._b))
-        apex_moments[0] = oop + rh * loads[0]
-        apex_moments[1] = ip + rh * loads[3]
-        apex_moments[2] = flap * loads[5]
-        (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = (self._trig @ apex_moments.T).tolist()
+        apex_moments = self._apex_moments
+        np.add(oop, rh * loads[0], out=apex_moments[0])
+        np.add(ip, rh * loads[3], out=apex_moments[1])
+        np.multiply(flap, loads[5], out=apex_moments[2])
+        (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = np.dot(self._trig, apex_moments.T).tolist()
         cone_c, cone_s = self._cos_cone, self._sin_cone
         tilt = ca - cone_s * sb_ + cone_c * sc
         yaw = sa + cone_s * cb_ - cone_c * cc
         spin = cone_c * ob + cone_s * oc
         # Rotor force at the apex in inertial axes: sum over blades of F_n e_n + F_t e_t + F_z e_z.
-        axes = features[rows["axes_by_component"]].reshape(3, 3 * self._b)
-        fx, fy, fz = (axes @ loads[self._apex_columns].reshape(3 * self._b)).tolist()
-        ax, ay, az = self._apex.tolist()
+        axes = features[rows["axes_by_component"]].reshape(3, 3 * b)
+        fx, fy, fz = np.dot(axes, loads[0:7:3].reshape(3 * b)).tolist()
+        ax, ay, az = self._apex
         base_fa = tilt + az * fx - ax * fz
         base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + ay * fz - az * fy
         # Nacelle and hub (point masses moving with the tower top), tower, spinning inertias.
         g = self._g
-        x_top, y_top = float(self._tower[0]), float(self._tower[1])
+        x_top, y_top = self._tower.tolist()
         sfa, sss = self._slope_fa, self._slope_ss
         xn, zn = self._nacelle_position
         height = self._tower_height
@@ -759,8 +779,12 @@ class TurbineModel:
 
 
 def _bounded_induction(phi: np.ndarray, sin_phi: np.ndarray, cos_phi: np.ndarray, cl: np.ndarray,
-                       loss: np.ndarray, local_solidity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                       loss: np.ndarray, local_solidity: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     """Induction factors of :func:`~hawt_plant.bem.induction_factors` for the stepping model,
-    bounded to a in [-1, 0.99] and a' in [-1, 1] so that no transient runs away."""
+    bounded so that no transient runs away.
+
+    ``bounds`` are the lower and upper bounds of a and a', shape (2, 2) + phi.shape: a in
+    [-1, 0.99] and a' in [-1, 1]. Returns a and a' stacked, shape (2,) + phi.shape.
+    """
     a, a_prime, _, _ = induction_factors(phi, cl, loss, local_solidity, sin_phi, cos_phi)
-    return np.minimum(np.maximum(a, -1.0), 0.99), np.minimum(np.maximum(a_prime, -1.0), 1.0)
+    return np.minimum(np.maximum(np.array((a, a_prime)), bounds[0]), bounds[1])

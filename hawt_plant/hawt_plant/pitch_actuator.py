@@ -36,9 +36,8 @@ class DiscretePitchActuator:
         augmented = np.zeros((3, 3))
         augmented[:2, :2] = a
         augmented[1, 2] = w * w
-        discrete = expm(augmented * dt)
-        self._phi = discrete[:2, :2]
-        self._gamma = discrete[:2, 2]
+        # Angle and rate at the end of the step from angle, rate and command at its start.
+        self._transition = expm(augmented * dt)[:2]
         self._parameters = parameters
         self._max_step = parameters.max_rate * dt
 
@@ -63,8 +62,8 @@ class DiscretePitchActuator:
             At the end of the step.
         """
         p = self._parameters
-        new_angle, new_rate = self._phi @ np.array((angle, rate)) + np.multiply.outer(self._gamma, command)
-        step = np.minimum(np.maximum(new_angle - angle, -self._max_step), self._max_step)
+        new_angle, new_rate = np.dot(self._transition, np.array((angle, rate, command)))
+        moved = angle + np.minimum(np.maximum(new_angle - angle, -self._max_step), self._max_step)
+        limited = np.minimum(np.maximum(moved, p.min_angle), p.max_angle)
         new_rate = np.minimum(np.maximum(new_rate, -p.max_rate), p.max_rate)
-        limited = np.minimum(np.maximum(angle + step, p.min_angle), p.max_angle)
-        return limited, new_rate * (limited == angle + step)
+        return limited, new_rate * (limited == moved)

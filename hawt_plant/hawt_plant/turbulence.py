@@ -40,6 +40,7 @@ REFERENCE_TURBULENCE_INTENSITY = MappingProxyType({"A": 0.16, "B": 0.14, "C": 0.
 
 _CACHE_FORMAT = 2  # bump when the cached array layout or the generation procedure changes
 _FREQUENCY_CHUNK = 64  # frequencies per pyconturb coherence chunk: speed vs. memory (~8 MB at 11x11)
+_ZERO = np.array(0.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
 
 
 def ntm_standard_deviation(hub_speed: float, turbulence_class: str) -> float:
@@ -262,15 +263,17 @@ class TurbulentWind:
         inv_dz = 1.0 / (grid_z[1] - grid_z[0]) if n_z > 1 else 0.0
         inv_dy = 1.0 / (grid_y[1] - grid_y[0]) if n_y > 1 else 0.0
         inv_dt = 1.0 / self._time_step
-        self._inv_dt, self._t_cells = inv_dt, float(t_cells)
+        self._inv_dt, self._t_cells = inv_dt, np.array(float(t_cells))
         self._scale = np.array([[-inv_dt / self._mean_speed], [inv_dz], [inv_dy]])
         self._shift = np.array([[self._x_offset * inv_dt / self._mean_speed],
                                 [-grid_z[0] * inv_dz], [-grid_y[0] * inv_dy]])
-        self._upper = np.array([[t_cells], [n_z - 1], [n_y - 1]], dtype=float)
-        self._last_cell = np.array([[t_cells - 1], [max(n_z - 2, 0)], [max(n_y - 2, 0)]])
+        # Fractional indices are clamped to [0, upper] with the upper edge just inside the last
+        # cell, so that truncation gives a cell index and weight 1 (to rounding) at the edge.
+        upper = np.array([[t_cells], [n_z - 1], [n_y - 1]], dtype=float)
+        self._upper = np.nextafter(upper, 0.0)
         self._strides = np.array([n_z * n_y, n_y, 1])
         corners = np.array([(it, iz, iy) for it in (0, 1) for iz in (0, 1) for iy in (0, 1)])
-        neighbour_strides = self._strides * (self._upper[:, 0] > 0)  # no neighbour on a 1-node axis
+        neighbour_strides = self._strides * (upper[:, 0] > 0)  # no neighbour on a 1-node axis
         self._corner_offsets = (corners @ neighbour_strides)[:, None]  # (8, 1)
         # Weight of corner k along axis d is 1 - w_d (corner bit 0) or w_d (bit 1): c0 + c1 w_d.
         self._weight_c0 = (1.0 - corners)[:, :, None].astype(float)  # (8, 3, 1)
@@ -345,11 +348,12 @@ class TurbulentWind:
         index += self._shift
         index[0] += t * self._inv_dt
         np.mod(index[0], self._t_cells, out=index[0])
-        index.clip(0.0, self._upper, out=index)
-        cell = np.minimum(index.astype(np.intp), self._last_cell)  # index >= 0: truncation is floor
-        index -= cell  # now the position inside the cell, in [0, 1]
+        np.minimum(np.maximum(index, _ZERO, out=index), self._upper, out=index)
+        cell = index.astype(np.intp)  # index >= 0: truncation is floor
+        index -= cell  # now the position inside the cell, in [0, 1)
         nodes = self._nodes.take(self._strides @ cell + self._corner_offsets, axis=0)  # (8, n, 3)
-        weights = (self._weight_c0 + self._weight_c1 * index).prod(axis=1)  # (8, n)
+        factors = self._weight_c0 + self._weight_c1 * index  # (8, 3, n)
+        weights = factors[:, 0] * factors[:, 1] * factors[:, 2]  # (8, n)
         return np.einsum("kn,knc->cn", weights, nodes).reshape((3,) + x.shape)
 
 def _even_grid(values: np.ndarray, name: str) -> np.ndarray:
