@@ -52,6 +52,7 @@ __all__ = ["ModelConfig", "TurbineModel", "TurbineOutput"]
 _MIN_INFLOW = 0.1  # [m/s] normal inflow used in the dynamic-inflow time constants is at least this
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
 _PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
+_ONE = np.array(1.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
 
 
 @dataclass(frozen=True)
@@ -427,8 +428,8 @@ class TurbineModel:
         sums = np.array([mass.sum(), mass @ span, mass @ mode])
         radius_sums = np.array([mass @ radius, mass @ (radius * span), mass @ (radius * mode)])
         self._mass_radius = float(radius_sums[0])
-        self._centrifugal_sums = np.concatenate((sb * radius_sums, np.zeros(3), cb * radius_sums[[0, 2]]))
-        self._angular_sums = np.concatenate((np.zeros(3), -radius_sums, np.zeros(2)))
+        centrifugal_sums = np.concatenate((sb * radius_sums, np.zeros(3), cb * radius_sums[[0, 2]]))
+        angular_sums = np.concatenate((np.zeros(3), -radius_sums, np.zeros(2)))
         nod = np.array([mass @ s_abs, mass @ (span * s_abs), mass @ (mode * s_abs)])
         inertia_translation = np.concatenate((sums, sums, sums[[0, 2]]))
         inertia_nodding = np.concatenate((nod, nod, np.zeros(2)))
@@ -515,7 +516,6 @@ class TurbineModel:
             "ss": np.array([y_part["n"], 0 * y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"],
                             0 * y_part["t"], y_part["z"], 0 * y_part["z"]]),
             "coupling": np.array([c0["n"] * p0 + c1["n"] * p1, y_part["n"] * p0]),
-            "gravity": np.array([gravity_part[d] * w for d, w in zip(columns, weight)]),
             "inertia_fa": np.array([c0[d] * wt + c1[d] * wn for d, wt, wn in
                                     zip(columns, inertia_translation, inertia_nodding)]),
             "inertia_ss": np.array([y_part[d] * w for d, w in zip(columns, inertia_translation)]),
@@ -525,7 +525,7 @@ class TurbineModel:
             # side-side (whose rate enters with the apex gain).
             "inflow_motion_fa": np.array([-c0["n"], -c1["n"], c0["t"], c1["t"]]),
             "inflow_motion_ss": gain * np.array([-y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"]]),
-            # Wind velocity to inflow (vx, vy): e_n and -e_t.
+            # Wind velocity to inflow (vx, vy): e_n and -e_t, by inertial component.
             "inflow_axes": np.concatenate((e_n, -e_t)),
             # e_n, e_t, e_z again, ordered by inertial component (x of each, y of each, z of each).
             "axes_by_component": unit.reshape(3, 3, 3).transpose(1, 0, 2).reshape(9, 3),
@@ -539,10 +539,25 @@ class TurbineModel:
         self._tower_force_rows = slice(rows["fa"].start, rows["ss"].stop)
         self._inertia_rows = slice(rows["inertia_fa"].start, rows["inertia_ss"].stop)
         self._inflow_motion_rows = slice(rows["inflow_motion_fa"].start, rows["inflow_motion_ss"].stop)
-        self._trig = np.ones((3, b))
+        # Per blade: cos psi, sin psi, 1 and the rotor's omega^2 and angular acceleration. Load
+        # sums without the inertia of the structural accelerations: gravity, centrifugal and
+        # rotor-acceleration loads, linear in these.
+        self._blade_basis = np.ones((5, b))
+        self._trig = self._blade_basis[:3]
+        self._load_operator = np.column_stack((
+            [gravity_part[d] * w for d, w in zip(columns, weight)], centrifugal_sums, angular_sums))
         self._placement = np.empty((3, b, 3))  # per coordinate and blade: apex, e_z, flap e_n
         self._wind_points = np.empty((3, b * n + 1))
-        self._inflow_motion = np.zeros((b, 2, 3))  # per blade: (vx, vy) parts along 1, s_abs, phi
+        # The inflow of every element as one product: rows vx of blades 1..B, then vy; columns
+        # wind u, v, w of blades 1..B (e_n and -e_t on the block diagonals), then the element
+        # motion along 1, s_abs and phi (a view per blade, `_inflow_motion`).
+        self._inflow_operator = np.zeros((2 * b, 3 * b + 3))
+        self._inflow_motion = self._inflow_operator[:, 3 * b:].reshape(2, b, 3)
+        row, component, blade = np.meshgrid(np.arange(2), np.arange(3), np.arange(b), indexing="ij")
+        self._inflow_axes_index = np.ravel_multi_index(
+            (row * b + blade, component * b + blade), self._inflow_operator.shape).ravel()
+        self._inflow_operands = np.empty((3 * b + 3, n))
+        self._inflow_operands[3 * b:] = self._element_basis
         self._inflow = np.empty((2, b, n))
         self._element_loads = np.empty((2, b, n))
         self._apex_moments = np.empty((3, b))
@@ -582,21 +597,23 @@ class TurbineModel:
         points[:, -1] = apex
         velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
         self._hub_wind_speed = float(velocity[0, -1])
-        wind = velocity[:, :-1].reshape(3, b, n)
+        operands = self._inflow_operands
+        wind = operands[:3 * b].reshape(3, b, n)
+        wind[...] = velocity[:, :-1].reshape(3, b, n)
         if self._shadow is not None:
             du, dv = self._shadow.disturbance(grid[0] - x_top, grid[1] - y_top, grid[2])
             u = wind[0]
             wind[1] += u * dv
-            u *= 1.0 + du
+            u *= _ONE + du
         # Element velocity from the tower and flap motion and the rotation (omega r, r = s_abs cos cone).
         motion = self._inflow_motion
         tower_parts = np.dot(self._tower_rate, features[self._inflow_motion_rows].reshape(2, 4 * b))
-        motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(2, 0, 1)
-        np.negative(self._flap_rate, out=motion[:, 0, 2])
-        motion[:, 1, 1] += self._rotor_speed * self._cos_cone
-        axes = features[self._rows["inflow_axes"]].reshape(2, 3, b).transpose(2, 0, 1)
-        np.add(np.matmul(axes, wind.transpose(1, 0, 2)).transpose(1, 0, 2),
-               np.matmul(motion, self._element_basis).transpose(1, 0, 2), out=self._inflow)
+        motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(0, 2, 1)
+        np.negative(self._flap_rate, out=motion[0, :, 2])
+        motion[1, :, 1] += self._rotor_speed * self._cos_cone
+        operator = self._inflow_operator
+        operator.put(self._inflow_axes_index, features[self._rows["inflow_axes"]])
+        np.dot(operator, operands, out=self._inflow.reshape(2 * b, n))
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix."""
@@ -606,8 +623,8 @@ class TurbineModel:
         pitch_twist = self._pitch[:, None] + bem.twist
         iterations = self._config.bem_iterations if update_induction and not self._config.dynamic_inflow else 1
         for _ in range(iterations):
-            un = vx * (1.0 - self._induction[0])
-            ut = vy * (1.0 + self._induction[1])
+            un = vx * (_ONE - self._induction[0])
+            ut = vy * (_ONE + self._induction[1])
             phi = np.arctan2(un, ut)
             cl, cd = bem.polars.coefficients(phi - pitch_twist)
             sin_phi, cos_phi = np.sin(phi), np.cos(phi)
@@ -633,8 +650,9 @@ class TurbineModel:
         self._rotor_acceleration = (self._aero_torque + self._gravity_torque - shaft) / self._rotor_inertia
         omega2 = self._rotor_speed * self._rotor_speed
         # Per-blade load sums without the inertia of the structural accelerations (unknown yet).
-        loads = features[rows["gravity"]] + (omega2 * self._centrifugal_sums
-                                             + self._rotor_acceleration * self._angular_sums)[:, None]
+        self._blade_basis[3] = omega2
+        self._blade_basis[4] = self._rotor_acceleration
+        loads = np.dot(self._load_operator, self._blade_basis)
         aero_loads = loads[0:6].reshape(2, 3, b)  # a view: rows F_n, s F_n, phi F_n, F_t, s F_t, phi F_t
         aero_loads += aero.transpose(0, 2, 1)
         self._loads = loads

@@ -249,13 +249,15 @@ class TurbulentWind:
         self._x_offset = float(x_offset)
 
         n_t, n_z, n_y, _ = velocity.shape
-        # Own float32 copy; a periodic field stores sample 0 again after the last one.
-        stored = np.empty((n_t + self._periodic, n_z, n_y, 3), dtype=np.float32)
+        # Own float32 copy, one plane per component with the nodes ordered (t, z, y), so that
+        # the 8 corners of n points gather into (3, n, 8), ready for a dot product with their
+        # weights; a periodic field stores sample 0 again after the last one.
+        self._planes = np.empty((3, (n_t + self._periodic) * n_z * n_y), dtype=np.float32)
+        stored = self._planes.T.reshape(n_t + self._periodic, n_z, n_y, 3)  # a view
         stored[:n_t] = velocity
         stored[n_t:] = velocity[:1]  # empty slice unless periodic
-        stored.flags.writeable = False
+        self._planes.flags.writeable = stored.flags.writeable = False
         self._velocity = stored[:n_t]
-        self._nodes = stored.reshape(-1, 3)  # rows ordered (t, z, y)
         t_cells = stored.shape[0] - 1
         self._period = t_cells * self._time_step
         # Fractional grid index of a point, per axis (t, z, y): (coordinate * scale + shift),
@@ -274,7 +276,7 @@ class TurbulentWind:
         self._strides = np.array([n_z * n_y, n_y, 1])
         corners = np.array([(it, iz, iy) for it in (0, 1) for iz in (0, 1) for iy in (0, 1)])
         neighbour_strides = self._strides * (upper[:, 0] > 0)  # no neighbour on a 1-node axis
-        self._corner_offsets = (corners @ neighbour_strides)[:, None]  # (8, 1)
+        self._corner_offsets = corners @ neighbour_strides  # (8,)
         # Weight of corner k along axis d is 1 - w_d (corner bit 0) or w_d (bit 1): c0 + c1 w_d.
         self._weight_c0 = (1.0 - corners)[:, :, None].astype(float)  # (8, 3, 1)
         self._weight_c1 = (2.0 * corners - 1.0)[:, :, None]
@@ -351,10 +353,10 @@ class TurbulentWind:
         np.minimum(np.maximum(index, _ZERO, out=index), self._upper, out=index)
         cell = index.astype(np.intp)  # index >= 0: truncation is floor
         index -= cell  # now the position inside the cell, in [0, 1)
-        nodes = self._nodes.take(self._strides @ cell + self._corner_offsets, axis=0)  # (8, n, 3)
+        nodes = self._planes.take((self._strides @ cell)[:, None] + self._corner_offsets, axis=1)  # (3, n, 8)
         factors = self._weight_c0 + self._weight_c1 * index  # (8, 3, n)
         weights = factors[:, 0] * factors[:, 1] * factors[:, 2]  # (8, n)
-        return np.einsum("kn,knc->cn", weights, nodes).reshape((3,) + x.shape)
+        return np.vecdot(nodes, weights.T).reshape((3,) + x.shape)
 
 def _even_grid(values: np.ndarray, name: str) -> np.ndarray:
     """Validate a 1-D, increasing, evenly spaced grid and return it as float array."""
