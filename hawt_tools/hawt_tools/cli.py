@@ -318,8 +318,19 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+def parse_command_line(argv: Optional[List[str]] = None) -> argparse.Namespace:
+    """The parsed command; a graph's NAME:=VALUE arguments may come before or after the options."""
+    parser = _parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra and getattr(args, "arguments", None) is not None and all(":=" in word for word in extra):
+        args.arguments += extra
+    elif extra:
+        parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    return args
+
+
 def main(argv: Optional[List[str]] = None) -> int:
-    args = _parser().parse_args(argv)
+    args = parse_command_line(argv)
     try:
         return args.run(args)
     except (GraphError, BagError) as error:

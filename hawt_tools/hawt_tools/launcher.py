@@ -21,10 +21,10 @@ import rclpy
 import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
 
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException
 
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
-from hawt_tools.node_main import first_done, spin_nodes
+from hawt_tools.node_main import first_done, make_executor, spin_nodes
 
 __all__ = [
     "LaunchFailure",
@@ -303,7 +303,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
             with rclpy.init():
                 nodes = [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
                          for spec, node_class in zip(graph.nodes, classes)]
-                executor = SingleThreadedExecutor()
+                executor = make_executor()
                 until = first_done([n for n, s in zip(nodes, graph.nodes) if s.shutdown_on_exit])
                 try:
                     spin_nodes(executor, nodes, until, timeout=duration)

@@ -8,17 +8,34 @@ executor (``hawt launch --composed``): it takes the keyword arguments of
 A node that ends by itself (a plant that reached its duration, a source that sent
 its count) exposes ``done``, an ``rclpy.task.Future``; the process then exits 0
 when it completes, so that ``on_exit: shutdown`` in a graph ends the whole run.
+
+Nodes spin on rclpy's EventsExecutor (C++): the SingleThreadedExecutor rebuilds
+its wait set in Python for every callback, which cost about 1 ms per callback in a
+composed graph and capped the lockstep loop at 2x real time (``./hawt bench
+control_loop`` measures both). The EventsExecutor never returns from a wait without
+a timeout, neither for a completed future nor for SIGINT, so :func:`spin_nodes`
+waits in slices of ``WAKE_PERIOD``.
 """
+import time
 from typing import Callable, List, Optional, Sequence
 
 import rclpy
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import Executor, ExternalShutdownException
+from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.task import Future
 
-__all__ = ["run_node", "node_entry_point", "spin_nodes", "first_done"]
+__all__ = ["run_node", "node_entry_point", "spin_nodes", "first_done", "make_executor", "WAKE_PERIOD"]
 
 NodeFactory = Callable[..., Node]
+
+WAKE_PERIOD = 0.1
+"""Longest wait [s] of one executor call: how late a done future or a Ctrl-C can be noticed."""
+
+
+def make_executor() -> Executor:
+    """The executor every hawt node spins on (on the default context)."""
+    return EventsExecutor()
 
 
 def first_done(nodes: Sequence[Node]) -> Optional[Future]:
@@ -37,10 +54,13 @@ def spin_nodes(executor, nodes: Sequence[Node], until: Optional[Future] = None,
     """Spin the nodes on the executor until ``until`` completes or ``timeout`` seconds pass (both None: forever)."""
     for node in nodes:
         executor.add_node(node)
-    if until is None and timeout is None:
-        executor.spin()
-    else:
-        executor.spin_until_future_complete(until or Future(), timeout_sec=timeout)
+    until = until or Future()
+    deadline = None if timeout is None else time.monotonic() + timeout
+    while not until.done() and rclpy.ok():
+        remaining = WAKE_PERIOD if deadline is None else min(WAKE_PERIOD, deadline - time.monotonic())
+        if remaining <= 0:
+            return
+        executor.spin_until_future_complete(until, timeout_sec=remaining)
 
 
 def run_node(node_class: NodeFactory, args: Optional[List[str]] = None) -> None:
@@ -52,7 +72,7 @@ def run_node(node_class: NodeFactory, args: Optional[List[str]] = None) -> None:
     try:
         with rclpy.init(args=args):
             node = node_class()
-            executor = SingleThreadedExecutor()
+            executor = make_executor()
             try:
                 spin_nodes(executor, [node], first_done([node]))
             finally:
