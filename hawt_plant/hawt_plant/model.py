@@ -433,7 +433,7 @@ class TurbineModel:
         nod = np.array([mass @ s_abs, mass @ (span * s_abs), mass @ (mode * s_abs)])
         inertia_translation = np.concatenate((sums, sums, sums[[0, 2]]))
         inertia_nodding = np.concatenate((nod, nod, np.zeros(2)))
-        self._inertia_flap = np.array([mass @ mode, mass @ (span * mode), mass @ (mode * mode)])
+        inertia_flap = np.array([mass @ mode, mass @ (span * mode), mass @ (mode * mode)])
         self._mass_moments = (
             blade.mass,
             blade.first_moment + rh * blade.mass,
@@ -560,7 +560,27 @@ class TurbineModel:
         self._inflow_operands[3 * b:] = self._element_basis
         self._inflow = np.empty((2, b, n))
         self._element_loads = np.empty((2, b, n))
-        self._apex_moments = np.empty((3, b))
+        # Inertial load sums of the accelerations [fa, ss, flap 1..B] as one product: the tower
+        # rows follow the azimuth (set each step), a blade's flap acceleration acts on its own
+        # F_n, s F_n and phi F_n.
+        self._inertia_operator = np.zeros((2 + b, 8, b))
+        self._inertia_operator[2 + np.arange(b), 0:3, np.arange(b)] = inertia_flap
+        # Per-blade outputs from the load sums, apart from the parts weighted by the flap
+        # deflection w (from the last two rows): apex moments A = s F_n + r_h F_n - w phi F_z,
+        # B = s F_t + r_h F_t, C = w phi F_t; root moments oop = s F_n - w phi F_z, ip = s F_t.
+        self._output_selector = np.array([
+            # F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z
+            [rh, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # A + w phi F_z
+            [0.0, 0.0, 0.0, rh, 1.0, 0.0, 0.0, 0.0],  # B
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # C / w phi F_t, set from the last row
+            [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # oop + w phi F_z
+            [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],  # ip
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # F_n
+            [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],  # F_t
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],  # F_z
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],  # phi F_z
+            [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],  # phi F_t
+        ])
         self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
@@ -727,27 +747,25 @@ class TurbineModel:
         x_acc, y_acc = acc[:2].tolist()
         b = self._b
         features, rows = self._feature_values, self._rows
-        inertia = np.dot(acc[:2], features[self._inertia_rows].reshape(2, 8 * b))
-        loads = self._loads - inertia.reshape(8, b)
-        loads[0:3] -= self._inertia_flap[:, None] * acc[2:]
-        flap = self._flap
-        oop = loads[1] - flap * loads[7]
-        ip = loads[4]
-        rh = self._hub_radius
+        inertia = self._inertia_operator
+        inertia[0:2] = features[self._inertia_rows].reshape(2, 8, b)
+        loads = self._loads - np.dot(acc, inertia.reshape(2 + b, 8 * b)).reshape(8, b)
+        per_blade = np.dot(self._output_selector, loads)
+        flapped = self._flap * per_blade[8:10]
+        per_blade[0] -= flapped[0]
+        per_blade[2] = flapped[1]
+        oop = per_blade[3] - flapped[0]
+        ip = per_blade[4]
         # Moments about the apex per blade: A about -e_t, B about e_n, C about -e_z; summed
         # against cos, sin and 1 of the blade azimuths.
-        apex_moments = self._apex_moments
-        np.add(oop, rh * loads[0], out=apex_moments[0])
-        np.add(ip, rh * loads[3], out=apex_moments[1])
-        np.multiply(flap, loads[5], out=apex_moments[2])
-        (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = np.dot(self._trig, apex_moments.T).tolist()
+        (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = np.dot(self._trig, per_blade[0:3].T).tolist()
         cone_c, cone_s = self._cos_cone, self._sin_cone
         tilt = ca - cone_s * sb_ + cone_c * sc
         yaw = sa + cone_s * cb_ - cone_c * cc
         spin = cone_c * ob + cone_s * oc
         # Rotor force at the apex in inertial axes: sum over blades of F_n e_n + F_t e_t + F_z e_z.
         axes = features[rows["axes_by_component"]].reshape(3, 3 * b)
-        fx, fy, fz = np.dot(axes, loads[0:7:3].reshape(3 * b)).tolist()
+        fx, fy, fz = np.dot(axes, per_blade[5:8].reshape(3 * b)).tolist()
         ax, ay, az = self._apex
         base_fa = tilt + az * fx - ax * fz
         base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + ay * fz - az * fy

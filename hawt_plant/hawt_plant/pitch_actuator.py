@@ -39,7 +39,11 @@ class DiscretePitchActuator:
         # Angle and rate at the end of the step from angle, rate and command at its start.
         self._transition = expm(augmented * dt)[:2]
         self._parameters = parameters
-        self._max_step = parameters.max_rate * dt
+        # Lower and upper limits of the angle change per step, angle and rate, as 0-d arrays:
+        # numpy 2 combines an array with a 0-d array faster than with a Python float.
+        max_step, max_rate = parameters.max_rate * dt, parameters.max_rate
+        self._limits = tuple(np.array(limit) for limit in (
+            -max_step, max_step, parameters.min_angle, parameters.max_angle, -max_rate, max_rate))
 
     @property
     def parameters(self) -> PitchActuator:
@@ -61,9 +65,9 @@ class DiscretePitchActuator:
         angle, rate : ndarray, shape (B,)
             At the end of the step.
         """
-        p = self._parameters
+        step_low, step_high, angle_low, angle_high, rate_low, rate_high = self._limits
         new_angle, new_rate = np.dot(self._transition, np.array((angle, rate, command)))
-        moved = angle + np.minimum(np.maximum(new_angle - angle, -self._max_step), self._max_step)
-        limited = np.minimum(np.maximum(moved, p.min_angle), p.max_angle)
-        new_rate = np.minimum(np.maximum(new_rate, -p.max_rate), p.max_rate)
+        moved = angle + np.minimum(np.maximum(new_angle - angle, step_low), step_high)
+        limited = np.minimum(np.maximum(moved, angle_low), angle_high)
+        new_rate = np.minimum(np.maximum(new_rate, rate_low), rate_high)
         return limited, new_rate * (limited == moved)

@@ -277,9 +277,9 @@ class TurbulentWind:
         corners = np.array([(it, iz, iy) for it in (0, 1) for iz in (0, 1) for iy in (0, 1)])
         neighbour_strides = self._strides * (upper[:, 0] > 0)  # no neighbour on a 1-node axis
         self._corner_offsets = corners @ neighbour_strides  # (8,)
-        # Weight of corner k along axis d is 1 - w_d (corner bit 0) or w_d (bit 1): c0 + c1 w_d.
-        self._weight_c0 = (1.0 - corners)[:, :, None].astype(float)  # (8, 3, 1)
-        self._weight_c1 = (2.0 * corners - 1.0)[:, :, None]
+        # Weights 1 - w_d and w_d of the two nodes along each axis d: c0 + c1 w_d.
+        self._pair_c0 = np.array([1.0, 0.0])[:, None, None]
+        self._pair_c1 = np.array([-1.0, 1.0])[:, None, None]
 
     @property
     def mean_speed(self) -> float:
@@ -354,9 +354,10 @@ class TurbulentWind:
         cell = index.astype(np.intp)  # index >= 0: truncation is floor
         index -= cell  # now the position inside the cell, in [0, 1)
         nodes = self._planes.take((self._strides @ cell)[:, None] + self._corner_offsets, axis=1)  # (3, n, 8)
-        factors = self._weight_c0 + self._weight_c1 * index  # (8, 3, n)
-        weights = factors[:, 0] * factors[:, 1] * factors[:, 2]  # (8, n)
-        return np.vecdot(nodes, weights.T).reshape((3,) + x.shape)
+        pairs = self._pair_c0 + self._pair_c1 * index  # (2, 3, n)
+        # The weight of a corner is the product of its node's weights along t, z and y.
+        weights = pairs[:, None, None, 0] * pairs[None, :, None, 1] * pairs[None, None, :, 2]
+        return np.vecdot(nodes, weights.reshape(8, -1).T).reshape((3,) + x.shape)
 
 def _even_grid(values: np.ndarray, name: str) -> np.ndarray:
     """Validate a 1-D, increasing, evenly spaced grid and return it as float array."""
