@@ -104,7 +104,7 @@ class PlantNode(Node):
         self.late_steps = 0
         self.answered = -1
         self.started = False
-        self.wall_start = time.monotonic()
+        self.created = self.wall_start = time.monotonic()
         self.get_logger().info(
             f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
             f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
@@ -141,6 +141,7 @@ class PlantNode(Node):
             if self.values["wait_for_recorder"] and not self._recorder_ready():
                 return
             self.started = True
+            self.wall_start = time.monotonic()
             self._publish(self.output)
         elif time.monotonic() - self.sent_at >= self.values["resend_period"]:
             self._publish(self.output)
@@ -150,7 +151,7 @@ class PlantNode(Node):
         missing = [topic for topic, _ in self.get_topic_names_and_types()
                    if self.get_publishers_info_by_topic(topic)
                    and not any(s.node_name == "hawt_recorder" for s in self.get_subscriptions_info_by_topic(topic))]
-        if missing and time.monotonic() - self.wall_start > 10.0:
+        if missing and time.monotonic() - self.created > 10.0:
             self.events(ControlEvent.WARN, "recorder", f"starting without the recorder on {', '.join(missing)}")
             return True
         return not missing

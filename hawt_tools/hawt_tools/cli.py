@@ -64,10 +64,10 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     """Run a checked graph (separate processes or composed), recording it into ``record`` if given."""
     from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
 
-    overrides = parse_overrides(graph, parameters)
-    global_parameters = {"mode": mode} if mode else {}
-    if record:
-        global_parameters["wait_for_recorder"] = True  # the plant starts once every topic is being recorded
+    # --mode beats the graph's own 'mode' values (an override of every node); -p beats --mode
+    modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes] if mode else []
+    overrides = parse_overrides(graph, modes + list(parameters))
+    global_parameters = {"wait_for_recorder": True} if record else {}  # the plant starts once all is recorded
     recorder = _start_recorder(Path(record)) if record else None
     try:
         if composed:
