@@ -203,13 +203,13 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
     k_prime = lift / cos_phi  # cos(phi) of a floating-point phi is never exactly 0
     a = k / np.maximum(_ONE + k, _DIVISOR_FLOOR)
     high = k > _TWO_THIRDS
-    if high.any():
+    if np.count_nonzero(high):
         # Buhl: (g1 - sqrt(g2)) / g3 = (2Fk - 4/9) / (g1 + sqrt(g2)), since
         # g1^2 - g2 = g3 (2Fk - 4/9); the second form has no pole where g3 = 0.
         two_fk = _TWO * loss * k
         root = np.sqrt(np.maximum(two_fk - loss * (_FOUR_THIRDS - loss), _ZERO))
         np.copyto(a, (two_fk - _FOUR_NINTHS) / (two_fk - _TEN_NINTHS + loss + root), where=high)
-    if phi.min() <= 0.0:
+    if np.count_nonzero(phi <= _ZERO):
         brake = np.where(k > 1.0, k / np.maximum(k - 1.0, 1e-9), 0.0)
         a = np.where(phi > 0.0, a, brake)
     a_prime = k_prime / (_ONE - k_prime)

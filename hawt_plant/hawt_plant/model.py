@@ -160,6 +160,7 @@ class TurbineModel:
         self._wind = wind
         self._config = config or ModelConfig()
         self._setup_constants()
+        self._relaxation = np.array(self._config.bem_relaxation)  # 0-d: see _ONE
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
         self._shadow = TowerShadow.from_tower(turbine.tower) if self._config.tower_shadow else None
         self._output: TurbineOutput
@@ -547,7 +548,9 @@ class TurbineModel:
         self._load_operator = np.column_stack((
             [gravity_part[d] * w for d, w in zip(columns, weight)], centrifugal_sums, angular_sums))
         self._placement = np.empty((3, b, 3))  # per coordinate and blade: apex, e_z, flap e_n
-        self._wind_points = np.empty((3, b * n + 1))
+        # The wind is sampled at the elements and, after each blade's last element, at the
+        # rotor apex (s_abs = 0 without deflection), whose wind is the hub wind.
+        self._point_basis = np.column_stack((self._element_basis, (1.0, 0.0, 0.0)))
         # The inflow of every element as one product: rows vx of blades 1..B, then vy; columns
         # wind u, v, w of blades 1..B (e_n and -e_t on the block diagonals), then the element
         # motion along 1, s_abs and phi (a view per blade, `_inflow_motion`).
@@ -565,14 +568,15 @@ class TurbineModel:
         # F_n, s F_n and phi F_n.
         self._inertia_operator = np.zeros((2 + b, 8, b))
         self._inertia_operator[2 + np.arange(b), 0:3, np.arange(b)] = inertia_flap
-        # Per-blade outputs from the load sums, apart from the parts weighted by the flap
-        # deflection w (from the last two rows): apex moments A = s F_n + r_h F_n - w phi F_z,
-        # B = s F_t + r_h F_t, C = w phi F_t; root moments oop = s F_n - w phi F_z, ip = s F_t.
+        # Per-blade outputs as one product with the load sums; the parts weighted by the flap
+        # deflection w are added from the last two rows. Apex moments A = s F_n + r_h F_n -
+        # w phi F_z, B = s F_t + r_h F_t, C = w phi F_t; root moments oop = s F_n - w phi F_z,
+        # ip = s F_t; forces F_n, F_t, F_z.
         self._output_selector = np.array([
             # F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z
             [rh, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # A + w phi F_z
             [0.0, 0.0, 0.0, rh, 1.0, 0.0, 0.0, 0.0],  # B
-            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # C / w phi F_t, set from the last row
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # C (w phi F_t)
             [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # oop + w phi F_z
             [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],  # ip
             [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # F_n
@@ -581,6 +585,8 @@ class TurbineModel:
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],  # phi F_z
             [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],  # phi F_t
         ])
+        self._induction_signs = np.empty((2, b, n))  # -1 for a, +1 for a': relative inflow (1 -+ a) v
+        self._induction_signs[0], self._induction_signs[1] = -1.0, 1.0
         self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
@@ -590,9 +596,9 @@ class TurbineModel:
     def _sample_inflow(self) -> None:
         """Geometry of the elements, the wind there and the inflow (vx, vy) without induction.
 
-        Every blade's vectors are rows of ``features``; positions and velocities of its elements
-        are combinations of 1, s_abs and phi along the span (:attr:`_element_basis`), so
-        each is one matrix product for all blades.
+        Every blade's unit vectors are rows of ``features``; positions and velocities of its
+        elements are combinations of 1, s_abs and phi along the span, so that each is one
+        matrix product for all blades.
         """
         b, n = self._b, self._n
         trig = self._trig
@@ -608,19 +614,17 @@ class TurbineModel:
         self._apex = apex
         # Element positions apex + s_abs e_z + flap phi e_n.
         placement = self._placement
-        placement[0, :, 0], placement[1, :, 0], placement[2, :, 0] = apex
+        placement[:, :, 0].T[...] = apex
         placement[:, :, 1] = features[6:9]
         np.multiply(features[0:3], self._flap, out=placement[:, :, 2])
-        grid = np.dot(placement.reshape(3 * b, 3), self._element_basis).reshape(3, b, n)
-        points = self._wind_points
-        points[:, :-1] = grid.reshape(3, b * n)
-        points[:, -1] = apex
+        points = np.dot(placement.reshape(3 * b, 3), self._point_basis).reshape(3, b, n + 1)
         velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
-        self._hub_wind_speed = float(velocity[0, -1])
+        self._hub_wind_speed = float(velocity[0, 0, n])
         operands = self._inflow_operands
         wind = operands[:3 * b].reshape(3, b, n)
-        wind[...] = velocity[:, :-1].reshape(3, b, n)
+        wind[...] = velocity[:, :, :n]
         if self._shadow is not None:
+            grid = points[:, :, :n]
             du, dv = self._shadow.disturbance(grid[0] - x_top, grid[1] - y_top, grid[2])
             u = wind[0]
             wind[1] += u * dv
@@ -639,12 +643,11 @@ class TurbineModel:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix."""
         bem = self._rotor_bem
         b, n = self._b, self._n
-        vx, vy = self._inflow
         pitch_twist = self._pitch[:, None] + bem.twist
         iterations = self._config.bem_iterations if update_induction and not self._config.dynamic_inflow else 1
         for _ in range(iterations):
-            un = vx * (_ONE - self._induction[0])
-            ut = vy * (_ONE + self._induction[1])
+            relative = self._inflow * (_ONE + self._induction_signs * self._induction)  # (1 - a) vx, (1 + a') vy
+            un, ut = relative
             phi = np.arctan2(un, ut)
             cl, cd = bem.polars.coefficients(phi - pitch_twist)
             sin_phi, cos_phi = np.sin(phi), np.cos(phi)
@@ -653,12 +656,13 @@ class TurbineModel:
                 self._update_induction(_bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity,
                                                           self._induction_bounds))
         # Element loads along e_n and e_t, summed per blade against 1, s and phi.
-        q = (un * un + ut * ut) * self._pressure_to_load
+        squared = relative * relative
+        q = (squared[0] + squared[1]) * self._pressure_to_load
         element = self._element_loads
         np.multiply(q, cl * cos_phi + cd * sin_phi, out=element[0])
         np.multiply(q, cl * sin_phi - cd * cos_phi, out=element[1])
         aero = np.dot(element.reshape(2 * b, n), self._span_functions).reshape(2, b, 3)
-        normal, tangential = aero.sum(axis=1).tolist()
+        normal, tangential = np.add.reduce(aero, axis=1).tolist()  # over the blades
         cb = self._cos_cone
         self._aero_thrust = cb * normal[0]
         self._aero_torque = cb * (tangential[1] + self._hub_radius * tangential[0])
@@ -710,7 +714,7 @@ class TurbineModel:
         ``induction`` holds the quasi-steady a and a', shape (2, B, N).
         """
         if not self._config.dynamic_inflow:
-            self._induction += self._config.bem_relaxation * (induction - self._induction)
+            self._induction += self._relaxation * (induction - self._induction)
             return
         dt = self._config.dt
         vx = np.maximum(self._inflow[0], _MIN_INFLOW)
