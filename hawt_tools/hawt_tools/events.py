@@ -22,6 +22,14 @@ class EventPublisher:
         if stamp is not None:
             msg.header.stamp = stamp
         self._publisher.publish(msg)
-        logger = self._node.get_logger()
-        {ControlEvent.DEBUG: logger.debug, ControlEvent.INFO: logger.info, ControlEvent.WARN: logger.warning}.get(
-            level, logger.error)(f"{kind}: {detail}")
+        # rclpy ties a severity to each calling line ("Logger severity cannot be changed between
+        # calls"), so each level is logged from a line of its own.
+        logger, text = self._node.get_logger(), f"{kind}: {detail}"
+        if level == ControlEvent.DEBUG:
+            logger.debug(text)
+        elif level == ControlEvent.INFO:
+            logger.info(text)
+        elif level == ControlEvent.WARN:
+            logger.warning(text)
+        else:
+            logger.error(text)
