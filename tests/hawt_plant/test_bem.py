@@ -76,3 +76,12 @@ def test_parked_rotor_has_the_undisturbed_inflow_angle(blade):
     """Without rotation (vy = 0) the inflow angle is 90 deg and finite everywhere."""
     phi = solve_inflow_angle(np.full(blade.radius.shape, 10.0), np.zeros(blade.radius.shape), 0.0, blade)
     np.testing.assert_allclose(phi, math.pi / 2)
+
+
+def test_tiled_blade_gives_every_row_the_loss_of_the_blade(blade):
+    """A blade tiled for 3 blades evaluates a (3, N) inflow angle row by row like the blade itself."""
+    tiled = blade.tiled(3)
+    assert tiled.radius.shape == (3, blade.radius.size) and tiled.loss_exponents.shape == (2, 3, blade.radius.size)
+    phi = np.linspace(0.9, 0.05, blade.radius.size) + np.array([[0.0], [0.01], [0.02]])
+    loss = prandtl_loss(np.sin(phi), tiled)
+    np.testing.assert_array_equal(loss, [prandtl_loss(np.sin(row), blade) for row in phi])
