@@ -26,6 +26,7 @@ setup(
             'cpc = hawt_controllers.cpc_node:main',
             'mbc = hawt_controllers.mbc_node:main',
             'ipc = hawt_controllers.ipc_node:main',
+            'controller_manager = hawt_controllers.controller_manager_node:main',
         ],
     },
 )

@@ -8,7 +8,7 @@ import random
 from builtin_interfaces.msg import Time
 
 MESSAGE_TYPES = ("BladeLoads", "TurbineState", "HarmonicLoads", "HarmonicPitch", "CollectivePitch",
-                 "PitchCommand", "ControlEvent")
+                 "PitchCommand", "ControlEvent", "ControllerSwitch", "ControllerState")
 
 
 def filled(kind, index: int, blades: int = 3):
@@ -29,6 +29,12 @@ def filled(kind, index: int, blades: int = 3):
             setattr(msg, field, rng.randrange(2 ** int(type_name[4:])))
         elif type_name == "string":
             setattr(msg, field, f"{field} {rng.random()} ψ"[: rng.randrange(1, 30)])
+        elif type_name == "sequence<string>":
+            setattr(msg, field, [f"/wt{rng.randrange(9)}/ipc_h{i}" for i in range(rng.randrange(4))])
+        elif type_name.startswith("sequence<uint"):
+            setattr(msg, field, [rng.randrange(2 ** int(type_name[13:-1])) for _ in range(blades)])
+        elif type_name == "boolean":
+            setattr(msg, field, bool(index % 2))
         else:
             raise AssertionError(f"{kind.__name__}.{field}: no filler for {type_name}")
     return msg

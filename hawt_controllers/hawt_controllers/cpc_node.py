@@ -7,10 +7,11 @@ from the ``controller_file`` (default: the NREL 5 MW baseline data file).
 """
 import math
 
-from hawt_msgs.msg import BladeLoads, CollectivePitch, ControlEvent, TurbineState
+from hawt_msgs.msg import BladeLoads, CollectivePitch, ControllerState, ControlEvent, TurbineState
 from rclpy.node import Node
 
 from hawt_controllers.collective import DEFAULT_BASELINE_FILE, BaselineCollectiveController, load_baseline_config
+from hawt_controllers.switch_listener import SwitchListener
 from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import ParameterSpec, declare_parameters
@@ -39,6 +40,8 @@ class CollectivePitchNode(Node):
         self.join = StepJoin(("state", "loads"))
         self.create_subscription(TurbineState, TURBINE_STATE, lambda m: self._input("state", m), CONTROL_LOOP)
         self.create_subscription(BladeLoads, BLADE_LOADS, lambda m: self._input("loads", m), CONTROL_LOOP)
+        self.switches = SwitchListener(self, "cpc", switchable=False)
+        self.switches.announce(ControllerState.ACTIVE, 0)
 
     def _input(self, name: str, msg) -> None:
         if self.answer.handled(msg.step):

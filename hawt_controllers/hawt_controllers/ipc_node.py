@@ -6,14 +6,24 @@ needs the azimuth. The law is :class:`hawt_controllers.ipc.HarmonicIpc`; every
 parameter can be set while running: a new value is checked (the whole
 configuration is validated, so a NaN gain or an unstable filter is refused with
 the reason), applied at the next step and reported on ``control/events``.
+
+It is a lifecycle node (configured at start, then active or inactive). Its
+transitions come from ``controller_manager`` switches and take effect at the
+switch's plant step (hawt_controllers.switching): an active controller publishes
+every step, a deactivated one publishes its ramp to zero and then falls silent,
+and one that replaces another of its harmonic starts from the other's last output,
+which it follows on ``control/ipc/h{n}`` while inactive. Its filters run on every
+step, active or not, so they are settled when it comes in.
 """
 import dataclasses
 import math
 
-from hawt_msgs.msg import ControlEvent, HarmonicLoads, HarmonicPitch
-from rclpy.node import Node
+from hawt_msgs.msg import ControllerState, ControlEvent, HarmonicLoads, HarmonicPitch
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 
 from hawt_controllers.ipc import HarmonicIpc, HarmonicIpcConfig
+from hawt_controllers.switch_listener import SwitchListener
+from hawt_controllers.switching import Switch, ramp_steps
 from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
@@ -54,7 +64,11 @@ PARAMETERS = (
     ParameterSpec("min_pitch", 0.0, "lowest pitch: the demand is limited to the collective's headroom above it",
                   "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("dt", 0.01, "plant step", "s", minimum=1e-4, maximum=1.0, read_only=True),
-    ParameterSpec("active", True, "output on (ramps in) or off (ramps out)"),
+    ParameterSpec("active", True, "state at start: active (ramps in over ramp_time) or inactive; later "
+                  "switches come from controller_manager", read_only=True),
+    ParameterSpec("ipc_harmonics", list(range(1, 13)), "harmonics whose IPC controllers start active (the "
+                  "graph's ipc_harmonics, as mbc's): the node starts active only if its harmonic is listed",
+                  read_only=True),
 )
 
 _LAW_FIELDS = tuple(f.name for f in dataclasses.fields(HarmonicIpcConfig))
@@ -71,7 +85,7 @@ def config_from(values) -> HarmonicIpcConfig:
     return HarmonicIpcConfig(**fields)
 
 
-class IpcNode(Node):
+class IpcNode(LifecycleNode):
     """Thin node around HarmonicIpc."""
 
     def __init__(self, **node_kwargs) -> None:
@@ -80,15 +94,76 @@ class IpcNode(Node):
         self.harmonic = self.values["harmonic"]
         self.dt = self.values["dt"]
         self.law = HarmonicIpc(config_from(self.values), self.dt)
-        if self.values["active"]:
-            self.law.activate()
         self.pending = None
+        self.publish_until = -math.inf
+        self.followed = None
+        self.transition = None
         self.events = EventPublisher(self)
         self.answer = StepAnswer(
             self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP_HISTORY).publish)
         self.create_subscription(HarmonicLoads, mbc_topic(self.harmonic), self._on_loads, CONTROL_LOOP)
+        self.create_subscription(HarmonicPitch, ipc_topic(self.harmonic), self._follow, CONTROL_LOOP)
+        self.switches = SwitchListener(self, "ipc", self.harmonic)
         self.add_on_set_parameters_callback(self._check_parameters)
         self.add_post_set_parameters_callback(self._store_parameters)
+        self.trigger_configure()
+        if self.values["active"] and self.harmonic in self.values["ipc_harmonics"]:
+            self._switch_to(True, step=0)
+        else:
+            self.switches.announce(ControllerState.INACTIVE, 0)
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._transition_allowed()
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._transition_allowed()
+
+    def _transition_allowed(self) -> TransitionCallbackReturn:
+        """Transitions happen at a plant step through a controller_manager switch, never from outside."""
+        if self.transition is None:
+            self.get_logger().error("switch through controller_manager/switch_controllers (hawt switch): it "
+                                    "changes controllers at one plant step")
+            return TransitionCallbackReturn.FAILURE
+        return TransitionCallbackReturn.SUCCESS
+
+    def _switch_to(self, active: bool, step: int, ramp_time: float = None, initial=None,
+                   publish_until: float = None) -> None:
+        """Activate or deactivate the law and the lifecycle state at ``step``."""
+        self.transition = active
+        try:
+            if active:
+                self.law.activate(ramp_time, initial)
+                self.publish_until = math.inf
+                self.trigger_activate()
+            else:
+                self.law.deactivate(ramp_time)
+                self.publish_until = publish_until
+                self.trigger_deactivate()
+        finally:
+            self.transition = None
+        self.switches.announce(ControllerState.ACTIVE if active else ControllerState.INACTIVE, step)
+
+    def _apply_switch(self, switch: Switch, step: int, stamp) -> None:
+        late = f" (due at step {switch.step}, applied late)" if switch.step < step else ""
+        replaced = switch.replaced(self.harmonic)
+        if any(name == self.switches.name for name, _ in switch.activate):
+            followed = self.followed if replaced else None
+            initial = (followed.cos, followed.sin) if followed is not None else None
+            self._switch_to(True, step, 0.0 if replaced else switch.ramp_time, initial)
+            how = (f"from the outgoing controller's output of step {followed.step} ({followed.cos:.5f}, "
+                   f"{followed.sin:.5f}) rad" if followed is not None else f"ramping in over {switch.ramp_time:g} s")
+        else:
+            end = switch.step + (0 if replaced else ramp_steps(switch.ramp_time, self.dt))
+            self._switch_to(False, step, 0.0 if replaced else switch.ramp_time, publish_until=end)
+            how = "handing over" if replaced else f"ramping out over {switch.ramp_time:g} s until step {end}"
+        self.events(ControlEvent.WARN if late else ControlEvent.INFO, "switch",
+                    f"{'activated' if self.publish_until == math.inf else 'deactivated'} at step {step}, "
+                    f"{how}{late}", step=step, stamp=stamp)
+
+    def _follow(self, msg: HarmonicPitch) -> None:
+        """Remember another controller's demand (a step this node is silent at): the start of a bumpless takeover."""
+        if msg.step >= self.publish_until:
+            self.followed = msg
 
     def _check_parameters(self, changes):
         try:
@@ -107,10 +182,6 @@ class IpcNode(Node):
 
     def _apply_pending(self, step: int, stamp) -> None:
         self.law.reconfigure(config_from(self.values))
-        if self.values["active"] and not self.law.active:
-            self.law.activate()
-        elif not self.values["active"] and self.law.active:
-            self.law.deactivate()
         self.events(ControlEvent.INFO, "parameter_change", f"{self.pending} (from step {step})", step=step,
                     stamp=stamp)
         self.pending = None
@@ -120,11 +191,13 @@ class IpcNode(Node):
             return
         if self.pending is not None:
             self._apply_pending(msg.step, msg.header.stamp)
+        for switch in self.switches.due(msg.step):
+            self._apply_switch(switch, msg.step, msg.header.stamp)
         if not all(math.isfinite(v) for v in (msg.cos, msg.sin, msg.collective_pitch)):
             self.events(ControlEvent.ERROR, "invalid_input", f"control/mbc/h{self.harmonic} step {msg.step}: "
                         f"cos={msg.cos}, sin={msg.sin}, collective_pitch={msg.collective_pitch}; demand held",
                         step=msg.step, stamp=msg.header.stamp)
-            held = self.answer.last
+            held = self.answer.last if self.answer.published else None
             out = HarmonicPitch(harmonic=self.harmonic, cos=held.cos if held else 0.0, sin=held.sin if held else 0.0,
                                 phase_offset=self.values["phase_offset"])
         else:
@@ -133,7 +206,7 @@ class IpcNode(Node):
             out = HarmonicPitch(harmonic=self.harmonic, cos=result.cos, sin=result.sin,
                                 phase_offset=result.phase_offset)
         out.step, out.header = msg.step, msg.header
-        self.answer.send(out)
+        self.answer.send(out, publish=msg.step < self.publish_until)
 
 
 main = node_entry_point(IpcNode)

@@ -5,9 +5,12 @@ configured harmonic n (DESIGN.md §3). Return: the collective of step k plus the
 remodulated demand of every active IPC harmonic, limited per blade in angle and
 rate, is ``control/pitch_command`` of step k.
 
-Lockstep waits for every active input of step k. Realtime answers each
-collective with the latest IPC demands (a demand older than ``stale_steps`` counts
-as zero and is flagged) at the azimuth extrapolated to the moment of sending.
+Lockstep waits for every input of step k: the loads, the collective and the
+demand of every harmonic that has a publishing IPC controller at step k
+(``ipc_harmonics`` at start, then as ``controller_manager`` switches say:
+hawt_controllers.switching.HarmonicWindows). Realtime answers each collective
+with the latest IPC demands (a demand older than ``stale_steps`` counts as zero
+and is flagged) at the azimuth extrapolated to the moment of sending.
 """
 import math
 import time
@@ -19,6 +22,8 @@ from rclpy.node import Node
 from hawt_controllers.collective import DEFAULT_BASELINE_FILE, load_baseline_config
 from hawt_controllers.limits import PitchLimits, limit_pitch
 from hawt_controllers.mbc import check_configuration, mbc_forward, mbc_inverse
+from hawt_controllers.switch_listener import SwitchListener
+from hawt_controllers.switching import HarmonicWindows
 from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
 from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
@@ -34,7 +39,8 @@ _LIMITS = load_baseline_config(DEFAULT_BASELINE_FILE).pitch_limits
 PARAMETERS = (
     ParameterSpec("blades", 3, "number of blades B", minimum=3, maximum=12, read_only=True),
     ParameterSpec("harmonics", [1, 2, 3], "harmonics n published on control/mbc/h{n}", read_only=True),
-    ParameterSpec("ipc_harmonics", [0], "harmonics whose control/ipc/h{n} demand is summed in ([0]: none)"),
+    ParameterSpec("ipc_harmonics", [0], "harmonics whose IPC controller is active at step 0 ([0]: none); "
+                  "controller_manager switches change the set", read_only=True),
     ParameterSpec("dt", 0.01, "plant step", "s", minimum=1e-4, maximum=1.0, read_only=True),
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),
@@ -69,7 +75,9 @@ class MbcNode(Node):
         self.join = StepJoin(())
         self.demands = {}
         self.ipc_subscriptions = {}
-        self._set_ipc_harmonics(_active(self.values["ipc_harmonics"]))
+        self.windows = HarmonicWindows(_active(self.values["ipc_harmonics"]), self.values["dt"])
+        self.switches = SwitchListener(self)
+        self._follow_windows(0)
         self.loads: BladeLoads = None
         self.loads_received = 0.0
         self.create_subscription(BladeLoads, BLADE_LOADS, self._on_loads, CONTROL_LOOP)
@@ -84,8 +92,6 @@ class MbcNode(Node):
     def _check_parameters(self, changes):
         try:
             values = check_values(PARAMETERS, self.values, changes)
-            for n in _active(values["ipc_harmonics"]):
-                check_configuration(n, self.blades)
             self._limits(values).validate()
         except (ParameterError, ValueError) as error:
             return rejection(error)
@@ -94,21 +100,17 @@ class MbcNode(Node):
     def _apply_parameters(self, changes) -> None:
         self.values = check_values(PARAMETERS, self.values, changes)
         self.limits = self._limits(self.values)
-        self._set_ipc_harmonics(_active(self.values["ipc_harmonics"]))
         self.events(ControlEvent.INFO, "parameter_change",
                     ", ".join(f"{p.name}={p.value}" for p in changes), step=self.join.step or 0)
 
-    def _set_ipc_harmonics(self, harmonics: tuple) -> None:
-        for n in list(self.ipc_subscriptions):
-            if n not in harmonics:
-                self.destroy_subscription(self.ipc_subscriptions.pop(n))
-                self.demands.pop(n, None)
-        for n in harmonics:
+    def _follow_windows(self, step: int) -> None:
+        """Subscribe to every harmonic a controller may publish; require those publishing at ``step``."""
+        for n in self.windows.harmonics():
             if n not in self.ipc_subscriptions:
                 self.ipc_subscriptions[n] = self.create_subscription(
                     HarmonicPitch, ipc_topic(n), lambda m, n=n: self._input(f"h{n}", m), CONTROL_LOOP)
-        self.join.set_required({"loads", "collective", *(f"h{n}" for n in harmonics)} if self.lockstep
-                               else {"collective"})
+        self.join.set_required({"loads", "collective", *(f"h{n}" for n in self.windows.publishing(step))}
+                               if self.lockstep else {"collective"})
 
     def _on_loads(self, msg: BladeLoads) -> None:
         oop = np.asarray(msg.root_moment_oop)
@@ -119,6 +121,15 @@ class MbcNode(Node):
                         f"got {list(msg.root_moment_oop)} / {list(msg.pitch)}", step=msg.step, stamp=msg.header.stamp)
             return
         self.loads, self.loads_received = msg, time.monotonic()
+        for switch in self.switches.due(msg.step):
+            try:
+                for n in {n for _, n in switch.activate if n > 0}:
+                    check_configuration(n, self.blades)
+                self.windows.apply(switch)
+            except ValueError as error:
+                self.events(ControlEvent.ERROR, "switch", f"switch of step {switch.step} not followed: {error}",
+                            step=msg.step, stamp=msg.header.stamp)
+        self._follow_windows(msg.step)
         collective_pitch = float(np.mean(msg.pitch))
         for n, publisher in self.forward.items():
             components = mbc_forward(oop, msg.azimuth, n)
@@ -144,7 +155,7 @@ class MbcNode(Node):
         if not self.lockstep:
             azimuth += loads.rotor_speed * (time.monotonic() - self.loads_received + self.values["latency"])
         individual = np.zeros(self.blades)
-        for n in _active(self.values["ipc_harmonics"]):
+        for n in self.windows.publishing(collective.step):
             demand = self.demands.get(n)
             if demand is None or collective.step - demand.step > self.values["stale_steps"] \
                     or not (math.isfinite(demand.cos) and math.isfinite(demand.sin)):

@@ -187,6 +187,23 @@ def _cmd_list(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_switch(args: argparse.Namespace) -> int:
+    from hawt_tools.controller_client import ControllerManagerError, switch_controllers
+
+    if not args.activate and not args.deactivate:
+        raise GraphError("nothing to switch: give --activate NAME and/or --deactivate NAME")
+    try:
+        result = switch_controllers(args.activate, args.deactivate, strict=not args.best_effort,
+                                    ramp_time=-1.0 if args.ramp is None else args.ramp, at_step=args.at_step,
+                                    namespace=args.namespace)
+    except ControllerManagerError as error:
+        raise RuntimeError(str(error)) from None
+    if not result.ok:
+        raise GraphError(f"refused: {result.message}")
+    print(f"switched {result.message}")
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     """Baseline and IPC graphs on the same turbulent wind, each recorded; their loads compared."""
     from hawt_bag.analysis_report import comparison_text, write_comparison_report
@@ -300,10 +317,28 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when a bag holds several")
     compare.set_defaults(run=_cmd_compare)
 
-    listing = commands.add_parser("list", help="the nodes and topics (with types) of the running graph")
+    listing = commands.add_parser("list", help="the nodes, topics (with types) and controllers (with states) of the "
+                                               "running graph")
     listing.add_argument("--settle", type=float, default=1.0, metavar="S",
                          help="discovery: wait until the node list is unchanged for S seconds")
     listing.set_defaults(run=_cmd_list)
+
+    switch = commands.add_parser(
+        "switch", help="activate and deactivate controllers of a running graph at one plant step",
+        description="Ask the graph's controller_manager to switch controllers atomically at one plant step "
+                    "(ros2_control semantics). An outgoing IPC contribution ramps out over the ramp time, an "
+                    "incoming one ramps in; a controller that replaces another of its harmonic starts from the "
+                    "other's output. Prints the step the switch takes effect at.")
+    switch.add_argument("--activate", nargs="+", default=[], metavar="NAME", help="controllers to activate")
+    switch.add_argument("--deactivate", nargs="+", default=[], metavar="NAME", help="controllers to deactivate")
+    switch.add_argument("--ramp", type=float, metavar="S", help="ramp time (default: the manager's ramp_time)")
+    switch.add_argument("--best-effort", action="store_true",
+                        help="apply what can be applied (default STRICT: refuse the whole switch if any name fails)")
+    switch.add_argument("--at-step", type=int, default=0, metavar="K",
+                        help="plant step to switch at (default: as soon as possible)")
+    switch.add_argument("--namespace", metavar="NS", help="turbine namespace of the controller manager (needed only "
+                                                          "if the graph has several)")
+    switch.set_defaults(run=_cmd_switch)
 
     demo = commands.add_parser(
         "demo", help="run the baseline and IPC graphs on the same turbulent wind and compare their loads",

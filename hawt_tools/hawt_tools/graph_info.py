@@ -1,10 +1,12 @@
-"""What a running graph holds: its nodes and its topics with their types (``hawt list``)."""
+"""What a running graph holds: its nodes, topics with their types, and controllers with their states (``hawt list``)."""
 import time
 from dataclasses import dataclass
 from typing import List, Tuple
 
 import rclpy
 from rclpy.node import Node
+
+from hawt_tools.controller_client import ControllerManagerError, ControllerRow, find_managers, list_controllers
 
 __all__ = ["TopicInfo", "GraphSnapshot", "snapshot"]
 
@@ -21,6 +23,7 @@ class TopicInfo:
 class GraphSnapshot:
     nodes: Tuple[str, ...]
     topics: Tuple[TopicInfo, ...]
+    controllers: Tuple[Tuple[str, Tuple[ControllerRow, ...]], ...] = ()
 
     def text(self) -> str:
         """The human-readable listing."""
@@ -30,6 +33,11 @@ class GraphSnapshot:
         for topic in self.topics:
             lines.append(f"  {topic.name:<{width}}  {', '.join(topic.types)}  "
                          f"({topic.publishers} pub, {topic.subscribers} sub)")
+        for manager, rows in self.controllers:
+            lines.append(f"controllers of {manager or '/'}controller_manager ({len(rows)}):")
+            width = max((len(row.name) for row in rows), default=0)
+            lines += [f"  {row.name:<{width}}  {row.state:<8}  {row.type}"
+                      + (f" h{row.harmonic}" if row.harmonic else "") for row in rows]
         return "\n".join(lines)
 
 
@@ -61,6 +69,12 @@ def snapshot(settle: float = 1.0, timeout: float = 5.0) -> GraphSnapshot:
                 TopicInfo(name, tuple(types), node.count_publishers(name), node.count_subscribers(name))
                 for name, types in sorted(node.get_topic_names_and_types())
                 if name not in ("/parameter_events", "/rosout"))
-            return GraphSnapshot(nodes=tuple(names), topics=topics)
+            controllers = []
+            for manager in find_managers(node, timeout=0.0):
+                try:
+                    controllers.append((manager + "/", list_controllers(node, manager)))
+                except ControllerManagerError:
+                    continue
+            return GraphSnapshot(nodes=tuple(names), topics=topics, controllers=tuple(controllers))
         finally:
             node.destroy_node()

@@ -1,7 +1,7 @@
 """Quality-of-service profiles of the control loop (DESIGN.md §4)."""
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-__all__ = ["CONTROL_LOOP", "CONTROL_LOOP_HISTORY", "EVENTS"]
+__all__ = ["CONTROL_LOOP", "CONTROL_LOOP_HISTORY", "EVENTS", "LATCHED"]
 
 #: Measurements and commands: reliable, keep the last sample only.
 CONTROL_LOOP = QoSProfile(
@@ -28,3 +28,11 @@ EVENTS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
+
+LATCHED = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=100,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+"""Switches and controller states: a node that starts later still receives what was published before."""

@@ -61,15 +61,17 @@ class StepAnswer:
     def __init__(self, publish: Callable[[Any], None]) -> None:
         self.publish = publish
         self.last: Any = None
+        self.published = False
 
     def handled(self, step: int) -> bool:
         """True if ``step`` is not new: a repeat of the last answered step is answered again, an older one dropped."""
         verdict = classify_step(step, None if self.last is None else self.last.step)
-        if verdict == StepVerdict.REPEAT:
+        if verdict == StepVerdict.REPEAT and self.published:
             self.publish(self.last)
         return verdict != StepVerdict.NEW
 
-    def send(self, message: Any) -> None:
-        """Publish the answer of a new step and keep it."""
-        self.last = message
-        self.publish(message)
+    def send(self, message: Any, publish: bool = True) -> None:
+        """Keep the answer of a new step and publish it (``publish`` False: a step handled in silence)."""
+        self.last, self.published = message, publish
+        if publish:
+            self.publish(message)

@@ -2,7 +2,7 @@
 
 __all__ = [
     "BLADE_LOADS", "TURBINE_STATE", "COLLECTIVE", "PITCH_COMMAND", "EVENTS", "CLOCK",
-    "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "mbc_topic", "ipc_topic",
+    "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "SWITCHES", "CONTROLLER_STATES", "mbc_topic", "ipc_topic",
 ]
 
 BLADE_LOADS = "plant/blade_loads"
@@ -13,6 +13,8 @@ EVENTS = "control/events"
 CLOCK = "/clock"
 SWITCH_CONTROLLERS = "controller_manager/switch_controllers"
 LIST_CONTROLLERS = "controller_manager/list_controllers"
+SWITCHES = "controller_manager/switch"
+CONTROLLER_STATES = "controller_manager/controllers"
 
 
 def mbc_topic(harmonic: int) -> str:

@@ -53,9 +53,16 @@ def test_columns_equal_rclpy_fields_for_every_hawt_message(name):
             assert values.tolist() == list(expected), path
 
 
-@pytest.mark.parametrize("name", MESSAGE_TYPES)
+def _has_string_arrays(name: str) -> bool:
+    return "sequence<string>" in getattr(hawt_msgs.msg, name).get_fields_and_field_types().values()
+
+
+@pytest.mark.parametrize("name", [n for n in MESSAGE_TYPES if not _has_string_arrays(n)])
 def test_encoded_columns_deserialize_with_rclpy(name):
-    """encode_messages is the inverse of decode_columns: rclpy reads back every field."""
+    """encode_messages is the inverse of decode_columns: rclpy reads back every field.
+
+    Types with string arrays (ControllerSwitch) are left out: their strings are not columns.
+    """
     kind = getattr(hawt_msgs.msg, name)
     messages = [filled(kind, i) for i in range(15)]
     definitions = _definitions(name)

@@ -1,0 +1,74 @@
+"""A node's side of controller switching: the switches it must apply at its steps, and its announced state.
+
+Every controller and the mbc node keep one :class:`SwitchListener`. It subscribes to
+``controller_manager/switch`` (transient local: a node that starts late still gets
+earlier switches) and hands out each switch when the node handles the switch's
+step (:meth:`SwitchListener.due`). A controller also announces its lifecycle state
+on ``controller_manager/controllers`` (:meth:`SwitchListener.announce`), which is how
+the controller manager learns which controllers exist.
+"""
+from typing import List, Optional
+
+from hawt_msgs.msg import ControllerState, ControllerSwitch
+from rclpy.node import Node
+
+from hawt_controllers.switching import Switch
+from hawt_tools.qos import LATCHED
+from hawt_tools.topics import CONTROLLER_STATES, SWITCHES
+
+__all__ = ["SwitchListener", "switch_from_message"]
+
+
+def switch_from_message(msg: ControllerSwitch) -> Switch:
+    """The core's Switch of a ControllerSwitch message."""
+    return Switch(step=msg.step, activate=tuple(zip(msg.activate, (int(n) for n in msg.activate_harmonics))),
+                  deactivate=tuple(zip(msg.deactivate, (int(n) for n in msg.deactivate_harmonics))),
+                  ramp_time=msg.ramp_time)
+
+
+class SwitchListener:
+    """Switches for ``node`` in step order; with ``controller_type`` set, the node also announces its state.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node that applies the switches.
+    controller_type : str, optional
+        The executable name (``ipc``, ``cpc``) of a controller; None for a node that only
+        follows switches (mbc).
+    harmonic : int
+        Harmonic n of the controller (0: collective).
+    switchable : bool
+        Whether the controller manager may switch it.
+    """
+
+    def __init__(self, node: Node, controller_type: Optional[str] = None, harmonic: int = 0,
+                 switchable: bool = True) -> None:
+        self.node = node
+        self.name = node.get_fully_qualified_name()
+        self.pending: List[Switch] = []
+        node.create_subscription(ControllerSwitch, SWITCHES, self._on_switch, LATCHED)
+        self._state = None
+        if controller_type is not None:
+            self._state = ControllerState(name=self.name, type=controller_type, harmonic=harmonic,
+                                          switchable=switchable)
+            self._state_publisher = node.create_publisher(ControllerState, CONTROLLER_STATES, LATCHED)
+
+    def _on_switch(self, msg: ControllerSwitch) -> None:
+        switch = switch_from_message(msg)
+        if self._state is not None and not any(name == self.name for name, _ in
+                                               (*switch.activate, *switch.deactivate)):
+            return
+        self.pending.append(switch)
+        self.pending.sort(key=lambda s: s.step)
+
+    def due(self, step: int) -> List[Switch]:
+        """The switches to apply when handling ``step``, in step order (a switch whose step has passed, too)."""
+        ready = [s for s in self.pending if s.step <= step]
+        self.pending = [s for s in self.pending if s.step > step]
+        return ready
+
+    def announce(self, state: int, step: int) -> None:
+        """Publish the controller's lifecycle ``state`` (ControllerState id) entered at ``step``."""
+        self._state.state, self._state.step = state, step
+        self._state_publisher.publish(self._state)

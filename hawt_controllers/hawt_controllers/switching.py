@@ -1,0 +1,241 @@
+"""Controller switching at one plant step (DESIGN.md §6, ros2_control's switch semantics).
+
+The controller manager checks a request against what it knows of the controllers
+(:func:`plan_switch`) and publishes a :class:`Switch` for one future step. Every
+node applies that switch when it handles that step, so a lockstep run switches at
+the same step in any process layout (anchor_ros2.md §3.1: "all in one single
+timestep of the controller manager's control loop").
+
+Who publishes ``control/ipc/h{n}`` at step k, the rule the IPC nodes follow and
+the mbc node waits for (:class:`HarmonicWindows`):
+
+- an activated controller publishes from the switch step S on;
+- a deactivated one goes on publishing its ramp to zero for ``ramp_steps`` steps
+  (S ≤ k < S + R), then falls silent;
+- when one controller replaces another of the same harmonic in one switch, the
+  outgoing one is silent from S and the incoming one starts from the outgoing
+  one's last output (bumpless transfer, anchor_ros2.md §3.3), so exactly one
+  controller publishes each harmonic at every step.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Dict, Iterable, List, Mapping, Sequence, Tuple
+
+__all__ = [
+    "ControllerInfo", "Switch", "SwitchRefused", "ScheduledSwitch", "HarmonicWindows", "plan_switch",
+    "resolve_controller", "ramp_steps", "parse_schedule", "STATE_NAMES",
+]
+
+STATE_NAMES = {1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
+"""lifecycle_msgs/State primary state ids -> labels."""
+
+
+@dataclass(frozen=True)
+class ControllerInfo:
+    """What the controller manager knows of one controller.
+
+    Attributes
+    ----------
+    name : str
+        Fully qualified node name, e.g. ``/wt1/ipc_h1``.
+    type : str
+        The executable, e.g. ``ipc``.
+    harmonic : int
+        Harmonic n it acts on; 0 for a collective controller.
+    state : str
+        ``unconfigured``, ``inactive``, ``active`` or ``finalized``.
+    switchable : bool
+        False for a controller the manager must not switch (the collective one).
+    publishing_until : float
+        Last step + 1 at which it still publishes (its ramp out); inf while active.
+    """
+
+    name: str
+    type: str
+    harmonic: int
+    state: str
+    switchable: bool = True
+    publishing_until: float = 0.0
+
+
+@dataclass(frozen=True)
+class Switch:
+    """A switch effective at plant step ``step``: (name, harmonic) pairs in and out, ramp time [s]."""
+
+    step: int
+    activate: Tuple[Tuple[str, int], ...] = ()
+    deactivate: Tuple[Tuple[str, int], ...] = ()
+    ramp_time: float = 0.0
+
+    def replaced(self, harmonic: int) -> bool:
+        """True if a controller of ``harmonic`` (> 0) comes in while another of it goes out."""
+        return harmonic > 0 and any(n == harmonic for _, n in self.activate) \
+            and any(n == harmonic for _, n in self.deactivate)
+
+
+class SwitchRefused(ValueError):
+    """A switch request that cannot be honoured; the message says which name and why."""
+
+
+def ramp_steps(ramp_time: float, dt: float) -> int:
+    """Steps R an output takes to ramp from 1 to 0 at rate 1/ramp_time with step dt: ceil(ramp_time/dt)."""
+    if not (math.isfinite(ramp_time) and ramp_time >= 0.0):
+        raise SwitchRefused(f"ramp_time: must be finite and >= 0, found {ramp_time}")
+    return math.ceil(ramp_time / dt - 1e-9) if ramp_time > 0.0 else 0
+
+
+def resolve_controller(name: str, controllers: Mapping[str, ControllerInfo]) -> str:
+    """The known full name for ``name`` (full, or a plain node name that is unique); SwitchRefused if none."""
+    if name in controllers:
+        return name
+    matches = [full for full in controllers if full.rsplit("/", 1)[-1] == name.strip("/")]
+    if len(matches) == 1:
+        return matches[0]
+    if matches:
+        raise SwitchRefused(f"{name}: ambiguous, one of {', '.join(sorted(matches))}")
+    raise SwitchRefused(f"{name}: no such controller (known: {', '.join(sorted(controllers)) or 'none'})")
+
+
+def plan_switch(controllers: Mapping[str, ControllerInfo], activate: Sequence[str], deactivate: Sequence[str],
+                strict: bool, step: int) -> Tuple[List[ControllerInfo], List[ControllerInfo], List[str]]:
+    """Check a switch request at ``step``; the controllers to activate and deactivate, and what was skipped.
+
+    ros2_control semantics (anchor_ros2.md §3.1): STRICT refuses the whole switch if any
+    name fails; BEST_EFFORT skips what cannot be done and refuses only if nothing is left.
+    In both modes a switch that would leave two controllers publishing one harmonic
+    (two active, or one coming in while another still ramps out) is refused.
+
+    Raises
+    ------
+    SwitchRefused
+        With a one-line reason naming the controller.
+    """
+    skipped: List[str] = []
+    chosen: Dict[str, List[ControllerInfo]] = {"activate": [], "deactivate": []}
+    for kind, names, target in (("activate", activate, "active"), ("deactivate", deactivate, "inactive")):
+        for name in names:
+            try:
+                info = controllers[resolve_controller(name, controllers)]
+                if not info.switchable:
+                    raise SwitchRefused(f"{info.name}: a {info.type} controller cannot be switched "
+                                        f"(without it the plant's safety system would stop the turbine)")
+                if info.state == target:
+                    raise SwitchRefused(f"{info.name}: already {target}")
+                if info.state not in ("active", "inactive"):
+                    raise SwitchRefused(f"{info.name}: {info.state}, cannot {kind}")
+            except SwitchRefused as reason:
+                if strict:
+                    raise
+                skipped.append(str(reason))
+                continue
+            chosen[kind].append(info)
+    if not chosen["activate"] and not chosen["deactivate"]:
+        raise SwitchRefused("nothing to switch: " + ("; ".join(skipped) if skipped else "no controller named"))
+    both = {c.name for c in chosen["activate"]} & {c.name for c in chosen["deactivate"]}
+    if both:
+        raise SwitchRefused(f"{sorted(both)[0]}: both activated and deactivated")
+    _check_one_per_harmonic(controllers, chosen["activate"], chosen["deactivate"], step)
+    return chosen["activate"], chosen["deactivate"], skipped
+
+
+def _check_one_per_harmonic(controllers: Mapping[str, ControllerInfo], activate: List[ControllerInfo],
+                            deactivate: List[ControllerInfo], step: int) -> None:
+    outgoing = {c.name for c in deactivate}
+    for incoming in activate:
+        if incoming.harmonic == 0:
+            continue
+        same = [c for c in activate if c.harmonic == incoming.harmonic and c.name != incoming.name]
+        if same:
+            raise SwitchRefused(f"{incoming.name}, {same[0].name}: only one controller per harmonic "
+                                f"{incoming.harmonic} may be active")
+        for other in controllers.values():
+            if other.name == incoming.name or other.harmonic != incoming.harmonic or other.name in outgoing:
+                continue
+            if other.state == "active":
+                raise SwitchRefused(f"{incoming.name}: {other.name} is the active controller of harmonic "
+                                    f"{incoming.harmonic}; deactivate it in the same switch to swap them")
+            if other.publishing_until > step:
+                raise SwitchRefused(f"{incoming.name}: {other.name} still ramps out harmonic {incoming.harmonic} "
+                                    f"until step {int(other.publishing_until)}")
+
+
+class HarmonicWindows:
+    """Steps at which each harmonic has a controller publishing its demand (the rule in the module notes).
+
+    Parameters
+    ----------
+    initial : iterable of int
+        Harmonics with an active controller from step 0.
+    dt : float
+        Plant step [s], to turn ramp times into steps.
+    """
+
+    def __init__(self, initial: Iterable[int], dt: float) -> None:
+        self.dt = float(dt)
+        self._windows: Dict[int, List[List[float]]] = {n: [[0, math.inf]] for n in initial if n > 0}
+
+    def apply(self, switch: Switch) -> None:
+        """Update the windows with a switch (switches must be applied in step order)."""
+        end = switch.step + ramp_steps(switch.ramp_time, self.dt)
+        for _, n in switch.deactivate:
+            if n > 0 and not switch.replaced(n):
+                window = self._window_at(n, switch.step)
+                if window is not None:
+                    window[1] = end
+        for _, n in switch.activate:
+            if n > 0:
+                window = self._window_at(n, switch.step)
+                if window is None:
+                    self._windows.setdefault(n, []).append([switch.step, math.inf])
+                else:
+                    window[1] = math.inf
+
+    def publishing(self, step: int) -> frozenset:
+        """The harmonics whose demand of ``step`` comes from a controller."""
+        return frozenset(n for n, windows in self._windows.items()
+                         if any(start <= step < end for start, end in windows))
+
+    def harmonics(self) -> frozenset:
+        """Every harmonic that has had or will have a controller."""
+        return frozenset(self._windows)
+
+    def _window_at(self, harmonic: int, step: int):
+        for window in self._windows.get(harmonic, ()):
+            if window[0] <= step < window[1]:
+                return window
+        return None
+
+
+@dataclass(frozen=True)
+class ScheduledSwitch:
+    """One entry of a switch schedule: at ``step``, activate and deactivate these names."""
+
+    step: int
+    activate: Tuple[str, ...] = field(default_factory=tuple)
+    deactivate: Tuple[str, ...] = field(default_factory=tuple)
+
+
+def parse_schedule(entries: Sequence[str]) -> List[ScheduledSwitch]:
+    """Parse schedule entries ``"STEP +name -name ..."`` (``+`` activates, ``-`` deactivates), in step order.
+
+    Raises
+    ------
+    SwitchRefused
+        Naming the entry: "schedule entry '10 ipc_h1': expected +NAME or -NAME, found 'ipc_h1'".
+    """
+    parsed = []
+    for entry in entries:
+        words = entry.split()
+        if not words or not words[0].isdigit() or len(words) < 2:
+            raise SwitchRefused(f"schedule entry {entry!r}: expected 'STEP +NAME -NAME ...' (e.g. '3000 +ipc_h1')")
+        bad = [w for w in words[1:] if w[:1] not in "+-" or len(w) < 2]
+        if bad:
+            raise SwitchRefused(f"schedule entry {entry!r}: expected +NAME or -NAME, found {bad[0]!r}")
+        parsed.append(ScheduledSwitch(int(words[0]), tuple(w[1:] for w in words[1:] if w[0] == "+"),
+                                      tuple(w[1:] for w in words[1:] if w[0] == "-")))
+    steps = [s.step for s in parsed]
+    if steps != sorted(steps) or len(set(steps)) != len(steps):
+        raise SwitchRefused(f"schedule: steps must increase, found {steps}")
+    return parsed

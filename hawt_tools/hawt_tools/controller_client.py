@@ -1,0 +1,96 @@
+"""Talking to a running graph's controller_manager from a shell: ``hawt switch`` and the controllers of ``hawt list``."""
+import time
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple
+
+import rclpy
+from hawt_msgs.srv import ListControllers, SwitchControllers
+from rclpy.node import Node
+
+from hawt_tools.topics import LIST_CONTROLLERS, SWITCH_CONTROLLERS
+
+__all__ = ["ControllerRow", "SwitchResult", "ControllerManagerError", "find_managers", "list_controllers",
+           "switch_controllers"]
+
+
+class ControllerManagerError(RuntimeError):
+    """No controller manager answered, or the one to use is not clear."""
+
+
+@dataclass(frozen=True)
+class ControllerRow:
+    """One controller as its manager lists it."""
+
+    name: str
+    type: str
+    harmonic: int
+    state: str
+
+
+@dataclass(frozen=True)
+class SwitchResult:
+    ok: bool
+    message: str
+    effective_step: int
+
+
+def find_managers(node: Node, timeout: float = 3.0) -> List[str]:
+    """Namespaces of the controller managers in the graph (their list_controllers services), waiting up to ``timeout``."""
+    suffix = "/" + LIST_CONTROLLERS
+    deadline = time.monotonic() + timeout
+    while True:
+        found = sorted(name[:-len(suffix)] for name, _ in node.get_service_names_and_types() if name.endswith(suffix))
+        if found or time.monotonic() > deadline:
+            return found
+        time.sleep(0.1)
+
+
+def _call(node: Node, service_type, name: str, request, timeout: float):
+    client = node.create_client(service_type, name)
+    try:
+        if not client.wait_for_service(timeout_sec=timeout):
+            raise ControllerManagerError(f"{name}: no answer within {timeout:g} s (is the graph running?)")
+        future = client.call_async(request)
+        rclpy.spin_until_future_complete(node, future, timeout_sec=timeout)
+        if not future.done():
+            raise ControllerManagerError(f"{name}: no answer within {timeout:g} s")
+        return future.result()
+    finally:
+        node.destroy_client(client)
+
+
+def list_controllers(node: Node, namespace: str, timeout: float = 5.0) -> Tuple[ControllerRow, ...]:
+    """The controllers of the manager in ``namespace`` with their lifecycle states."""
+    response = _call(node, ListControllers, f"{namespace}/{LIST_CONTROLLERS}", ListControllers.Request(), timeout)
+    return tuple(ControllerRow(*row) for row in zip(response.names, response.types, response.harmonics,
+                                                    response.states))
+
+
+def _manager(node: Node, namespace: Optional[str]) -> str:
+    if namespace is not None:
+        return "/" + namespace.strip("/") if namespace.strip("/") else ""
+    managers = find_managers(node)
+    if not managers:
+        raise ControllerManagerError("no controller_manager in the graph (is a graph with one running, in this "
+                                     "ROS_DOMAIN_ID?)")
+    if len(managers) > 1:
+        raise ControllerManagerError(f"several controller managers ({', '.join(managers)}): choose one with "
+                                     f"--namespace")
+    return managers[0]
+
+
+def switch_controllers(activate: Sequence[str], deactivate: Sequence[str], strict: bool = True,
+                       ramp_time: float = -1.0, at_step: int = 0, namespace: Optional[str] = None,
+                       timeout: float = 10.0) -> SwitchResult:
+    """Ask the graph's controller manager for one switch (DESIGN.md §5 SwitchControllers)."""
+    request = SwitchControllers.Request(
+        activate=list(activate), deactivate=list(deactivate), ramp_time=float(ramp_time), at_step=int(at_step),
+        strictness=SwitchControllers.Request.STRICT if strict else SwitchControllers.Request.BEST_EFFORT)
+    with rclpy.init():
+        node = Node("_hawt_switch", start_parameter_services=False, enable_rosout=False)
+        try:
+            response = _call(node, SwitchControllers, f"{_manager(node, namespace)}/{SWITCH_CONTROLLERS}", request,
+                             timeout)
+        finally:
+            node.destroy_node()
+    return SwitchResult(response.ok, response.message, int(response.effective_step))
