@@ -79,8 +79,9 @@ class TowerShadow:
         # right is the radius below the top and 0 at and above it.
         below = np.nextafter(self.top_height, -np.inf)
         keep = self.elevation < below
+        radius_below = np.interp(below, self.elevation, self.radius)
         object.__setattr__(self, "_outline", (np.append(self.elevation[keep], below),
-                                              np.append(self.radius[keep], np.interp(below, self.elevation, self.radius))))
+                                              np.append(self.radius[keep], radius_below)))
 
     @classmethod
     def from_tower(cls, tower: Tower) -> "TowerShadow":

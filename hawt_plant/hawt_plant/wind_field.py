@@ -29,7 +29,7 @@ class WindField(Protocol):
     def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Wind velocity at the points (x, y, z) [m] at time t [s].
 
-        Returns a new array of shape ``(3,) + x.shape``, which the caller may modify:
-        the components (u, v, w) along (x, y, z) [m/s]. Frozen turbulence is convected downwind at the
+        Returns an array of shape ``(3,) + x.shape``: the components (u, v, w)
+        along (x, y, z) [m/s]. Frozen turbulence is convected downwind at the
         mean speed, so a point at x sees the field of time ``t - x / mean_speed``.
         """
