@@ -12,7 +12,8 @@ from .pitch_activity import DEFAULT_RATE_THRESHOLD, pitch_activity, pitch_activi
 from .record import Record, make_record
 from .spectra import power_spectrum, rotor_harmonic_frequencies, spectral_peaks
 
-__all__ = ["FATIGUE_CHANNELS", "AnalysisOptions", "analysed_channels", "load_channels", "summarize"]
+__all__ = ["FATIGUE_CHANNELS", "AnalysisOptions", "analysed_channels", "load_channels", "summarize",
+           "segment_harmonics"]
 
 FATIGUE_CHANNELS = (
     ("root_moment_oop", "blade_root"),
@@ -123,6 +124,42 @@ def summarize(channels: Mapping[str, ArrayLike], options: AnalysisOptions = Anal
         ),
         "conventions": _conventions(options),
     }
+
+
+def segment_harmonics(channels: Mapping[str, ArrayLike], boundaries: ArrayLike,
+                      options: AnalysisOptions = AnalysisOptions(), min_revolutions: int = 1) -> list[dict]:
+    """Harmonic amplitudes of every analysed channel between boundaries (e.g. the steps of controller switches).
+
+    Parameters
+    ----------
+    channels : Mapping[str, array_like]
+        As for :func:`summarize`.
+    boundaries : array_like of int
+        Sample indices where a segment starts (0 and the end are added).
+    min_revolutions : int
+        A segment with fewer whole rotor revolutions is reported without harmonics.
+
+    Returns
+    -------
+    list of dict
+        Per segment: ``first``, ``last`` (sample indices), ``start_s``, ``duration_s``,
+        ``harmonics`` (as in :func:`summarize`, or None if the segment is too short).
+    """
+    record = make_record(channels)
+    n = record.time.size
+    edges = sorted({0, n, *(int(b) for b in np.asarray(boundaries).ravel() if 0 < b < n)})
+    segments = []
+    for first, end in zip(edges[:-1], edges[1:]):
+        part = {name: np.asarray(values)[first:end] for name, values in channels.items()}
+        turns = abs(float(np.unwrap(part["azimuth"])[-1] - np.unwrap(part["azimuth"])[0])) / (2 * np.pi) \
+            if end - first > 2 else 0.0
+        harmonics = None
+        if turns >= min_revolutions:
+            piece = make_record(part)
+            harmonics = _harmonics(analysed_channels(piece), piece.scalars["azimuth"], options.harmonics)
+        segments.append({"first": first, "last": end - 1, "start_s": float(record.time[first]),
+                         "duration_s": float(record.time[end - 1] - record.time[first]), "harmonics": harmonics})
+    return segments
 
 
 def _damage_equivalent_loads(

@@ -1,10 +1,11 @@
 """The numbers of ``hawt analyze`` and ``hawt compare`` for bags: `hawt_analysis` on the recorded topics.
 
 `analyze_bag` reads one turbine's run (`plant_run.load_plant_run`) and returns the
-dict of `hawt_analysis.summary.summarize` (DESIGN §8) with three more keys:
+dict of `hawt_analysis.summary.summarize` (DESIGN §8) with four more keys:
 ``bag`` (file, namespace, messages per topic), ``pitch_command`` (activity of the
 commanded pitch and the steps each PitchCommand flag was set; None without that
-topic) and ``events`` (the ``control/events`` timeline).
+topic), ``events`` (the ``control/events`` timeline) and ``segments`` (harmonic
+amplitudes between the steps of controller switches; empty without switches).
 """
 import os
 from dataclasses import dataclass
@@ -14,7 +15,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 from hawt_analysis.comparison import compare_summaries
 from hawt_analysis.pitch_activity import pitch_activity
-from hawt_analysis.summary import AnalysisOptions, summarize
+from hawt_analysis.summary import AnalysisOptions, segment_harmonics, summarize
 
 from .errors import BagError
 from .plant_run import PlantRun, load_plant_run
@@ -83,7 +84,19 @@ def analyze_bag(path: os.PathLike, namespace: Optional[str] = None, options: Ana
                       "first_step": int(run.steps[0]), "last_step": int(run.steps[-1])}
     summary["pitch_command"] = _command_summary(run, options)
     summary["events"] = run.events
+    summary["segments"] = _switch_segments(run, options)
     return BagAnalysis(Path(path), run, summary)
+
+
+def _switch_segments(run: PlantRun, options: AnalysisOptions) -> list:
+    """Harmonics between the steps at which controller switches took effect (none without switches)."""
+    steps = sorted({e["step"] for e in run.events if e["kind"] == "switch"})
+    if not steps:
+        return []
+    segments = segment_harmonics(run.channels, np.searchsorted(run.steps, steps), options)
+    for segment in segments:
+        segment["first_step"], segment["last_step"] = int(run.steps[segment["first"]]), int(run.steps[segment["last"]])
+    return segments
 
 
 def compare_bags(paths: Sequence[os.PathLike], namespace: Optional[str] = None,

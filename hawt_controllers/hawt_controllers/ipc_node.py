@@ -12,8 +12,9 @@ transitions come from ``controller_manager`` switches and take effect at the
 switch's plant step (hawt_controllers.switching): an active controller publishes
 every step, a deactivated one publishes its ramp to zero and then falls silent,
 and one that replaces another of its harmonic starts from the other's last output,
-which it follows on ``control/ipc/h{n}`` while inactive. Its filters run on every
-step, active or not, so they are settled when it comes in.
+which it follows on ``control/ipc/h{n}`` while inactive. An incoming controller's
+filters start settled at the moments of its first step: what it saw while inactive
+depends on when its process started, and a lockstep run must not.
 """
 import dataclasses
 import math
@@ -143,12 +144,16 @@ class IpcNode(LifecycleNode):
             self.transition = None
         self.switches.announce(ControllerState.ACTIVE if active else ControllerState.INACTIVE, step)
 
-    def _apply_switch(self, switch: Switch, step: int, stamp) -> None:
+    def _apply_switch(self, switch: Switch, loads: HarmonicLoads) -> None:
+        step, stamp = loads.step, loads.header.stamp
         late = f" (due at step {switch.step}, applied late)" if switch.step < step else ""
         replaced = switch.replaced(self.harmonic)
         if any(name == self.switches.name for name, _ in switch.activate):
             followed = self.followed if replaced else None
             initial = (followed.cos, followed.sin) if followed is not None else None
+            fully_off = self.law.ramp == 0.0
+            if (fully_off or initial is not None) and math.isfinite(loads.cos) and math.isfinite(loads.sin):
+                self.law.reset(initial or (0.0, 0.0), moments=(loads.cos, loads.sin))
             self._switch_to(True, step, 0.0 if replaced else switch.ramp_time, initial)
             how = (f"from the outgoing controller's output of step {followed.step} ({followed.cos:.5f}, "
                    f"{followed.sin:.5f}) rad" if followed is not None else f"ramping in over {switch.ramp_time:g} s")
@@ -192,7 +197,7 @@ class IpcNode(LifecycleNode):
         if self.pending is not None:
             self._apply_pending(msg.step, msg.header.stamp)
         for switch in self.switches.due(msg.step):
-            self._apply_switch(switch, msg.step, msg.header.stamp)
+            self._apply_switch(switch, msg)
         if not all(math.isfinite(v) for v in (msg.cos, msg.sin, msg.collective_pitch)):
             self.events(ControlEvent.ERROR, "invalid_input", f"control/mbc/h{self.harmonic} step {msg.step}: "
                         f"cos={msg.cos}, sin={msg.sin}, collective_pitch={msg.collective_pitch}; demand held",
