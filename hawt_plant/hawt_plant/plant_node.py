@@ -7,7 +7,17 @@ discovery races and restarted controllers do not stall the run. Realtime: the mo
 ticks on the wall clock and applies the latest valid command (zero-order hold); the loop
 latency (measurement sent -> command of that step received) and every late step are
 reported. A command with NaN, the wrong length or values out of range is not applied:
-the last valid one is held and the rejection is a ``control/events`` message.
+the last valid one is held and the rejection is a ``control/events`` message. In
+realtime a command older than the last applied one is ignored (one ``stale_input``
+event per burst) and one for a step the plant has not reached is refused.
+
+The plant's own safety system (:mod:`hawt_plant.safety_system`) watches the commands:
+with no command applied for ``command_timeout`` (lockstep: step k unanswered that long,
+after its resends; before the first command: ``startup_timeout``) it trips, reports a
+``watchdog`` event, and feathers every blade at the actuator's rate limit with the
+generator torque off. A lockstep plant then steps on its own, at the pace the run had,
+until ``duration``, so the run completes. The trip latches: commands that come back are not
+applied (one ``command_returned`` event).
 """
 import math
 import time
@@ -16,16 +26,18 @@ from typing import List, Optional
 import numpy as np
 from builtin_interfaces.msg import Time
 from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, TurbineState
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
 from hawt_plant.turbine import load_turbine, nrel_5mw
 from hawt_tools.events import EventPublisher
 from hawt_tools.node_main import node_entry_point
-from hawt_tools.parameters import ParameterSpec, declare_parameters
+from hawt_tools.parameters import ParameterError, ParameterSpec, declare_parameters
 from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
 from hawt_tools.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, TURBINE_STATE
 
@@ -64,7 +76,19 @@ PARAMETERS = (
                   "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
                   read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
+    ParameterSpec("command_timeout", 1.0, "wall time without an applied command (lockstep: the current step "
+                  "unanswered, resends included; must exceed resend_period) after which the safety system trips "
+                  "and feathers", "s", minimum=0.01, maximum=600.0, read_only=True),
+    ParameterSpec("startup_timeout", 30.0, "wall time the first command may take once the plant has started "
+                  "(controllers starting up) before the safety system trips", "s", minimum=0.01, maximum=3600.0,
+                  read_only=True),
+    ParameterSpec("stale_burst_gap", 1.0, "realtime: commands older than the last applied one are reported once "
+                  "per burst; a burst ends after this long without one", "s", minimum=0.0, maximum=600.0,
+                  read_only=True),
 )
+
+_ACK_TIMEOUT = 2.0
+"""Longest wait [s] at the end of the run for the readers' acknowledgements of everything published."""
 
 
 def _stamp(seconds: float) -> Time:
@@ -93,6 +117,12 @@ class PlantNode(Node):
         self.step_index = 0
         self.last_steps = int(round(v["duration"] / v["dt"])) if v["duration"] > 0 else None
         self.lockstep = v["mode"] == "lockstep"
+        if self.lockstep and v["command_timeout"] <= v["resend_period"]:
+            raise ParameterError(f"command_timeout: {v['command_timeout']} s must exceed resend_period "
+                                 f"{v['resend_period']} s in lockstep (a step is resent before the safety system trips)")
+        self.safety = SafetySystem(SafetySettings(v["command_timeout"], v["startup_timeout"],
+                                                  self.actuator.max_angle, self.actuator.max_rate))
+        self.order = CommandOrder(v["stale_burst_gap"])
         self.events = EventPublisher(self)
         self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP_HISTORY)
         self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
@@ -102,9 +132,8 @@ class PlantNode(Node):
         self.sent_at = time.monotonic()
         self.latencies: List[float] = []
         self.late_steps = 0
-        self.answered = -1
         self.started = False
-        self.created = self.wall_start = time.monotonic()
+        self.created = self.wall_start = self.answered_at = time.monotonic()
         self.get_logger().info(
             f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
             f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
@@ -112,6 +141,7 @@ class PlantNode(Node):
         if self.lockstep:
             self.create_timer(min(v["resend_period"], 0.05), self._resend)
         else:
+            self.safety.start(self.created)
             self.create_timer(v["dt"], self._tick)
 
     def _publish(self, out: TurbineOutput) -> None:
@@ -133,7 +163,7 @@ class PlantNode(Node):
 
     def _resend(self) -> None:
         """Send step 0 once enough subscribers are there; send an unanswered step again after resend_period."""
-        if self.done.done():
+        if self.done.done() or self.safety.tripped:
             return
         if self.step_index == 0 and not self.started:
             if self.loads_publisher.get_subscription_count() < self.values["wait_for_subscribers"]:
@@ -142,9 +172,40 @@ class PlantNode(Node):
                 return
             self.started = True
             self.wall_start = time.monotonic()
+            self.safety.start(self.wall_start)
             self._publish(self.output)
+        elif self._watch():
+            self.create_timer(self._pace(), self._tick)
         elif time.monotonic() - self.sent_at >= self.values["resend_period"]:
             self._publish(self.output)
+
+    def _pace(self) -> float:
+        """Wall time per step of the lockstep run so far (dt before the first answer): the pace after a trip.
+
+        The plant then no longer waits for commands, but stepping faster than the graph ran
+        would outrun the readers that kept up with it (a recorder keeps the last 200 samples).
+        """
+        if self.step_index == 0:
+            return self.values["dt"]
+        return (self.answered_at - self.wall_start) / self.step_index
+
+    def _watch(self) -> bool:
+        """Let the safety system check the commands; True if it trips now (reported as a watchdog event)."""
+        if self.lockstep:
+            awaiting = f"control/pitch_command of step {self.step_index}"
+        elif self.order.last_applied is None:
+            awaiting = f"a first valid control/pitch_command (plant at step {self.step_index})"
+        else:
+            awaiting = (f"a valid control/pitch_command after step {self.order.last_applied} (plant at step "
+                        f"{self.step_index})")
+        reason = self.safety.watch(time.monotonic(), self.output.pitch, awaiting)
+        if reason is None:
+            return False
+        self.events(ControlEvent.ERROR, "watchdog",
+                    f"{reason}: safety system tripped, feathering to {self.actuator.max_angle:g} rad at "
+                    f"{self.actuator.max_rate:g} rad/s with generator torque 0; latched until the plant restarts",
+                    step=self.step_index, stamp=_stamp(self.output.time))
+        return True
 
     def _recorder_ready(self) -> bool:
         """True once hawt_recorder subscribes to every topic with a publisher; after 10 s, True with a warning."""
@@ -156,47 +217,59 @@ class PlantNode(Node):
             return True
         return not missing
 
-    def _rejection(self, msg: PitchCommand) -> Optional[str]:
-        """Why a command cannot be applied, or None."""
-        pitch = np.asarray(msg.pitch, dtype=float)
-        if pitch.shape != (self.blades,):
-            return f"pitch: expected {self.blades} values, found {len(msg.pitch)}"
-        if not (np.all(np.isfinite(pitch)) and math.isfinite(msg.generator_torque)):
-            return f"not finite: pitch {list(msg.pitch)}, generator_torque {msg.generator_torque}"
-        low, high = self.actuator.min_angle, self.actuator.max_angle
-        if np.any(pitch < low - 1e-9) or np.any(pitch > high + 1e-9):
-            return f"pitch {list(msg.pitch)} outside [{low}, {high}] rad"
-        if not 0.0 <= msg.generator_torque <= self.model.turbine.generator.max_torque:
-            return f"generator_torque {msg.generator_torque} outside [0, {self.model.turbine.generator.max_torque}] N*m"
-        return None
-
     def _on_command(self, msg: PitchCommand) -> None:
         if self.done.done():
             return
-        reason = self._rejection(msg)
-        if reason is not None:
-            self.events(ControlEvent.ERROR, "invalid_input", f"control/pitch_command step {msg.step} not applied "
-                        f"({reason}); last valid command held", step=self.step_index, stamp=_stamp(self.output.time))
+        if self.safety.tripped:
+            if self.safety.command_returned():
+                self.events(ControlEvent.WARN, "command_returned", f"control/pitch_command step {msg.step} arrived "
+                            f"after the safety system tripped ({self.safety.reason}); the trip is latched, commands "
+                            "are not applied", step=self.step_index, stamp=_stamp(self.output.time))
+            return
+        reason = command_rejection(msg.pitch, msg.generator_torque, self.blades, self.actuator.min_angle,
+                                   self.actuator.max_angle, self.model.turbine.generator.max_torque)
         if self.lockstep:
+            self._refuse(msg, reason)
             if msg.step != self.step_index:
                 return
             if reason is None:
                 self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
+            self.answered_at = time.monotonic()
+            self.safety.command_applied(self.answered_at)
             self._advance()
-        else:
-            if msg.step > self.answered:
-                self.answered = msg.step
-                self.latencies.append(time.monotonic() - self.sent_at - (self.step_index - msg.step) * self.values["dt"])
-                if msg.step < self.step_index:
-                    self.late_steps += 1
-            if reason is None:
-                self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
+            return
+        verdict = self.order.admit(msg.step, self.step_index, self.output.time) if reason is None else None
+        if verdict == CommandOrder.FUTURE:
+            reason = f"step ahead of the plant's step {self.step_index}"
+        self._refuse(msg, reason)
+        if verdict == CommandOrder.STALE and self.order.new_burst:
+            self.events(ControlEvent.WARN, "stale_input", f"control/pitch_command step {msg.step} is older than the "
+                        f"applied step {self.order.last_applied}: ignored, like every stale command of this burst "
+                        "(reported once)", step=self.step_index, stamp=_stamp(self.output.time))
+        elif verdict == CommandOrder.APPLY:
+            now = time.monotonic()
+            self.latencies.append(now - self.sent_at - (self.step_index - msg.step) * self.values["dt"])
+            if msg.step < self.step_index:
+                self.late_steps += 1
+            self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
+            self.safety.command_applied(now)
+
+    def _refuse(self, msg: PitchCommand, reason: Optional[str]) -> None:
+        """Report a command that is not applied for ``reason`` (nothing if None)."""
+        if reason is not None:
+            self.events(ControlEvent.ERROR, "invalid_input", f"control/pitch_command step {msg.step} not applied "
+                        f"({reason}); last valid command held", step=self.step_index, stamp=_stamp(self.output.time))
 
     def _tick(self) -> None:
-        if not self.done.done():
-            self._advance()
+        if self.done.done():
+            return
+        if not self.lockstep:
+            self._watch()
+        self._advance()
 
     def _advance(self) -> None:
+        if self.safety.tripped:
+            self.command = self.safety.feather(self.values["dt"])
         self.output = self.model.step(*self.command)
         self.step_index += 1
         if self.step_index % max(1, int(round(self.values["report_period"] / self.values["dt"]))) == 0:
@@ -222,6 +295,11 @@ class PlantNode(Node):
                         f"{np.percentile(latency, 99):.2f} ms, max {latency.max():.2f} ms; late steps "
                         f"{self.late_steps}")
         self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
+        # The process exits once done: the last steps and this event must reach every reliable reader first
+        # (a reader that died never acknowledges, hence one deadline for all).
+        deadline = time.monotonic() + _ACK_TIMEOUT
+        for publisher in self.publishers:
+            publisher.wait_for_all_acked(Duration(seconds=max(0.0, deadline - time.monotonic())))
         self.done.set_result(True)
 
 

@@ -1,0 +1,222 @@
+"""The plant's own protections: which commands it applies, and the safety chain that feathers without them.
+
+A turbine does not trust its controller blindly. Three guards sit between
+``control/pitch_command`` and the actuators, in the order the plant node applies them:
+
+1. :func:`command_rejection` refuses a command that cannot be applied at all (wrong
+   number of blades, not finite, outside the actuator's angle or the generator's
+   torque range).
+2. :class:`CommandOrder` (realtime) applies a command only if its step is newer than
+   the last applied one and not ahead of the plant.
+3. :class:`SafetySystem` is the safety chain: when no command is applied for too long
+   it trips, latches, and pitches every blade to feather at the actuator's rate limit
+   with the generator torque off, whatever arrives afterwards.
+
+No ROS here: times are plain seconds passed in by the caller.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from hawt_tools.step_sync import StepVerdict, classify_step
+
+__all__ = ["command_rejection", "CommandOrder", "SafetySettings", "SafetySystem", "FEATHERED_TORQUE"]
+
+FEATHERED_TORQUE = 0.0
+"""Generator torque [N*m] commanded once the safety system has tripped."""
+
+
+def command_rejection(pitch: np.ndarray, generator_torque: float, blades: int, min_angle: float,
+                      max_angle: float, max_torque: float) -> Optional[str]:
+    """Why a pitch/torque command cannot be applied, or None if it can.
+
+    Parameters
+    ----------
+    pitch : array_like, shape (B,)
+        Commanded pitch per blade [rad].
+    generator_torque : float
+        Commanded generator torque [N*m].
+    blades : int
+        Number of blades B of the plant.
+    min_angle, max_angle : float
+        Pitch actuator limits [rad]; a command outside them by more than 1e-9 rad is refused.
+    max_torque : float
+        Largest generator torque [N*m]; the range is [0, max_torque].
+    """
+    values = np.asarray(pitch, dtype=float)
+    if values.shape != (blades,):
+        return f"pitch: expected {blades} values, found {values.size}"
+    if not (np.all(np.isfinite(values)) and math.isfinite(generator_torque)):
+        return f"not finite: pitch {values.tolist()}, generator_torque {generator_torque}"
+    if np.any(values < min_angle - 1e-9) or np.any(values > max_angle + 1e-9):
+        return f"pitch {values.tolist()} outside [{min_angle}, {max_angle}] rad"
+    if not 0.0 <= generator_torque <= max_torque:
+        return f"generator_torque {generator_torque} outside [0, {max_torque}] N*m"
+    return None
+
+
+class CommandOrder:
+    """Realtime: the command of a step is applied once, in step order, and never ahead of the plant.
+
+    The plant applies the latest command (zero-order hold, DESIGN.md §6), so a command
+    whose step is older than the last applied one would move the blades back to an
+    earlier decision: it is ignored (STALE). A repeat of the last applied step changes
+    nothing (REPEAT). A command for a step the plant has not published yet cannot have
+    been computed from its measurements: it is refused (FUTURE). Stale commands come in
+    bursts (a delayed link delivering a backlog, a second publisher answering old
+    steps); :attr:`new_burst` is True for the first of a burst, so it is reported once.
+
+    Parameters
+    ----------
+    burst_gap : float
+        A stale command after at least this long [s] without one opens a new burst.
+    """
+
+    APPLY = "apply"
+    REPEAT = "repeat"
+    STALE = "stale"
+    FUTURE = "future"
+
+    def __init__(self, burst_gap: float) -> None:
+        if not burst_gap >= 0.0:
+            raise ValueError(f"burst_gap: expected >= 0 s, found {burst_gap}")
+        self.burst_gap = burst_gap
+        self.last_applied: Optional[int] = None
+        self.new_burst = False
+        self._last_stale_at: Optional[float] = None
+
+    def admit(self, step: int, plant_step: int, now: float) -> str:
+        """The verdict on a command of ``step`` at time ``now`` [s] while the plant is at ``plant_step``.
+
+        An APPLY verdict records ``step`` as the last applied one.
+        """
+        if step > plant_step:
+            return self.FUTURE
+        verdict = classify_step(step, self.last_applied)
+        if verdict == StepVerdict.NEW:
+            self.last_applied = step
+            return self.APPLY
+        if verdict == StepVerdict.REPEAT:
+            return self.REPEAT
+        self.new_burst = self._last_stale_at is None or now - self._last_stale_at >= self.burst_gap
+        self._last_stale_at = now
+        return self.STALE
+
+
+@dataclass(frozen=True)
+class SafetySettings:
+    """When the safety chain trips and where it takes the blades.
+
+    Attributes
+    ----------
+    command_timeout : float
+        Longest wait [s] for the next applied command once one has been applied.
+    startup_timeout : float
+        Longest wait [s] for the first command after the watchdog started (controllers starting up).
+    feather_angle : float
+        Pitch the blades are driven to [rad] (the actuator's maximum angle).
+    feather_rate : float
+        Rate of the feather ramp [rad/s] (the actuator's rate limit).
+    """
+
+    command_timeout: float
+    startup_timeout: float
+    feather_angle: float
+    feather_rate: float
+
+    def __post_init__(self) -> None:
+        for name in ("command_timeout", "startup_timeout", "feather_rate"):
+            if not getattr(self, name) > 0.0:
+                raise ValueError(f"{name}: expected > 0, found {getattr(self, name)}")
+        if not math.isfinite(self.feather_angle):
+            raise ValueError(f"feather_angle: expected a finite angle, found {self.feather_angle}")
+
+
+class SafetySystem:
+    """The plant's safety chain: a watchdog on the commands that, once tripped, feathers and stays tripped.
+
+    Notes
+    -----
+    Watchdog: started at ``start(t0)``; the deadline is ``t0 + startup_timeout`` until
+    the first ``command_applied(t)``, then ``t + command_timeout`` after every applied
+    command. :meth:`watch` trips once the deadline has passed.
+
+    After the trip every blade's command ramps from its measured pitch θ_i at the trip
+    to the feather angle at the actuator's rate limit, θ_c,i(k+1) = min(θ_c,i(k) +
+    θ̇_max Δt, θ_feather), and the generator torque command is 0: an emergency stop
+    (IEC 61400-1 DLC 5.1) opens the generator breaker and feathers on the pitch
+    system's own supply, because the component that would ramp the torque down (the
+    turbine controller and converter control, as in ROSCO's normal shutdown with
+    ``SD_MaxTorqueRate``) is the one that was lost. The plant's generator model then
+    takes the torque down at its own rate limit.
+
+    The trip latches: commands that come back later are not applied, as a real safety
+    chain stays open until it is reset on site; restarting the plant resets it here.
+    """
+
+    def __init__(self, settings: SafetySettings) -> None:
+        self.settings = settings
+        self.reason: Optional[str] = None
+        self._deadline: Optional[float] = None
+        self._armed = False
+        self._feather_command: Optional[np.ndarray] = None
+        self._return_reported = False
+
+    @property
+    def tripped(self) -> bool:
+        """True once the safety system has tripped (it stays tripped)."""
+        return self.reason is not None
+
+    def start(self, now: float) -> None:
+        """Start the watchdog at ``now`` [s]: the first command is due within ``startup_timeout``."""
+        if self._deadline is None:
+            self._deadline = now + self.settings.startup_timeout
+
+    def command_applied(self, now: float) -> None:
+        """A command was applied at ``now`` [s]: the next one is due within ``command_timeout``."""
+        self._armed = True
+        self._deadline = now + self.settings.command_timeout
+
+    def watch(self, now: float, pitch: np.ndarray, awaiting: str) -> Optional[str]:
+        """Trip if the deadline has passed at ``now`` [s]; the reason the one time it trips, else None.
+
+        Parameters
+        ----------
+        now : float
+            [s], on the clock of ``start`` and ``command_applied``.
+        pitch : array_like, shape (B,)
+            Measured pitch [rad], where the feather ramp starts.
+        awaiting : str
+            What is missing, for the reason (e.g. "control/pitch_command of step 412").
+        """
+        if self.tripped or self._deadline is None or now < self._deadline:
+            return None
+        timeout, name = ((self.settings.command_timeout, "command_timeout") if self._armed
+                         else (self.settings.startup_timeout, "startup_timeout"))
+        self.trip(f"{awaiting} missing for {name} {timeout:g} s", pitch)
+        return self.reason
+
+    def trip(self, reason: str, pitch: np.ndarray) -> None:
+        """Trip now for ``reason``, the feather ramp starting at the measured ``pitch`` [rad] (no-op if tripped)."""
+        if self.tripped:
+            return
+        self.reason = reason
+        self._feather_command = np.minimum(np.array(pitch, dtype=float), self.settings.feather_angle)
+
+    def feather(self, dt: float) -> tuple[np.ndarray, float]:
+        """The command over the next step of ``dt`` [s] after the trip: pitch [rad] per blade, generator torque [N*m]."""
+        if not self.tripped:
+            raise RuntimeError("feather: the safety system has not tripped")
+        self._feather_command = np.minimum(self._feather_command + self.settings.feather_rate * dt,
+                                           self.settings.feather_angle)
+        return self._feather_command.copy(), FEATHERED_TORQUE
+
+    def command_returned(self) -> bool:
+        """Note a command arriving after the trip; True for the first one only (to report it once)."""
+        first = self.tripped and not self._return_reported
+        self._return_reported = self._return_reported or self.tripped
+        return first

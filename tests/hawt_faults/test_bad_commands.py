@@ -1,0 +1,57 @@
+"""Bad commands injected into a running realtime graph are refused with events and never applied."""
+import math
+
+import numpy as np
+import pytest
+from hawt_msgs.msg import ControlEvent, PitchCommand
+
+from hawt_faults.fault_runs import (assert_pitch_within_limits, assert_plant_finished, assert_plant_published_no_nan,
+                                    read_recording)
+
+pytestmark = pytest.mark.ros
+
+FEATHERED = [1.5] * 3
+"""A valid pitch [rad] far from the operating point's 15 deg: applied for even a few steps, it would show."""
+
+
+def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applied(launch, probe):
+    """Realtime baseline: three refusals (invalid_input), two stale bursts (one stale_input each); pitch undisturbed."""
+    namespace = "bad_commands"
+    injector = probe(namespace)
+    run = launch("baseline", namespace, "mode:=realtime", "duration:=9")
+    injector.wait_for_answer(100, run.launcher)
+    step = injector.plant_step
+    for command, reason in ((lambda k: PitchCommand(step=k, pitch=[math.nan, 0.26, 0.26], generator_torque=4e4),
+                             "not finite"),
+                            (lambda k: PitchCommand(step=k, pitch=[0.26, 0.26], generator_torque=4e4),
+                             "expected 3 values"),
+                            (lambda k: PitchCommand(step=k + 10_000, pitch=FEATHERED, generator_torque=4e4),
+                             "step ahead of the plant")):
+        injector.publish_until(command, lambda: injector.reported("invalid_input", reason), run.launcher, reason)
+    for _ in range(2):
+        burst_end = injector.plant_step + 100
+        while injector.plant_step < burst_end:
+            injector.commands.publish(PitchCommand(step=injector.plant_step - 50, pitch=FEATHERED, generator_torque=0.0))
+            injector.spin(0.005)
+        injector.wait_for_step(burst_end + 150, run.launcher)
+    run.finish()
+
+    recording = read_recording(run.bag, namespace)
+    refused = [event["detail"] for event in recording.events_of("invalid_input")]
+    reasons = ("(not finite: pitch [nan, 0.26, 0.26], generator_torque 40000.0)", "(pitch: expected 3 values, found 2)",
+               "(step ahead of the plant's step ")
+    assert all(any(reason in detail for detail in refused) for reason in reasons), refused
+    assert all(any(reason in detail for reason in reasons) for detail in refused), refused
+    stale = recording.events_of("stale_input")
+    assert len(stale) == 2 and all(event["level"] == ControlEvent.WARN for event in stale)
+    assert all(event["level"] == ControlEvent.ERROR for event in recording.events_of("invalid_input"))
+    steps, pitch = recording.measured_pitch()
+    after = pitch[steps >= step]
+    assert np.all(np.abs(after - pitch[steps == step]) < math.radians(0.5)), \
+        f"the pitch moved to {np.degrees(after.max()):.2f} deg from {np.degrees(pitch[steps == step].max()):.2f} deg"
+    with_nan = [row for row in recording.commands.fields["pitch"] if not np.all(np.isfinite(row))]
+    assert with_nan and all(list(row[1:]) == [0.26, 0.26] for row in with_nan), "every NaN command is the injected one"
+    assert not recording.events_of("watchdog")
+    assert_plant_finished(recording, 9.0)
+    assert_plant_published_no_nan(recording)
+    assert_pitch_within_limits(recording)

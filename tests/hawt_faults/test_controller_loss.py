@@ -1,0 +1,47 @@
+"""The cpc lost mid-run: the plant's safety system trips, feathers at the rate limit, latches, and the run completes."""
+import math
+
+import numpy as np
+import pytest
+from hawt_msgs.msg import ControlEvent, PitchCommand
+
+from hawt_faults.fault_runs import (ACTUATOR, assert_pitch_within_limits, assert_plant_finished,
+                                    assert_plant_published_no_nan, feather_ramp, graph_outliving, read_recording,
+                                    rises_at_rate_limit)
+
+pytestmark = pytest.mark.ros
+
+FEATHER_DURATION = 13.0
+"""Simulated run [s]: the cpc dies after 1 to 3 s, and feathering from 15 deg at 8 deg/s takes 9.4 s."""
+
+
+@pytest.mark.parametrize("mode", ["lockstep", "realtime"])
+def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_the_run_completes(mode, launch, probe,
+                                                                                                  tmp_path):
+    """cpc SIGKILLed: a watchdog ERROR; pitch rises at <= 8 deg/s to 90 deg despite returning commands; run ends."""
+    namespace = f"cpc_lost_{mode}"
+    watcher = probe(namespace)
+    run = launch(str(graph_outliving(tmp_path, "baseline", "cpc")), namespace, f"mode:={mode}",
+                 f"duration:={FEATHER_DURATION}")
+    watcher.wait_for_answer(100, run.launcher)
+    run.kill("cpc")
+    watcher.wait_for_event("watchdog", run.launcher)
+    watcher.publish_until(lambda step: PitchCommand(step=step, pitch=[0.0] * 3, generator_torque=4e4),
+                          lambda: watcher.reported("command_returned"), run.launcher, "command_returned")
+    run.finish()
+
+    recording = read_recording(run.bag, namespace)
+    (watchdog,) = recording.events_of("watchdog")
+    assert watchdog["level"] == ControlEvent.ERROR
+    assert watchdog["source"] == f"/{namespace}/plant"
+    assert "control/pitch_command" in watchdog["detail"] and "command_timeout 1 s" in watchdog["detail"]
+    (returned,) = recording.events_of("command_returned")
+    assert returned["level"] == ControlEvent.WARN and returned["step"] >= watchdog["step"]
+    assert "the trip is latched" in returned["detail"]
+    ramp = feather_ramp(recording, watchdog["step"])
+    assert rises_at_rate_limit(ramp) is None, rises_at_rate_limit(ramp)
+    assert np.all(ramp[-1] > ACTUATOR.max_angle - math.radians(0.01)), "every blade reached feather"
+    assert recording.state.fields["generator_torque"][-1] == 0.0
+    assert_plant_finished(recording, FEATHER_DURATION)
+    assert_plant_published_no_nan(recording)
+    assert_pitch_within_limits(recording)
