@@ -9,8 +9,14 @@ Lockstep waits for every input of step k: the loads, the collective and the
 demand of every harmonic that has a publishing IPC controller at step k
 (``ipc_harmonics`` at start, then as ``controller_manager`` switches say:
 hawt_controllers.switching.HarmonicWindows). Realtime answers each collective
-with the latest IPC demands (a demand older than ``stale_steps`` counts as zero
-and is flagged) at the azimuth extrapolated to the moment of sending.
+with the latest IPC demands at the azimuth extrapolated to the moment of sending.
+
+An IPC controller that stops answering (its process died: no demand of the step
+within ``input_timeout`` in lockstep, none for ``stale_steps`` in realtime) is
+"lost": its last demand fades to zero over ``fade_time`` while the others go on,
+the command is flagged FLAG_STALE_IPC and an ``ipc_lost`` event says so. When it
+answers again (respawned) it is followed again (``ipc_returned``). A missing
+collective is never skipped: without it the plant's safety system takes over.
 """
 import math
 import time
@@ -46,8 +52,14 @@ PARAMETERS = (
     ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("max_pitch", _LIMITS.max_angle, "highest pitch command", "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("max_pitch_rate", _LIMITS.max_rate, "largest pitch rate", "rad/s", minimum=1e-3, maximum=1.0),
-    ParameterSpec("stale_steps", 5, "realtime: an IPC demand older than this many steps counts as zero",
-                  minimum=1, maximum=1000),
+    ParameterSpec("stale_steps", 5, "realtime: an IPC controller whose newest demand is older than this many "
+                  "steps is lost", minimum=1, maximum=1000),
+    ParameterSpec("input_timeout", 1.0, "lockstep: an IPC controller that has not answered the step this long "
+                  "(wall clock) after the plant's loads is lost (keep it below the plant's command_timeout; a "
+                  "busy machine can delay a live node by a fraction of a second)", "s", minimum=0.01,
+                  maximum=60.0),
+    ParameterSpec("fade_time", 2.0, "time over which a lost controller's last demand fades to zero", "s",
+                  minimum=0.0, maximum=600.0),
     ParameterSpec("latency", 0.0, "realtime: extra time the command takes to reach the plant, added to the "
                   "azimuth extrapolation", "s", minimum=0.0, maximum=0.1),
 )
@@ -76,8 +88,11 @@ class MbcNode(Node):
         self.demands = {}
         self.ipc_subscriptions = {}
         self.windows = HarmonicWindows(_active(self.values["ipc_harmonics"]), self.values["dt"])
+        self.lost = {}
         self.switches = SwitchListener(self)
         self._follow_windows(0)
+        if self.lockstep:
+            self.create_timer(0.05, self._watch_inputs)
         self.loads: BladeLoads = None
         self.loads_received = 0.0
         self.create_subscription(BladeLoads, BLADE_LOADS, self._on_loads, CONTROL_LOOP)
@@ -109,8 +124,31 @@ class MbcNode(Node):
             if n not in self.ipc_subscriptions:
                 self.ipc_subscriptions[n] = self.create_subscription(
                     HarmonicPitch, ipc_topic(n), lambda m, n=n: self._input(f"h{n}", m), CONTROL_LOOP)
-        self.join.set_required({"loads", "collective", *(f"h{n}" for n in self.windows.publishing(step))}
-                               if self.lockstep else {"collective"})
+        return self.join.set_required(
+            {"loads", "collective", *(f"h{n}" for n in self.windows.publishing(step) if n not in self.lost)}
+            if self.lockstep else {"collective"})
+
+    def _lose(self, harmonic: int, step: int, why: str) -> None:
+        """Fade out a controller that stopped answering, from its last demand."""
+        self.lost[harmonic] = (self.demands.get(harmonic), step)
+        self.events(ControlEvent.WARN, "ipc_lost", f"control/ipc/h{harmonic}: {why}; its last demand fades out "
+                    f"over {self.values['fade_time']:g} s, the other harmonics go on", step=step)
+
+    def _watch_inputs(self) -> None:
+        """Lockstep: give up on IPC demands of the pending step after input_timeout."""
+        inputs = self.join.inputs
+        if self.loads is None or self.join.step != self.loads.step or "collective" not in inputs \
+                or self.answer.last is not None and self.answer.last.step >= self.loads.step \
+                or time.monotonic() - self.loads_received < self.values["input_timeout"]:
+            return
+        missing = [n for n in self.windows.publishing(self.loads.step)
+                   if f"h{n}" not in inputs and n not in self.lost]
+        for n in missing:
+            self._lose(n, self.loads.step, f"no demand for step {self.loads.step} within "
+                                           f"{self.values['input_timeout']:g} s")
+        complete = self._follow_windows(self.loads.step)
+        if complete is not None:
+            self._command(complete["collective"])
 
     def _on_loads(self, msg: BladeLoads) -> None:
         oop = np.asarray(msg.root_moment_oop)
@@ -120,7 +158,9 @@ class MbcNode(Node):
                         f"plant/blade_loads step {msg.step}: expected {self.blades} finite moments and pitches, "
                         f"got {list(msg.root_moment_oop)} / {list(msg.pitch)}", step=msg.step, stamp=msg.header.stamp)
             return
-        self.loads, self.loads_received = msg, time.monotonic()
+        if self.loads is None or msg.step != self.loads.step:  # a resent step keeps its first arrival time
+            self.loads_received = time.monotonic()
+        self.loads = msg
         for switch in self.switches.due(msg.step):
             try:
                 for n in {n for _, n in switch.activate if n > 0}:
@@ -129,7 +169,7 @@ class MbcNode(Node):
             except ValueError as error:
                 self.events(ControlEvent.ERROR, "switch", f"switch of step {switch.step} not followed: {error}",
                             step=msg.step, stamp=msg.header.stamp)
-        self._follow_windows(msg.step)
+        complete = self._follow_windows(msg.step)
         collective_pitch = float(np.mean(msg.pitch))
         for n, publisher in self.forward.items():
             components = mbc_forward(oop, msg.azimuth, n)
@@ -138,11 +178,17 @@ class MbcNode(Node):
                                 collective_pitch=collective_pitch)
             out.header = msg.header
             publisher.publish(out)
+        if complete is not None:
+            self._command(complete["collective"])
         self._input("loads", msg)
 
     def _input(self, name: str, msg) -> None:
         if name.startswith("h"):
             self.demands[msg.harmonic] = msg
+            if msg.harmonic in self.lost:
+                del self.lost[msg.harmonic]
+                self.events(ControlEvent.INFO, "ipc_returned", f"control/ipc/h{msg.harmonic} answers again from "
+                            f"step {msg.step}", step=msg.step)
         if self.answer.handled(msg.step) or self.loads is None:
             return
         inputs = self.join.add(name, msg.step, msg)
@@ -156,12 +202,19 @@ class MbcNode(Node):
             azimuth += loads.rotor_speed * (time.monotonic() - self.loads_received + self.values["latency"])
         individual = np.zeros(self.blades)
         for n in self.windows.publishing(collective.step):
-            demand = self.demands.get(n)
-            if demand is None or collective.step - demand.step > self.values["stale_steps"] \
-                    or not (math.isfinite(demand.cos) and math.isfinite(demand.sin)):
+            demand, fade = self.demands.get(n), 1.0
+            if n not in self.lost and not self.lockstep and demand is not None \
+                    and collective.step - demand.step > self.values["stale_steps"]:
+                self._lose(n, collective.step, f"no demand for {collective.step - demand.step} steps")
+            if n in self.lost:
+                demand, since = self.lost[n]
+                fade = max(0.0, 1.0 - (collective.step - since) * self.values["dt"] / self.values["fade_time"]) \
+                    if self.values["fade_time"] > 0 else 0.0
+                flags |= PitchCommand.FLAG_STALE_IPC
+            if demand is None or not (math.isfinite(demand.cos) and math.isfinite(demand.sin)):
                 flags |= PitchCommand.FLAG_STALE_IPC
                 continue
-            individual += mbc_inverse(demand.cos, demand.sin, azimuth, n, self.blades, demand.phase_offset)
+            individual += fade * mbc_inverse(demand.cos, demand.sin, azimuth, n, self.blades, demand.phase_offset)
         if not (math.isfinite(collective.pitch) and math.isfinite(collective.generator_torque)):
             self.events(ControlEvent.ERROR, "invalid_input",
                         f"control/collective step {collective.step}: pitch {collective.pitch}, torque "

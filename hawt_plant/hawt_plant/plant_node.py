@@ -76,7 +76,7 @@ PARAMETERS = (
                   "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
                   read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
-    ParameterSpec("command_timeout", 1.0, "wall time without an applied command (lockstep: the current step "
+    ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
                   "unanswered, resends included; must exceed resend_period) after which the safety system trips "
                   "and feathers", "s", minimum=0.01, maximum=600.0, read_only=True),
     ParameterSpec("startup_timeout", 30.0, "wall time the first command may take once the plant has started "

@@ -38,9 +38,13 @@ class StepJoin:
         self.inputs: Dict[str, Any] = {}
         self._fired = False
 
-    def set_required(self, required: Iterable[str]) -> None:
-        """Change the inputs a step needs (takes effect for the step being collected)."""
+    def set_required(self, required: Iterable[str]) -> Optional[Dict[str, Any]]:
+        """Change the inputs a step needs; the step's inputs if that completes it (once, as ``add``)."""
         self.required = frozenset(required)
+        if self.step is not None and not self._fired and self.required <= self.inputs.keys():
+            self._fired = True
+            return dict(self.inputs)
+        return None
 
     def add(self, name: str, step: int, message: Any) -> Optional[Dict[str, Any]]:
         """Add one input; the inputs of ``step`` when it is complete for the first time, else None."""

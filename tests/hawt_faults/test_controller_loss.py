@@ -34,7 +34,7 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     (watchdog,) = recording.events_of("watchdog")
     assert watchdog["level"] == ControlEvent.ERROR
     assert watchdog["source"] == f"/{namespace}/plant"
-    assert "control/pitch_command" in watchdog["detail"] and "command_timeout 1 s" in watchdog["detail"]
+    assert "control/pitch_command" in watchdog["detail"] and "command_timeout 3 s" in watchdog["detail"]
     (returned,) = recording.events_of("command_returned")
     assert returned["level"] == ControlEvent.WARN and returned["step"] >= watchdog["step"]
     assert "the trip is latched" in returned["detail"]

@@ -1,0 +1,81 @@
+"""An IPC process killed mid-run: its contribution fades out, the loop goes on, and it comes back when respawned.
+
+A lockstep graph (plant, cpc, mbc, ipc_h1, ipc_h2 with ``respawn``) is recorded; ipc_h2's
+process is killed with SIGKILL once the plant has passed t = 5 s.
+"""
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from hawt_bag.run_analysis import analyze_bag
+
+pytestmark = pytest.mark.ros
+
+GRAPH = """\
+launch:
+- node: {pkg: hawt_plant, exec: plant, name: plant, namespace: lost, on_exit: shutdown,
+         param: [{name: duration, value: 20.0}, {name: report_period, value: 1.0}]}
+- node: {pkg: hawt_controllers, exec: cpc, name: cpc, namespace: lost}
+- node: {pkg: hawt_controllers, exec: mbc, name: mbc, namespace: lost, param: [{name: ipc_harmonics, value: [1, 2]}]}
+- node: {pkg: hawt_controllers, exec: ipc, name: ipc_h1, namespace: lost,
+         param: [{from: $(find-pkg-share hawt_controllers)/config/ipc_nrel5mw.yaml}]}
+- node: {pkg: hawt_controllers, exec: ipc, name: ipc_h2, namespace: lost, respawn: true, respawn_delay: 1.0,
+         param: [{from: $(find-pkg-share hawt_controllers)/config/ipc_nrel5mw.yaml}]}
+"""
+
+
+def _pid_of(launcher: int, node_name: str) -> int:
+    found = subprocess.run(["pgrep", "-P", str(launcher), "-f", f"__node:={node_name}( |$)"],
+                           capture_output=True, text=True).stdout.split()
+    assert len(found) == 1, found
+    return int(found[0])
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("ipc_lost")
+    graph, bag = folder / "graph.yaml", folder / "run.mcap"
+    graph.write_text(GRAPH)
+    launch = subprocess.Popen([sys.executable, "-m", "hawt_tools.cli", "launch", str(graph), "--record", str(bag),
+                               "-p", "plant.wait_for_subscribers:=3"],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    output = []
+    for line in launch.stdout:
+        output.append(line)
+        if "t=5.0 s" in line:
+            os.kill(_pid_of(launch.pid, "ipc_h2"), signal.SIGKILL)
+            break
+    output += launch.stdout.readlines()
+    assert launch.wait(timeout=300) == 0 or "finished" in "".join(output), "".join(output[-40:])
+    return analyze_bag(bag)
+
+
+def test_the_run_completes_with_every_step(run):
+    """The plant reaches its 20 s although one IPC process died."""
+    assert run.summary["bag"]["last_step"] == 1999
+
+
+def test_the_lost_controller_is_reported_and_its_return_too(run):
+    """control/events holds ipc_lost for h2 and, after the respawn, ipc_returned."""
+    steps = {kind: [e["step"] for e in run.run.events if e["kind"] == kind and e["detail"].startswith("control/ipc/h2")]
+             for kind in ("ipc_lost", "ipc_returned")}
+    assert steps["ipc_lost"] and steps["ipc_returned"] and steps["ipc_returned"][0] > steps["ipc_lost"][0]
+
+
+def test_every_command_stays_finite_within_limits_and_rate(run):
+    """No NaN, pitch within 0..90 deg, no step faster than 8 deg/s, through the loss and the return."""
+    pitch = np.asarray(run.run.pitch_command["pitch"])
+    assert np.all(np.isfinite(pitch)) and pitch.min() >= 0.0 and pitch.max() <= math.radians(90.0)
+    assert (np.abs(np.diff(pitch, axis=0)) / 0.01).max() <= math.radians(8.0) * (1 + 1e-9)
+
+
+def test_the_commands_are_flagged_while_the_contribution_fades(run):
+    """FLAG_STALE_IPC marks the steps the lost controller's demand was faded in."""
+    flags = np.asarray(run.run.pitch_command["flags"]).astype(int)
+    assert np.count_nonzero(flags & 8) > 0
