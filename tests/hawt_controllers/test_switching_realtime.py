@@ -1,0 +1,104 @@
+"""Switching from a shell while a realtime graph runs and records: hawt switch, hawt list, the bag.
+
+The switching graph runs 60 s in realtime with --record; once the plant is stepping the test drives
+it as a user would:
+CPC -> +IPC-1P -> +IPC-2P -> swap IPC-1P for the retuned one -> all IPC off, plus one refused switch.
+"""
+import math
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from hawt_bag.run_analysis import analyze_bag
+from hawt_tools.controller_client import switch_controllers
+
+pytestmark = pytest.mark.ros
+
+CLI = [sys.executable, "-m", "hawt_tools.cli"]
+SWITCHES = ((["ipc_h1"], [], -1.0), (["ipc_h2"], [], -1.0), (["ipc_h1_retuned"], ["ipc_h1"], -1.0),
+            ([], ["ipc_h1_retuned", "ipc_h2"], 1.0))
+
+
+def _hawt(*arguments):
+    return subprocess.run([*CLI, *arguments], capture_output=True, text=True, timeout=60)
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory):
+    bag = tmp_path_factory.mktemp("realtime_switching") / "run.mcap"
+    graph = subprocess.Popen([*CLI, "launch", "switching", "--mode", "realtime", "namespace:=rts", "duration:=60",
+                              "-p", "plant.report_period:=1", "--record", str(bag)],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines = []
+    reader = threading.Thread(target=lambda: lines.extend(graph.stdout), daemon=True)
+    reader.start()
+    answers, refused, listing = [], None, None
+    try:
+        deadline = time.monotonic() + 120.0
+        while not any("t=1.0 s" in line for line in list(lines)) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        for number, (activate, deactivate, ramp) in enumerate(SWITCHES):
+            answers.append(switch_controllers(activate, deactivate, ramp_time=ramp, namespace="rts", timeout=30.0))
+            if number == 0:
+                refused = _hawt("switch", "--activate", "ipc_h1_retuned")
+            if number == 2:
+                listing = _hawt("list")
+            time.sleep(3.0)
+        graph.wait(timeout=180)
+        reader.join(timeout=10)
+    finally:
+        if graph.poll() is None:
+            graph.kill()
+    assert graph.returncode == 0, "".join(lines[-40:])
+    return answers, refused, listing, analyze_bag(bag)
+
+
+def test_each_switch_is_answered_with_the_step_it_takes_effect_at(session):
+    """controller_manager/switch_controllers answers ok with the effective step; the steps increase."""
+    answers = session[0]
+    assert all(a.ok and a.message.startswith(f"at step {a.effective_step}:") for a in answers), answers
+    steps = [a.effective_step for a in answers]
+    assert steps == sorted(steps) and len(set(steps)) == 4
+
+
+def test_a_second_controller_for_one_harmonic_is_refused_with_the_reason(session):
+    """hawt switch activating ipc_h1_retuned while ipc_h1 is active: exit 2, and the message says how to swap."""
+    refused = session[1]
+    assert refused.returncode == 2 and "deactivate it in the same switch to swap them" in refused.stderr
+
+
+def test_hawt_list_shows_each_controllers_state(session):
+    """After the swap: ipc_h1 inactive, ipc_h1_retuned and ipc_h2 active, cpc active."""
+    lines = {line.split()[0]: line.split()[1] for line in session[2].stdout.splitlines()
+             if line.strip().startswith("/rts/") and len(line.split()) >= 3}
+    assert lines == {"/rts/cpc": "active", "/rts/ipc_h1": "inactive", "/rts/ipc_h1_retuned": "active",
+                     "/rts/ipc_h2": "active"}
+
+
+def test_the_bag_holds_each_switch_at_its_step_and_no_pitch_step_beyond_the_rate_limit(session):
+    """Every controller's switch event is at the step the manager announced; the command never exceeds 8 deg/s."""
+    answers, analysis = session[0], session[3]
+    announced = {a.effective_step for a in answers}
+    recorded = {e["step"] for e in analysis.run.events if e["kind"] == "switch"
+                and not e["source"].endswith("controller_manager")}
+    assert recorded == announced
+    pitch = np.asarray(analysis.run.pitch_command["pitch"])
+    steps = np.asarray(analysis.run.pitch_command["step"]).astype(np.int64)
+    rates = np.abs(np.diff(pitch, axis=0)) / (0.01 * np.diff(steps)[:, None])
+    assert rates.max() <= math.radians(8.0) * (1 + 1e-9)
+
+
+def test_hawt_analyze_shows_the_load_change_after_each_switch(session):
+    """Five segments between the switches; M_oop 1P is lower with IPC-1P on than under CPC alone."""
+    segments = session[3].summary["segments"]
+    assert len(segments) == 5
+
+    def oop_1p(segment):
+        return np.mean([dict(zip(h["n"], h["amplitude"]))[1] for name, h in segment["harmonics"].items()
+                        if name.startswith("root_moment_oop")])
+
+    assert oop_1p(segments[2]) < 0.5 * oop_1p(segments[0])
