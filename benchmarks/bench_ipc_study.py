@@ -349,7 +349,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 1
     table = aggregate(figures, args.seeds)
     study = {
-        "command": "./hawt bench ipc_study " + " ".join(sys.argv[1:] if argv is None else argv),
+        "command": " ".join(["./hawt bench ipc_study", *(sys.argv[1:] if argv is None else argv)]),
         "wind": WIND, "turbulence_class": "B", "duration_s": args.duration, "seeds": args.seeds,
         "configurations": [{"name": c.name, "label": c.label, "graph": c.graph, "arguments": c.arguments}
                            for c in CONFIGURATIONS],
