@@ -31,7 +31,7 @@ __all__ = ["ControllerManagerNode", "PARAMETERS", "main"]
 PARAMETERS = (
     ParameterSpec("ramp_time", 2.0, "default time over which an outgoing IPC contribution ramps out and an "
                   "incoming one ramps in", "s", minimum=0.0, maximum=600.0),
-    ParameterSpec("lead_steps", 20, "an as-soon-as-possible switch takes effect this many steps after the newest "
+    ParameterSpec("lead_steps", 50, "an as-soon-as-possible switch takes effect this many steps after the newest "
                   "plant step seen", minimum=1, maximum=100000),
     ParameterSpec("schedule", [""], "switches given in steps, each 'STEP +NAME -NAME ...' (+ activates, - "
                   "deactivates), applied with STRICT checks and ramp_time; [''] = none", read_only=True),

@@ -70,7 +70,7 @@ def snapshot(settle: float = 1.0, timeout: float = 5.0) -> GraphSnapshot:
                 for name, types in sorted(node.get_topic_names_and_types())
                 if name not in ("/parameter_events", "/rosout"))
             controllers = []
-            for manager in find_managers(node, timeout=0.0):
+            for manager in find_managers(node, timeout=1.0 if any(n.endswith('/controller_manager') for n in names) else 0.0):
                 try:
                     controllers.append((manager + "/", list_controllers(node, manager)))
                 except ControllerManagerError:

@@ -16,7 +16,7 @@ CONTROL_LOOP = QoSProfile(
 #: Depth is not part of QoS matching, so controllers still read with CONTROL_LOOP (latest only).
 CONTROL_LOOP_HISTORY = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
-    depth=200,
+    depth=2000,
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )

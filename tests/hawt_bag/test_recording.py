@@ -48,7 +48,8 @@ def _fields(message, kind) -> dict:
         if type_name == "std_msgs/Header":
             values.update(sec=int(value.stamp.sec), nanosec=int(value.stamp.nanosec), frame_id=str(value.frame_id))
         elif type_name.startswith("sequence"):
-            values[name] = [float(v) for v in value]
+            element = type_name[len("sequence<"):-1]
+            values[name] = [{"double": float, "string": str}.get(element, int)(v) for v in value]
         else:
             values[name] = {"double": float, "string": str}.get(type_name, int)(value)
     return values
