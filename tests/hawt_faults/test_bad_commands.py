@@ -20,6 +20,7 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
     injector = probe(namespace)
     run = launch("baseline", namespace, "mode:=realtime", "duration:=9")
     injector.wait_for_answer(100, run.launcher)
+    injector.wait_for_step(100, run.launcher)  # the injected commands are numbered from the plant's step
     step = injector.plant_step
     for command, reason in ((lambda k: PitchCommand(step=k, pitch=[math.nan, 0.26, 0.26], generator_torque=4e4),
                              "not finite"),
