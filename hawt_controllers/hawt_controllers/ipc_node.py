@@ -103,7 +103,7 @@ class IpcNode(LifecycleNode):
         self.answer = StepAnswer(
             self.create_publisher(HarmonicPitch, ipc_topic(self.harmonic), CONTROL_LOOP_HISTORY).publish)
         self.create_subscription(HarmonicLoads, mbc_topic(self.harmonic), self._on_loads, CONTROL_LOOP)
-        self.create_subscription(HarmonicPitch, ipc_topic(self.harmonic), self._follow, CONTROL_LOOP)
+        self.following = None
         self.switches = SwitchListener(self, "ipc", self.harmonic)
         self.add_on_set_parameters_callback(self._check_parameters)
         self.add_post_set_parameters_callback(self._store_parameters)
@@ -111,6 +111,7 @@ class IpcNode(LifecycleNode):
         if self.values["active"] and self.harmonic in self.values["ipc_harmonics"]:
             self._switch_to(True, step=0)
         else:
+            self._follow_others(True)
             self.switches.announce(ControllerState.INACTIVE, 0)
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
@@ -142,6 +143,7 @@ class IpcNode(LifecycleNode):
                 self.trigger_deactivate()
         finally:
             self.transition = None
+        self._follow_others(not active)
         self.switches.announce(ControllerState.ACTIVE if active else ControllerState.INACTIVE, step)
 
     def _apply_switch(self, switch: Switch, loads: HarmonicLoads) -> None:
@@ -164,6 +166,15 @@ class IpcNode(LifecycleNode):
         self.events(ControlEvent.WARN if late else ControlEvent.INFO, "switch",
                     f"{'activated' if self.publish_until == math.inf else 'deactivated'} at step {step}, "
                     f"{how}{late}", step=step, stamp=stamp)
+
+    def _follow_others(self, follow: bool) -> None:
+        """Listen to control/ipc/h{n} only while inactive (an active node would hear itself every step)."""
+        if follow and self.following is None:
+            self.following = self.create_subscription(HarmonicPitch, ipc_topic(self.harmonic), self._follow,
+                                                      CONTROL_LOOP)
+        elif not follow and self.following is not None:
+            self.destroy_subscription(self.following)
+            self.following = None
 
     def _follow(self, msg: HarmonicPitch) -> None:
         """Remember another controller's demand (a step this node is silent at): the start of a bumpless takeover."""
