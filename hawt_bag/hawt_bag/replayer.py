@@ -281,6 +281,11 @@ def _step_groups(reader: BagReader, topics: list[str], start: int) -> list[list[
     return groups
 
 
+_RESEND_PERIOD = 0.5
+"""Step replay: an unanswered step is sent again after this many seconds, as the lockstep plant does (a
+message that reached a node before its executor watched the subscription is taken with the next one)."""
+
+
 def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResult) -> None:
     control = player.control
     for group in groups:
@@ -290,13 +295,18 @@ def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResul
             player.outputs[message.topic].publish(message.data)
             result.published += 1
         deadline = time.monotonic() + options.step_timeout
+        resend = time.monotonic() + _RESEND_PERIOD
         with control.condition:
             while step not in control.trigger_steps and not control.stop:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
+                now = time.monotonic()
+                if now >= deadline:
                     raise RuntimeError(f"step {step}: no message with that step on {options.step_trigger} "
                                        f"within {options.step_timeout:g} s")
-                control.condition.wait(remaining)
+                if now >= resend:
+                    for _, message in group:
+                        player.outputs[message.topic].publish(message.data)
+                    resend = now + _RESEND_PERIOD
+                control.condition.wait(min(deadline, resend) - now)
             control.trigger_steps.discard(step)
         if control.stop:
             return
