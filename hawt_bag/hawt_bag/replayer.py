@@ -286,14 +286,19 @@ _RESEND_PERIOD = 0.5
 message that reached a node before its executor watched the subscription is taken with the next one)."""
 
 
+def _send(player: Player, group) -> None:
+    """Publish one step's recorded messages."""
+    for _, message in group:
+        player.outputs[message.topic].publish(message.data)
+
+
 def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResult) -> None:
     control = player.control
     for group in groups:
         step = group[0][0]
         player.publish_clock(group[0][1].publish_time)
-        for _, message in group:
-            player.outputs[message.topic].publish(message.data)
-            result.published += 1
+        _send(player, group)
+        result.published += len(group)
         deadline = time.monotonic() + options.step_timeout
         resend = time.monotonic() + _RESEND_PERIOD
         with control.condition:
@@ -303,8 +308,7 @@ def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResul
                     raise RuntimeError(f"step {step}: no message with that step on {options.step_trigger} "
                                        f"within {options.step_timeout:g} s")
                 if now >= resend:
-                    for _, message in group:
-                        player.outputs[message.topic].publish(message.data)
+                    _send(player, group)
                     resend = now + _RESEND_PERIOD
                 control.condition.wait(min(deadline, resend) - now)
             control.trigger_steps.discard(step)

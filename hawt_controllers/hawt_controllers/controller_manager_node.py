@@ -57,8 +57,7 @@ class ControllerManagerNode(Node):
         self.create_subscription(BladeLoads, BLADE_LOADS, self._on_loads, CONTROL_LOOP)
         self.create_service(SwitchControllers, SWITCH_CONTROLLERS, self._on_switch)
         self.create_service(ListControllers, LIST_CONTROLLERS, self._on_list)
-        if self.schedule:
-            self.create_timer(0.05, self._run_schedule)
+        self.schedule_timer = self.create_timer(0.05, self._run_schedule) if self.schedule else None
 
     def _on_state(self, msg: ControllerState) -> None:
         """A controller's own report; it is what switches are planned on unless a switch of it is still ahead."""
@@ -135,6 +134,7 @@ class ControllerManagerNode(Node):
         except SwitchRefused as refusal:
             self.events(ControlEvent.ERROR, "switch_refused", f"schedule: {refusal}", step=max(self.newest_step, 0))
             self.schedule = []
+        self.schedule_timer.cancel()
 
     def _on_list(self, request: ListControllers.Request, response: ListControllers.Response):
         for name in sorted(self.reported):

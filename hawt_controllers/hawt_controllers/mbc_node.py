@@ -118,8 +118,9 @@ class MbcNode(Node):
         self.events(ControlEvent.INFO, "parameter_change",
                     ", ".join(f"{p.name}={p.value}" for p in changes), step=self.join.step or 0)
 
-    def _follow_windows(self, step: int) -> None:
-        """Subscribe to every harmonic a controller may publish; require those publishing at ``step``."""
+    def _follow_windows(self, step: int):
+        """Subscribe to every harmonic a controller may publish; require those publishing at ``step`` and not
+        lost. Returns the step's inputs if that change completes them (StepJoin.set_required), else None."""
         for n in self.windows.harmonics():
             if n not in self.ipc_subscriptions:
                 self.ipc_subscriptions[n] = self.create_subscription(
@@ -137,9 +138,11 @@ class MbcNode(Node):
     def _watch_inputs(self) -> None:
         """Lockstep: give up on IPC demands of the pending step after input_timeout."""
         inputs = self.join.inputs
-        if self.loads is None or self.join.step != self.loads.step or "collective" not in inputs \
-                or self.answer.last is not None and self.answer.last.step >= self.loads.step \
-                or time.monotonic() - self.loads_received < self.values["input_timeout"]:
+        if self.loads is None or self.join.step != self.loads.step or "collective" not in inputs:
+            return  # no step pending, or its collective is missing (never skipped: the plant's safety system acts)
+        if self.answer.last is not None and self.answer.last.step >= self.loads.step:
+            return
+        if time.monotonic() - self.loads_received < self.values["input_timeout"]:
             return
         missing = [n for n in self.windows.publishing(self.loads.step)
                    if f"h{n}" not in inputs and n not in self.lost]

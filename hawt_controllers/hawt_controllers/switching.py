@@ -20,7 +20,7 @@ the mbc node waits for (:class:`HarmonicWindows`):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Dict, Iterable, List, Mapping, Sequence, Tuple
 
 __all__ = [
@@ -213,8 +213,8 @@ class ScheduledSwitch:
     """One entry of a switch schedule: at ``step``, activate and deactivate these names."""
 
     step: int
-    activate: Tuple[str, ...] = field(default_factory=tuple)
-    deactivate: Tuple[str, ...] = field(default_factory=tuple)
+    activate: Tuple[str, ...] = ()
+    deactivate: Tuple[str, ...] = ()
 
 
 def parse_schedule(entries: Sequence[str]) -> List[ScheduledSwitch]:

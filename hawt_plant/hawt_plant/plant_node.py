@@ -183,7 +183,8 @@ class PlantNode(Node):
         """Wall time per step of the lockstep run so far (dt before the first answer): the pace after a trip.
 
         The plant then no longer waits for commands, but stepping faster than the graph ran
-        would outrun the readers that kept up with it (a recorder keeps the last 200 samples).
+        would outrun the readers that kept up with it (a recorder's backlog is bounded by the
+        publishers' history, hawt_tools.qos.CONTROL_LOOP_HISTORY).
         """
         if self.step_index == 0:
             return self.values["dt"]
