@@ -69,10 +69,10 @@ PARAMETERS = (
                   maximum=2 * math.pi, read_only=True),
     ParameterSpec("resend_period", 0.5, "lockstep: wall time after which an unanswered step is sent again", "s",
                   minimum=0.01, maximum=60.0),
-    ParameterSpec("wait_for_subscribers", 0, "lockstep: send step 0 only once plant/blade_loads has this many "
+    ParameterSpec("wait_for_subscribers", 0, "send the first step only once plant/blade_loads has this many "
                   "subscribers (a recorder or test that must see every step)", minimum=0, maximum=1000,
                   read_only=True),
-    ParameterSpec("wait_for_recorder", False, "lockstep: send step 0 only once the node hawt_recorder subscribes "
+    ParameterSpec("wait_for_recorder", False, "send the first step only once the node hawt_recorder subscribes "
                   "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
                   read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
@@ -141,8 +141,7 @@ class PlantNode(Node):
         if self.lockstep:
             self.create_timer(min(v["resend_period"], 0.05), self._resend)
         else:
-            self.safety.start(self.created)
-            self.create_timer(v["dt"], self._tick)
+            self._start_timer = self.create_timer(0.05, self._start_realtime)
 
     def _publish(self, out: TurbineOutput) -> None:
         stamp = _stamp(out.time)
@@ -166,18 +165,32 @@ class PlantNode(Node):
         if self.done.done() or self.safety.tripped:
             return
         if self.step_index == 0 and not self.started:
-            if self.loads_publisher.get_subscription_count() < self.values["wait_for_subscribers"]:
-                return
-            if self.values["wait_for_recorder"] and not self._recorder_ready():
-                return
-            self.started = True
-            self.wall_start = time.monotonic()
-            self.safety.start(self.wall_start)
-            self._publish(self.output)
+            if self._ready_to_start():
+                self._begin()
+                self._publish(self.output)
         elif self._watch():
             self.create_timer(self._pace(), self._tick)
         elif time.monotonic() - self.sent_at >= self.values["resend_period"]:
             self._publish(self.output)
+
+    def _start_realtime(self) -> None:
+        """Start stepping in real time once the awaited subscribers and recorder are there."""
+        if self._ready_to_start():
+            self._start_timer.cancel()
+            self._begin()
+            self.create_timer(self.values["dt"], self._tick)
+
+    def _ready_to_start(self) -> bool:
+        """True once plant/blade_loads has wait_for_subscribers subscribers and, if awaited, the recorder is ready."""
+        if self.loads_publisher.get_subscription_count() < self.values["wait_for_subscribers"]:
+            return False
+        return not self.values["wait_for_recorder"] or self._recorder_ready()
+
+    def _begin(self) -> None:
+        """The run's wall clock and the safety system's startup allowance start now."""
+        self.started = True
+        self.wall_start = time.monotonic()
+        self.safety.start(self.wall_start)
 
     def _pace(self) -> float:
         """Wall time per step of the lockstep run so far (dt before the first answer): the pace after a trip.

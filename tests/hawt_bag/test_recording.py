@@ -105,7 +105,8 @@ def test_sigkill_loses_at_most_the_open_chunk_and_sigterm_finishes_the_bag(proce
     for path in recorders:
         wait_for_file(path, recorders[path])
     source = processes.hawt("launch", str(graph))
-    probe.wait_subscribed("/t/loads", "rec_kill")
+    for name in ("rec_kill", "rec_term"):
+        probe.wait_subscribed("/t/loads", name)
     time.sleep(2.5)
     processes.stop(recorders[killed], signal.SIGKILL)
     code, _, err = processes.stop(recorders[terminated], signal.SIGTERM)

@@ -59,6 +59,7 @@ class Probe:
     """
 
     def __init__(self, namespace: str, harmonics: Iterable[int] = ()) -> None:
+        self.namespace = namespace
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
         self.node = Node("fault_probe", context=self.context)
@@ -103,6 +104,20 @@ class Probe:
     def wait_for_answer(self, step: int, launcher: subprocess.Popen, topic: str = "control/collective") -> None:
         """Spin until ``topic`` has answered plant step ``step`` or a later one."""
         self.wait_until(lambda: self.steps[topic] >= step, launcher, f"answer of step {step} on {topic}")
+
+    def wait_until_recorded(self, launcher: subprocess.Popen, margin: int = 50) -> None:
+        """Spin until the recorder subscribes to the followed, command and event topics; then ``margin`` steps more.
+
+        In realtime the plant does not wait for controllers that start after it, so the
+        recorder may discover a controller's topic while the loop already runs.
+        """
+        def recorded(topic: str) -> bool:
+            return any(info.node_name == "hawt_recorder"
+                       for info in self.node.get_subscriptions_info_by_topic(f"/{self.namespace}/{topic}"))
+        self.wait_until(lambda: all(recorded(topic) for topic in (*self.steps, "control/pitch_command", "control/events")),
+                        launcher, "the recorder's subscriptions")
+        for topic, step in dict(self.steps).items():
+            self.wait_until(lambda: self.steps[topic] >= step + margin, launcher, f"{margin} answers more on {topic}")
 
     def wait_for_event(self, kind: str, launcher: subprocess.Popen) -> None:
         """Spin until an event of ``kind`` has arrived."""

@@ -19,7 +19,7 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
     namespace = "bad_commands"
     injector = probe(namespace)
     run = launch("baseline", namespace, "mode:=realtime", "duration:=12")
-    injector.wait_for_answer(300, run.launcher)  # realtime: the recorder discovers the topics while the plant runs
+    injector.wait_until_recorded(run.launcher)
     injector.wait_for_step(300, run.launcher)  # the injected commands are numbered from the plant's step
     step = injector.plant_step
     for command, reason in ((lambda k: PitchCommand(step=k, pitch=[math.nan, 0.26, 0.26], generator_torque=4e4),

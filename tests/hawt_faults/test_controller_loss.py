@@ -24,7 +24,7 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     watcher = probe(namespace)
     run = launch(str(graph_outliving(tmp_path, "baseline", "cpc")), namespace, f"mode:={mode}",
                  f"duration:={FEATHER_DURATION}")
-    watcher.wait_for_answer(300, run.launcher)  # realtime: the recorder discovers the topics while the plant runs
+    watcher.wait_until_recorded(run.launcher)
     run.kill("cpc")
     watcher.wait_for_event("watchdog", run.launcher)
     watcher.publish_until(lambda step: PitchCommand(step=step, pitch=[0.0] * 3, generator_torque=4e4),

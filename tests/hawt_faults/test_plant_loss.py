@@ -20,6 +20,7 @@ def test_cpc_and_ipc_publish_nothing_after_the_plant_dies_so_nothing_winds_up(la
     run = launch(str(graph_outliving(tmp_path, "ipc", "plant")), namespace, "mode:=realtime", "duration:=60")
     for topic in CONTROLLER_TOPICS:
         watcher.wait_for_answer(200, run.launcher, topic)
+    watcher.wait_until_recorded(run.launcher)
     run.kill("plant")
     watcher.spin(0.5)
     at_loss = dict(watcher.steps)
