@@ -192,6 +192,8 @@ class MbcNode(Node):
                 del self.lost[msg.harmonic]
                 self.events(ControlEvent.INFO, "ipc_returned", f"control/ipc/h{msg.harmonic} answers again from "
                             f"step {msg.step}", step=msg.step)
+            if not self.lockstep:
+                return  # realtime: a demand waits for the next collective (no repeated command per demand)
         if self.answer.handled(msg.step) or self.loads is None:
             return
         inputs = self.join.add(name, msg.step, msg)

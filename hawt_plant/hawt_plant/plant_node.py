@@ -26,7 +26,6 @@ from typing import List, Optional
 import numpy as np
 from builtin_interfaces.msg import Time
 from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, TurbineState
-from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
@@ -86,10 +85,6 @@ PARAMETERS = (
                   "per burst; a burst ends after this long without one", "s", minimum=0.0, maximum=600.0,
                   read_only=True),
 )
-
-_ACK_TIMEOUT = 2.0
-"""Longest wait [s] at the end of the run for the readers' acknowledgements of everything published."""
-
 
 def _stamp(seconds: float) -> Time:
     nanoseconds = int(round(seconds * 1e9))
@@ -309,11 +304,6 @@ class PlantNode(Node):
                         f"{np.percentile(latency, 99):.2f} ms, max {latency.max():.2f} ms; late steps "
                         f"{self.late_steps}")
         self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
-        # The process exits once done: the last steps and this event must reach every reliable reader first
-        # (a reader that died never acknowledges, hence one deadline for all).
-        deadline = time.monotonic() + _ACK_TIMEOUT
-        for publisher in self.publishers:
-            publisher.wait_for_all_acked(Duration(seconds=max(0.0, deadline - time.monotonic())))
         self.done.set_result(True)
 
 

@@ -17,14 +17,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Sequence, TextIO, Tuple
 
-import rclpy
 import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
 
-from rclpy.executors import ExternalShutdownException
+from rclpy.task import Future
 
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
-from hawt_tools.node_main import first_done, make_executor, spin_nodes
+from hawt_tools.node_main import first_done, run_nodes
 
 __all__ = [
     "LaunchFailure",
@@ -299,18 +298,11 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
     for spec in graph.nodes:
         executable_path(graph, spec)
     with tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
-        try:
-            with rclpy.init():
-                nodes = [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
-                         for spec, node_class in zip(graph.nodes, classes)]
-                executor = make_executor()
-                until = first_done([n for n, s in zip(nodes, graph.nodes) if s.shutdown_on_exit])
-                try:
-                    spin_nodes(executor, nodes, until, timeout=duration)
-                finally:
-                    executor.shutdown()
-                    for node in nodes:
-                        node.destroy_node()
-        except (KeyboardInterrupt, ExternalShutdownException):
-            pass
+        def make_nodes() -> list:
+            return [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
+                    for spec, node_class in zip(graph.nodes, classes)]
+
+        def ending(nodes) -> Optional[Future]:
+            return first_done([n for n, s in zip(nodes, graph.nodes) if s.shutdown_on_exit])
+        run_nodes(make_nodes, ending, timeout=duration)
     return 0

@@ -15,22 +15,35 @@ composed graph and capped the lockstep loop at 2x real time (``./hawt bench
 control_loop`` measures both). The EventsExecutor never returns from a wait without
 a timeout, neither for a completed future nor for SIGINT, so :func:`spin_nodes`
 waits in slices of ``WAKE_PERIOD``.
+
+Stopping (SIGINT, SIGTERM, or a node done) is not a crash: before the nodes are
+destroyed, every publisher waits (together at most ``FLUSH_TIMEOUT``) until its
+reliable readers have acknowledged what it sent, so the recorder of ``hawt launch
+--record`` gets the last steps. rclpy's own signal handler would shut the context
+down at once and make that impossible, so :func:`run_nodes` installs its own.
 """
+import signal
 import time
-from typing import Callable, List, Optional, Sequence
+from contextlib import contextmanager
+from typing import Callable, Iterator, List, Optional, Sequence
 
 import rclpy
-from rclpy.executors import Executor, ExternalShutdownException
+from rclpy.duration import Duration
+from rclpy.executors import Executor
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
-__all__ = ["run_node", "node_entry_point", "spin_nodes", "first_done", "make_executor", "WAKE_PERIOD"]
+__all__ = ["run_node", "run_nodes", "node_entry_point", "spin_nodes", "first_done", "make_executor",
+           "wait_for_acknowledgements", "WAKE_PERIOD", "FLUSH_TIMEOUT"]
 
 NodeFactory = Callable[..., Node]
 
 WAKE_PERIOD = 0.1
 """Longest wait [s] of one executor call: how late a done future or a Ctrl-C can be noticed."""
+FLUSH_TIMEOUT = 2.0
+"""Longest wait [s] at the end for the readers' acknowledgements (a reader that died never acknowledges)."""
 
 
 def make_executor() -> Executor:
@@ -40,7 +53,10 @@ def make_executor() -> Executor:
 
 def first_done(nodes: Sequence[Node]) -> Optional[Future]:
     """A future that completes when the first of the nodes' ``done`` futures does (None if no node has one)."""
-    futures = [node.done for node in nodes if isinstance(getattr(node, "done", None), Future)]
+    return _first_of([node.done for node in nodes if isinstance(getattr(node, "done", None), Future)])
+
+
+def _first_of(futures: Sequence[Future]) -> Optional[Future]:
     if not futures:
         return None
     any_done = Future()
@@ -63,23 +79,53 @@ def spin_nodes(executor, nodes: Sequence[Node], until: Optional[Future] = None,
         executor.spin_until_future_complete(until, timeout_sec=remaining)
 
 
-def run_node(node_class: NodeFactory, args: Optional[List[str]] = None) -> None:
-    """Run one node in this process until it is done, interrupted or shut down.
+def wait_for_acknowledgements(nodes: Sequence[Node], timeout: float = FLUSH_TIMEOUT) -> None:
+    """Wait until every publisher's reliable readers acknowledged all it sent, at most ``timeout`` s in all."""
+    deadline = time.monotonic() + timeout
+    for node in nodes:
+        for publisher in node.publishers:
+            publisher.wait_for_all_acked(Duration(seconds=max(0.0, deadline - time.monotonic())))
 
-    It uses the default context: rclpy's SIGINT handler wakes only the default
-    context's executors (a node on a context of its own would sleep through Ctrl-C).
-    """
+
+@contextmanager
+def _stop_on_signals() -> Iterator[Future]:
+    """A future completed by SIGINT or SIGTERM while the block runs (the previous handlers come back after)."""
+    stop = Future()
+
+    def request_stop(*_) -> None:
+        if not stop.done():
+            stop.set_result(True)
+
+    previous = {sig: signal.signal(sig, request_stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
-        with rclpy.init(args=args):
-            node = node_class()
-            executor = make_executor()
-            try:
-                spin_nodes(executor, [node], first_done([node]))
-            finally:
-                executor.shutdown()
+        yield stop
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequence[Node]], Optional[Future]],
+              args: Optional[List[str]] = None, timeout: Optional[float] = None) -> None:
+    """Create the nodes and spin them until ``ending(nodes)`` completes, a signal comes or ``timeout`` passes.
+
+    Then the published messages are flushed (:func:`wait_for_acknowledgements`) and the
+    nodes destroyed. The default context is used, with this module's signal handling.
+    """
+    with _stop_on_signals() as stop, rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO):
+        nodes = make_nodes()
+        executor = make_executor()
+        try:
+            spin_nodes(executor, nodes, _first_of([f for f in (stop, ending(nodes)) if f is not None]), timeout)
+            wait_for_acknowledgements(nodes)
+        finally:
+            executor.shutdown()
+            for node in nodes:
                 node.destroy_node()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+
+
+def run_node(node_class: NodeFactory, args: Optional[List[str]] = None) -> None:
+    """Run one node in this process until it is done or stopped by SIGINT/SIGTERM."""
+    run_nodes(lambda: [node_class()], first_done, args)
 
 
 def node_entry_point(node_class: NodeFactory) -> Callable[[Optional[List[str]]], None]:
