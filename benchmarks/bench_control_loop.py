@@ -14,7 +14,15 @@ plant's ``finished`` line:
 Targets of issue 4: distributed lockstep >= 10x real time; realtime p99 <= 3 ms, no late step.
 The machine's load average is printed: two cores are shared by every process of the graph.
 
+The floor under the lockstep figures is measured too (``--hops``): a ring of relay
+processes (hawt_tools' example ``relay`` node, rclpy on the EventsExecutor) passing one
+BladeLoads message around, each lap closed by this process. A lockstep step needs at
+least its critical path of hops (baseline: plant -> cpc -> mbc -> plant, 3; ipc: plant ->
+mbc -> ipc_hn -> mbc -> plant, 4), so 10 ms / (hops x time per hop) bounds its real-time
+factor with no computation at all.
+
 Usage: ./hawt bench control_loop [--duration S] [--realtime-duration S] [--graphs G ...] [--no-realtime]
+                                 [--hops N ...] [--laps N]
 """
 from __future__ import annotations
 
@@ -23,9 +31,18 @@ import os
 import re
 import subprocess
 import sys
+import time
+from pathlib import Path
 from typing import Dict, List, Optional
 
+import numpy as np
+import rclpy
+from ament_index_python.packages import get_package_prefix
 from domain_coordinator import domain_id
+from hawt_msgs.msg import BladeLoads
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+from hawt_tools.node_main import make_executor
 
 FINISHED = re.compile(r"finished (\d+) steps \(([\d.]+) s simulated\) in ([\d.]+) s wall"
                       r"(?:; loop latency p50 ([\d.]+) ms, p99 ([\d.]+) ms, max ([\d.]+) ms; late steps (\d+))?")
@@ -68,13 +85,70 @@ def realtime(graphs: List[str], duration: float) -> None:
               f"load {os.getloadavg()[0]:.1f}")
 
 
+def ring_lap_times(hops: int, laps: int) -> np.ndarray:
+    """Wall time [s] of each lap of one message around a ring of ``hops`` hops (``hops - 1`` relay processes)."""
+    relay = Path(get_package_prefix("hawt_tools")) / "lib" / "hawt_tools" / "relay"
+    qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+    with domain_id() as domain:
+        environment = {**os.environ, "ROS_DOMAIN_ID": str(domain)}
+        relays = [subprocess.Popen([str(relay), "--ros-args", "-r", f"__node:=relay{k}", "-r", f"in:=/ring/h{k - 1}",
+                                    "-r", f"out:=/ring/h{k}"], env=environment, stdout=subprocess.DEVNULL,
+                                   stderr=subprocess.DEVNULL) for k in range(1, hops)]
+        os.environ["ROS_DOMAIN_ID"] = str(domain)
+        try:
+            with rclpy.init():
+                node = rclpy.create_node("ring_bench")
+                publisher = node.create_publisher(BladeLoads, "/ring/h0", qos)
+                times: List[float] = []
+                message = BladeLoads(root_moment_oop=[1e6] * 3, root_moment_ip=[1e5] * 3, pitch=[0.1] * 3)
+
+                def lap(msg: BladeLoads) -> None:
+                    times.append(time.perf_counter())
+                    if len(times) <= laps:
+                        message.step = msg.step + 1
+                        publisher.publish(message)
+                node.create_subscription(BladeLoads, f"/ring/h{hops - 1}", lap, qos)
+                executor = make_executor()
+                executor.add_node(node)
+                deadline = time.monotonic() + 60.0
+                while not times and time.monotonic() < deadline:
+                    publisher.publish(message)  # until the ring is connected; the first lap back starts the timing
+                    executor.spin_once(timeout_sec=0.2)
+                while times and len(times) <= laps and time.monotonic() < deadline + 600.0:
+                    executor.spin_once(timeout_sec=0.1)
+                executor.shutdown()
+                node.destroy_node()
+        finally:
+            for process in relays:
+                process.terminate()
+                process.wait()
+    if len(times) <= laps:
+        raise RuntimeError(f"the {hops}-hop ring completed {max(0, len(times) - 1)} of {laps} laps")
+    return np.diff(times)
+
+
+def message_floor(hop_counts: List[int], laps: int) -> None:
+    print(f"message-passing floor: one BladeLoads around a ring of processes, {laps} laps")
+    for hops in hop_counts:
+        per_lap = ring_lap_times(hops, laps) * 1e3
+        mean = per_lap.mean()
+        print(f"  {hops} hops: lap p50 {np.percentile(per_lap, 50):.2f} ms, p99 {np.percentile(per_lap, 99):.2f} ms, "
+              f"mean {mean:.2f} ms = {mean / hops:.3f} ms per hop -> a {hops}-hop lockstep loop at 100 Hz runs "
+              f"at most {10.0 / mean:.1f}x real time  load {os.getloadavg()[0]:.1f}")
+
+
 def main(argv: Optional[List[str]] = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=60.0, help="lockstep: simulated seconds per run")
     parser.add_argument("--realtime-duration", type=float, default=300.0, help="realtime: seconds per run")
-    parser.add_argument("--graphs", nargs="+", default=["baseline", "ipc"], help="installed graphs to run")
+    parser.add_argument("--graphs", nargs="*", default=["baseline", "ipc"], help="installed graphs to run (none: skip)")
     parser.add_argument("--no-realtime", action="store_true", help="lockstep figures only")
+    parser.add_argument("--hops", nargs="*", type=int, default=[2, 3, 4],
+                        help="ring sizes of the message-passing floor (none: skip it)")
+    parser.add_argument("--laps", type=int, default=3000, help="laps per ring")
     args = parser.parse_args(argv)
+    if args.hops:
+        message_floor(args.hops, args.laps)
     lockstep(args.graphs, args.duration)
     if not args.no_realtime:
         realtime(args.graphs, args.realtime_duration)
