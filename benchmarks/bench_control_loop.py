@@ -7,9 +7,10 @@ plant's ``finished`` line:
 
 - lockstep, every node its own process, and ``--composed`` (one process, one executor):
   simulated time / wall time from step 0 to the last step;
-- realtime, every node its own process, for ``--realtime-duration`` simulated (= wall)
-  seconds: loop latency (measurement sent -> command of that step received) p50/p99/max and
-  the number of late steps (a command that arrived after the next tick).
+- realtime, separate processes and composed, for ``--realtime-duration`` simulated (= wall)
+  seconds, the nodes under SCHED_FIFO ``--priority`` (0: normal scheduling): loop latency
+  (measurement sent -> command of that step received) p50/p99/max and the number of late
+  steps (a command that arrived after the next tick).
 
 Targets of issue 4: distributed lockstep >= 10x real time; realtime p99 <= 3 ms, no late step.
 The machine's load average is printed: two cores are shared by every process of the graph.
@@ -22,7 +23,7 @@ mbc -> ipc_hn -> mbc -> plant, 4), so 10 ms / (hops x time per hop) bounds its r
 factor with no computation at all.
 
 Usage: ./hawt bench control_loop [--duration S] [--realtime-duration S] [--graphs G ...] [--no-realtime]
-                                 [--hops N ...] [--laps N]
+                                 [--hops N ...] [--laps N] [--priority N]
 """
 from __future__ import annotations
 
@@ -76,13 +77,15 @@ def lockstep(graphs: List[str], duration: float) -> None:
                   f"{figures['wall'] / figures['steps'] * 1e3:.2f} ms per step)  load {os.getloadavg()[0]:.1f}")
 
 
-def realtime(graphs: List[str], duration: float) -> None:
-    print(f"realtime, {duration:g} s at 100 Hz, every node its own process")
+def realtime(graphs: List[str], duration: float, priority: int) -> None:
+    scheduling = f"SCHED_FIFO priority {priority} (--priority)" if priority else "normal scheduling"
+    print(f"realtime, {duration:g} s at 100 Hz, nodes under {scheduling}")
     for graph in graphs:
-        figures = run_graph(graph, duration, ["--mode", "realtime"])
-        print(f"  {graph:<9} loop latency p50 {figures['p50']:.2f} ms, p99 {figures['p99']:.2f} ms, "
-              f"max {figures['max']:.2f} ms; late steps {figures['late']} of {figures['steps']}  "
-              f"load {os.getloadavg()[0]:.1f}")
+        for layout, options in (("processes", []), ("composed", ["--composed"])):
+            figures = run_graph(graph, duration, ["--mode", "realtime", "--priority", str(priority), *options])
+            print(f"  {graph:<9} {layout:<9} loop latency p50 {figures['p50']:.2f} ms, p99 {figures['p99']:.2f} ms, "
+                  f"max {figures['max']:.2f} ms; late steps {figures['late']} of {figures['steps']}  "
+                  f"load {os.getloadavg()[0]:.1f}")
 
 
 def ring_lap_times(hops: int, laps: int, period: float = 0.0) -> np.ndarray:
@@ -172,12 +175,14 @@ def main(argv: Optional[List[str]] = None) -> None:
     parser.add_argument("--hops", nargs="*", type=int, default=[2, 3, 4],
                         help="ring sizes of the message-passing floor (none: skip it)")
     parser.add_argument("--laps", type=int, default=3000, help="laps per ring")
+    parser.add_argument("--priority", type=int, default=50,
+                        help="realtime: SCHED_FIFO priority of the nodes (hawt launch --priority); 0: normal")
     args = parser.parse_args(argv)
     if args.hops:
         message_floor(args.hops, args.laps)
     lockstep(args.graphs, args.duration)
     if not args.no_realtime:
-        realtime(args.graphs, args.realtime_duration)
+        realtime(args.graphs, args.realtime_duration, args.priority)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,9 @@ Run with ``./hawt bench realtime_soak``. Two measurements (issue 6):
   realtime for ``--duration`` seconds; N = 1, 2, ... until a turbine has a late step (or
   ``--max-turbines``). Prints each N's late steps and worst p99 latency.
 
-Usage: ./hawt bench realtime_soak [soak|turbines] [--duration S] [--max-turbines N]
+Both run the nodes under SCHED_FIFO ``--priority`` (default 50; 0: normal scheduling).
+
+Usage: ./hawt bench realtime_soak [soak|turbines] [--duration S] [--max-turbines N] [--priority N]
 """
 from __future__ import annotations
 
@@ -55,12 +57,13 @@ def _figures(text: str) -> Dict[str, float]:
             "late": int(late)}
 
 
-def soak(duration: float) -> None:
+def soak(duration: float, priority: int) -> None:
     with tempfile.TemporaryDirectory(prefix="hawt_soak_") as folder, domain_id() as domain:
         bag = Path(folder) / "soak.mcap"
-        process = subprocess.Popen([*CLI, "launch", "ipc", "--mode", "realtime", f"duration:={duration}",
-                                    "-p", "plant.report_period:=1", "--record", str(bag)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                   text=True, env={**os.environ, "ROS_DOMAIN_ID": str(domain)})
+        process = subprocess.Popen([*CLI, "launch", "ipc", "--mode", "realtime", "--priority", str(priority),
+                                    f"duration:={duration}", "-p", "plant.report_period:=1", "--record", str(bag)],
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                   env={**os.environ, "ROS_DOMAIN_ID": str(domain)})
         lines: List[str] = []
         reader = threading.Thread(target=lambda: lines.extend(process.stdout), daemon=True)
         reader.start()
@@ -78,7 +81,8 @@ def soak(duration: float) -> None:
         reader.join(timeout=10)
         hours = max(time.monotonic() - started, 1.0) / 3600
         figures = _figures("".join(lines))
-        print(f"soak: ipc graph + recorder, realtime 100 Hz, {figures['steps']} steps in {figures['wall']:.0f} s")
+        print(f"soak: ipc graph + recorder, realtime 100 Hz, SCHED_FIFO priority {priority} (0: normal), "
+              f"{figures['steps']} steps in {figures['wall']:.0f} s")
         print(f"  loop latency p50 {figures['p50']:.2f} ms, p99 {figures['p99']:.2f} ms, max {figures['max']:.2f} ms;"
               f" late steps {figures['late']}")
         print(f"  bag {bag.stat().st_size / 2**20:.1f} MiB" if bag.exists() else "  bag missing")
@@ -88,12 +92,12 @@ def soak(duration: float) -> None:
                       f"({(last[name] - first[name]) / hours:+.1f} MiB/h)")
 
 
-def turbines(duration: float, most: int) -> None:
+def turbines(duration: float, most: int, priority: int) -> None:
     for count in range(1, most + 1):
         with domain_id() as domain:
             env = {**os.environ, "ROS_DOMAIN_ID": str(domain)}
-            processes = [subprocess.Popen([*CLI, "launch", "ipc", "--mode", "realtime", f"namespace:=wt{i + 1}",
-                                           f"duration:={duration}"], stdout=subprocess.PIPE,
+            processes = [subprocess.Popen([*CLI, "launch", "ipc", "--mode", "realtime", "--priority", str(priority),
+                                           f"namespace:=wt{i + 1}", f"duration:={duration}"], stdout=subprocess.PIPE,
                                           stderr=subprocess.STDOUT, text=True, env=env) for i in range(count)]
             results = [_figures(p.communicate(timeout=duration * 5 + 300)[0]) for p in processes]
         late = [r["late"] for r in results]
@@ -110,11 +114,13 @@ def main() -> None:
     parser.add_argument("what", nargs="?", choices=("soak", "turbines"), default="soak")
     parser.add_argument("--duration", type=float, help="seconds per run (soak 1800, turbines 60)")
     parser.add_argument("--max-turbines", type=int, default=8)
+    parser.add_argument("--priority", type=int, default=50,
+                        help="SCHED_FIFO priority of the nodes (hawt launch --priority); 0: normal scheduling")
     args = parser.parse_args()
     if args.what == "soak":
-        soak(args.duration or 1800.0)
+        soak(args.duration or 1800.0, args.priority)
     else:
-        turbines(args.duration or 60.0, args.max_turbines)
+        turbines(args.duration or 60.0, args.max_turbines, args.priority)
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ from typing import Dict, List, Optional
 from hawt_bag.errors import BagError
 
 from hawt_tools.graph_file import GraphError, load_graph
+from hawt_tools.scheduling import SchedulingError
 
 __all__ = ["main", "find_graph"]
 
@@ -56,24 +57,33 @@ def _cmd_launch(args: argparse.Namespace) -> int:
     from hawt_tools.launcher import package_prefix
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
-    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record)
+    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority)
 
 
 def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
-               record: Optional[str]) -> int:
-    """Run a checked graph (separate processes or composed), recording it into ``record`` if given."""
+               record: Optional[str], priority: int = 0) -> int:
+    """Run a checked graph (separate processes or composed), recording it into ``record`` if given.
+
+    ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority.
+    """
     from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
+    from hawt_tools.scheduling import PRIORITY_VARIABLE, check_priority, set_priority
 
     # --mode beats the graph's own 'mode' values (an override of every node); -p beats --mode
     modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes] if mode else []
     overrides = parse_overrides(graph, modes + list(parameters))
     global_parameters = {"wait_for_recorder": True} if record else {}  # the plant starts once all is recorded
+    if priority:
+        check_priority(priority)
     recorder = _start_recorder(Path(record)) if record else None
     try:
         if composed:
+            if priority:
+                set_priority(priority)
             code = run_composed(graph, overrides, duration, global_parameters)
         else:
-            code = ProcessGraph(graph, overrides, global_parameters).run(duration)
+            environment = {PRIORITY_VARIABLE: str(priority)} if priority else {}
+            code = ProcessGraph(graph, overrides, global_parameters, environment=environment).run(duration)
     finally:
         if recorder is not None:
             recorded = _stop_recorder(recorder)
@@ -248,6 +258,10 @@ def _parser() -> argparse.ArgumentParser:
     launch.add_argument("--mode", choices=("lockstep", "realtime"),
                         help="timing mode, given to every node as its 'mode' parameter")
     launch.add_argument("--composed", action="store_true", help="run all nodes in this process on one executor")
+    launch.add_argument("--priority", type=int, default=0, metavar="N",
+                        help="run the nodes under SCHED_FIFO at priority N (1-99), as a realtime loop should: "
+                             "fewer late steps in --mode realtime (needs root or CAP_SYS_NICE; the recorder keeps "
+                             "normal scheduling)")
     launch.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
                         help="override a parameter of one node (repeatable)")
     launch.add_argument("--record", metavar="FILE.mcap",
@@ -368,7 +382,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     args = parse_command_line(argv)
     try:
         return args.run(args)
-    except (GraphError, BagError) as error:
+    except (GraphError, BagError, SchedulingError) as error:
         print(f"hawt {args.command}: {error}", file=sys.stderr)
         return 2
     except RuntimeError as error:

@@ -153,6 +153,8 @@ class ProcessGraph:
     overrides: Overrides = field(default_factory=dict)
     global_parameters: Mapping[str, object] = field(default_factory=dict)
     output: TextIO = sys.stdout
+    environment: Mapping[str, str] = field(default_factory=dict)
+    """Variables set for every node process (over this process's environment, under the node's own ``env``)."""
 
     def __post_init__(self) -> None:
         self._executables = [executable_path(self.graph, spec) for spec in self.graph.nodes]
@@ -169,7 +171,7 @@ class ProcessGraph:
             self._say(process.spec.label, raw.decode(errors="replace").rstrip("\n"))
 
     def _start(self, process: _Process) -> None:
-        env = dict(os.environ, PYTHONUNBUFFERED="1", **dict(process.spec.env))
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", **self.environment, **dict(process.spec.env)}
         process.popen = subprocess.Popen(process.command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                          stdin=subprocess.DEVNULL, env=env, start_new_session=True)
         process.pump = threading.Thread(target=self._pump, args=(process,), daemon=True)

@@ -35,6 +35,8 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
+from hawt_tools.scheduling import priority_from_environment
+
 __all__ = ["run_node", "run_nodes", "node_entry_point", "spin_nodes", "first_done", "make_executor",
            "wait_for_acknowledgements", "WAKE_PERIOD", "FLUSH_TIMEOUT"]
 
@@ -109,8 +111,11 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
     """Create the nodes and spin them until ``ending(nodes)`` completes, a signal comes or ``timeout`` passes.
 
     Then the published messages are flushed (:func:`wait_for_acknowledgements`) and the
-    nodes destroyed. The default context is used, with this module's signal handling.
+    nodes destroyed. The default context is used, with this module's signal handling. A
+    realtime priority in the environment (hawt_tools.scheduling) is set first, so that the
+    middleware's threads run at it too.
     """
+    priority_from_environment()
     with _stop_on_signals() as stop, rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO):
         nodes = make_nodes()
         executor = make_executor()
