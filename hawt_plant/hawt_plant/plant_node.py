@@ -21,7 +21,7 @@ applied (one ``command_returned`` event).
 """
 import math
 import time
-from typing import List, Optional
+from typing import Optional
 
 import numpy as np
 from builtin_interfaces.msg import Time
@@ -31,6 +31,7 @@ from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
 from hawt_plant.turbine import load_turbine, nrel_5mw
@@ -125,8 +126,7 @@ class PlantNode(Node):
         self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
         self.done = Future()
         self.sent_at = time.monotonic()
-        self.latencies: List[float] = []
-        self.late_steps = 0
+        self.latency = LoopLatency()
         self.started = False
         self.created = self.wall_start = self.answered_at = time.monotonic()
         self.get_logger().info(
@@ -154,6 +154,7 @@ class PlantNode(Node):
         self.loads_publisher.publish(loads)
         self.state_publisher.publish(state)
         self.sent_at = time.monotonic()
+        self.latency.sent(self.step_index, self.sent_at)
 
     def _resend(self) -> None:
         """Send step 0 once enough subscribers are there; send an unanswered step again after resend_period."""
@@ -257,9 +258,7 @@ class PlantNode(Node):
                         "(reported once)", step=self.step_index, stamp=_stamp(self.output.time))
         elif verdict == CommandOrder.APPLY:
             now = time.monotonic()
-            self.latencies.append(now - self.sent_at - (self.step_index - msg.step) * self.values["dt"])
-            if msg.step < self.step_index:
-                self.late_steps += 1
+            self.latency.answered(msg.step, self.step_index, now)
             self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
             self.safety.command_applied(now)
 
@@ -298,11 +297,8 @@ class PlantNode(Node):
     def _finish(self) -> None:
         wall = time.monotonic() - self.wall_start
         summary = f"finished {self.step_index} steps ({self.output.time:.2f} s simulated) in {wall:.1f} s wall"
-        if not self.lockstep and self.latencies:
-            latency = np.array(self.latencies) * 1e3
-            summary += (f"; loop latency p50 {np.percentile(latency, 50):.2f} ms, p99 "
-                        f"{np.percentile(latency, 99):.2f} ms, max {latency.max():.2f} ms; late steps "
-                        f"{self.late_steps}")
+        if not self.lockstep and self.latency.summary():
+            summary += "; " + self.latency.summary()
         self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
         self.done.set_result(True)
 

@@ -1,0 +1,31 @@
+"""Ctrl-C on a recorded realtime run: every node flushes what it sent before it exits, so nothing is lost."""
+import numpy as np
+import pytest
+
+from hawt_faults.fault_runs import read_recording
+
+pytestmark = pytest.mark.ros
+
+HARMONICS = (1, 2, 3)
+IN_FLIGHT = 2
+"""Steps the plant may have sent that the controllers had not answered yet when the signal came."""
+
+
+def test_an_interrupted_recording_holds_every_topic_up_to_the_plants_last_step(launch, probe):
+    """Realtime IPC graph interrupted mid-run: each controller topic's last recorded step is the plant's last one
+    (less the answers in flight), and no step is missing before it."""
+    namespace = "interrupted"
+    watcher = probe(namespace, HARMONICS)
+    run = launch("ipc", namespace, "mode:=realtime", "duration:=60")
+    watcher.wait_until_recorded(run.launcher, margin=300)
+    run.interrupt()
+    output = run.finish()
+
+    assert "stopped: interrupted" in output
+    recording = read_recording(run.bag, namespace, HARMONICS)
+    last_step = int(recording.loads.fields["step"].max())
+    for columns in (recording.commands, recording.collective, *recording.ipc.values()):
+        steps = np.unique(columns.fields["step"])
+        assert steps.max() >= last_step - IN_FLIGHT, \
+            f"{columns.topic}: last recorded step {steps.max()}, the plant sent {last_step}"
+        assert steps.size == steps.max() - steps.min() + 1, f"{columns.topic}: steps missing in the bag"
