@@ -47,7 +47,7 @@ def session(tmp_path_factory):
             if number == 0:
                 refused = _hawt("switch", "--activate", "ipc_h1_retuned")
             if number == 2:
-                listing = _hawt("list")
+                listing = _hawt("list", "--settle", "3")  # discovery trickles in on a loaded machine
             time.sleep(7.0)  # over one revolution (5 s) between switches, for the harmonics of each segment
         graph.wait(timeout=180)
         reader.join(timeout=10)
