@@ -4,8 +4,8 @@ The latency of step k is the wall time from the plant sending step k's measureme
 the arrival of the command that answers step k. The plant keeps the send times of the
 last ``window`` steps, and the latencies in an HDR histogram (HdrHistogram, the
 maintained standard for latency percentiles: microsecond resolution, 3 significant
-digits) so that a run of any length has the same memory: a list of every latency grew
-by 12 MiB per hour at 100 Hz.
+digits) so that a run of any length has the same memory: with a list of every latency
+the plant grew by 23 MiB per hour in the 30-minute realtime soak at 100 Hz.
 """
 import numpy as np
 from hdrh.histogram import HdrHistogram

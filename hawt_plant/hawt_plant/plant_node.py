@@ -297,8 +297,9 @@ class PlantNode(Node):
     def _finish(self) -> None:
         wall = time.monotonic() - self.wall_start
         summary = f"finished {self.step_index} steps ({self.output.time:.2f} s simulated) in {wall:.1f} s wall"
-        if not self.lockstep and self.latency.summary():
-            summary += "; " + self.latency.summary()
+        latency = "" if self.lockstep else self.latency.summary()
+        if latency:
+            summary += "; " + latency
         self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
         self.done.set_result(True)
 

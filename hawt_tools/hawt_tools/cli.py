@@ -16,7 +16,7 @@ from typing import Dict, List, Optional
 from hawt_bag.errors import BagError
 
 from hawt_tools.graph_file import GraphError, load_graph
-from hawt_tools.scheduling import SchedulingError
+from hawt_tools.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
 __all__ = ["main", "find_graph"]
 
@@ -67,7 +67,6 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority.
     """
     from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
-    from hawt_tools.scheduling import PRIORITY_VARIABLE, check_priority, set_priority
 
     # --mode beats the graph's own 'mode' values (an override of every node); -p beats --mode
     modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes] if mode else []

@@ -114,8 +114,8 @@ class Probe:
         def recorded(topic: str) -> bool:
             return any(info.node_name == "hawt_recorder"
                        for info in self.node.get_subscriptions_info_by_topic(f"/{self.namespace}/{topic}"))
-        self.wait_until(lambda: all(recorded(topic) for topic in (*self.steps, "control/pitch_command", "control/events")),
-                        launcher, "the recorder's subscriptions")
+        topics = (*self.steps, "control/pitch_command", "control/events")
+        self.wait_until(lambda: all(recorded(topic) for topic in topics), launcher, "the recorder's subscriptions")
         for topic, step in dict(self.steps).items():
             self.wait_until(lambda: self.steps[topic] >= step + margin, launcher, f"{margin} answers more on {topic}")
 
