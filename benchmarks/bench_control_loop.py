@@ -18,9 +18,9 @@ The machine's load average is printed: two cores are shared by every process of 
 The floor under the lockstep figures is measured too (``--hops``): a ring of relay
 processes (hawt_tools' example ``relay`` node, rclpy on the EventsExecutor) passing one
 BladeLoads message around, each lap closed by this process. A lockstep step needs at
-least its critical path of hops (baseline: plant -> cpc -> mbc -> plant, 3; ipc: plant ->
-mbc -> ipc_hn -> mbc -> plant, 4), so 10 ms / (hops x time per hop) bounds its real-time
-factor with no computation at all.
+least its critical path of hops (baseline: plant -> cpc -> mbc -> plant, 3; ipc: the same 3,
+plant -> ipc_hn -> mbc -> plant, since the IPC nodes take plant/blade_loads themselves), so
+10 ms / (hops x time per hop) bounds its real-time factor with no computation at all.
 
 Usage: ./hawt bench control_loop [--duration S] [--realtime-duration S] [--graphs G ...] [--no-realtime]
                                  [--hops N ...] [--laps N] [--priority N]
@@ -43,7 +43,7 @@ from domain_coordinator import domain_id
 from hawt_msgs.msg import BladeLoads
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from hawt_tools.node_main import make_executor
+from hawt_node.node_main import make_executor
 
 FINISHED = re.compile(r"finished (\d+) steps \(([\d.]+) s simulated\) in ([\d.]+) s wall"
                       r"(?:; loop latency p50 ([\d.]+) ms, p99 ([\d.]+) ms, max ([\d.]+) ms; late steps (\d+))?")

@@ -5,14 +5,16 @@ each recorded by ``hawt launch --record`` to ``<output>/seed<N>/<configuration>.
 output in ``.log`` beside it), on the same IEC class B turbulent field at 18 m/s mean hub speed:
 
 - ``cpc``: the ``baseline`` graph (plant, cpc, mbc);
-- ``ipc1``, ``ipc12``, ``ipc123``: the ``ipc`` graph with ``ipc_harmonics`` [1], [1, 2], [1, 2, 3].
+- ``ipc1``, ``ipc12``, ``ipc123``: the ``ipc`` graph with IPC-1P, 1P+2P, 1P+2P+3P active (its ``ipc_h1``,
+  ``ipc_h2``, ``ipc_h3`` arguments; the others start inactive);
+- ``rc``: the ``repetitive`` graph (repetitive IPC, Fratini 2019) on the same wind, shear and tower shadow.
 
 Each node runs in its own process unless ``--composed``: a composed graph runs several times faster
 than the recorder takes its messages, and the bag then misses steps. A bag that misses steps (in
 the middle or at the end) or a failed launch is kept as ``<name>.failed<k>.mcap`` and the run
 launched again, at most ``--attempts`` times.
 
-Every bag is analysed by `hawt_bag.run_analysis.analyze_bag`; per configuration the study gives the
+Every bag is analysed by `hawt_analysis.run_analysis.analyze_bag`; per configuration the study gives the
 mean over seeds (and min-max) of: blade-root M_oop DEL (m = 10, mean of the blades), hub tilt, hub yaw
 and tower-base fore-aft DEL (m = 4), rotor-speed standard deviation, mean electrical power, pitch
 travel per blade, max pitch rate and max pitch acceleration (measured pitch), each with its change
@@ -26,7 +28,7 @@ against CPC (`hawt_analysis.comparison.change_percent` of the means). Then the c
 and the max pitch rate and acceleration beside van Engelen (2006) §4 (2, 7, 10, 12 °/s; 3, 18, 27,
 50 °/s²). The table is printed and written to ``<output>/study.md`` and ``<output>/study.json``.
 
-Usage: ./hawt bench ipc_study [--seeds N ...] [--duration S] [--output DIR] [--jobs J] [--composed]
+Usage: ./hawt bench ipc_study [--seeds N ...] [--duration S] [--output DIR] [--jobs J] [--composed | --in-process]
                              [--attempts A] [--reuse]
 """
 from __future__ import annotations
@@ -47,7 +49,7 @@ import numpy as np
 from domain_coordinator import domain_id
 from hawt_analysis.comparison import change_percent
 from hawt_bag.errors import BagError
-from hawt_bag.run_analysis import analyze_bag
+from hawt_analysis.run_analysis import analyze_bag
 from hawt_plant.turbine import nrel_5mw
 
 WIND = {"wind_type": "turbulent", "wind_speed": "18.0"}
@@ -65,9 +67,11 @@ class Configuration(NamedTuple):
 
 CONFIGURATIONS = (
     Configuration("cpc", "CPC", "baseline", {}),
-    Configuration("ipc1", "+1P", "ipc", {"ipc_harmonics": "[1]"}),
-    Configuration("ipc12", "+1P+2P", "ipc", {"ipc_harmonics": "[1, 2]"}),
-    Configuration("ipc123", "+1P+2P+3P", "ipc", {"ipc_harmonics": "[1, 2, 3]"}),
+    Configuration("ipc1", "+1P", "ipc", {"ipc_h1": "true", "ipc_h2": "false", "ipc_h3": "false"}),
+    Configuration("ipc12", "+1P+2P", "ipc", {"ipc_h1": "true", "ipc_h2": "true", "ipc_h3": "false"}),
+    Configuration("ipc123", "+1P+2P+3P", "ipc", {"ipc_h1": "true", "ipc_h2": "true", "ipc_h3": "true"}),
+    Configuration("rc", "+repetitive", "repetitive", {"shear_exponent": "0.2", "tower_shadow": "true",
+                                                       "learning_gain": "0.3", "proportional_gain": "0.1"}),
 )
 CRITERIA_CONFIGURATION = "ipc12"
 """The configuration the criteria of issue 4 judge against CPC (the first configuration)."""
@@ -121,10 +125,12 @@ def bag_path(output: Path, seed: int, configuration: Configuration) -> Path:
     return output / f"seed{seed}" / f"{configuration.name}.mcap"
 
 
-def launch_command(configuration: Configuration, seed: int, duration: float, bag: Path, composed: bool) -> List[str]:
-    """The ``hawt launch`` command line that records one run in lockstep."""
+def launch_command(configuration: Configuration, seed: int, duration: float, bag: Path, engine: str) -> List[str]:
+    """The command line that records one run: ``engine`` 'processes' or 'composed' is ``hawt launch`` in lockstep,
+    'in_process' is ``hawt run`` (the same numbers, tests/hawt_tools/test_in_process.py)."""
     arguments = {**WIND, "seed": str(seed), "duration": f"{duration:g}", **configuration.arguments}
-    return [sys.executable, "-m", "hawt_tools.cli", "launch", configuration.graph, *(["--composed"] * composed),
+    verb = ["run"] if engine == "in_process" else ["launch", *(["--composed"] * (engine == "composed"))]
+    return [sys.executable, "-m", "hawt_tools.cli", verb[0], configuration.graph, *verb[1:],
             "--record", str(bag), *(f"{name}:={value}" for name, value in arguments.items())]
 
 
@@ -166,7 +172,7 @@ def run_figures(bag: Path, duration: float) -> Dict[str, float]:
     return {metric.key: metric.value(summary) for metric in METRICS}
 
 
-def recorded_figures(configuration: Configuration, seed: int, bag: Path, duration: float, composed: bool,
+def recorded_figures(configuration: Configuration, seed: int, bag: Path, duration: float, engine: str,
                      attempts: int, report: Callable[[str], None]) -> Dict[str, float]:
     """Record one run into ``bag`` (its launch output in ``<bag>.log``) and return its `run_figures`.
 
@@ -180,7 +186,7 @@ def recorded_figures(configuration: Configuration, seed: int, bag: Path, duratio
         If the last attempt fails.
     """
     bag.parent.mkdir(parents=True, exist_ok=True)
-    command = launch_command(configuration, seed, duration, bag, composed)
+    command = launch_command(configuration, seed, duration, bag, engine)
     log = bag.with_suffix(".log")
     log.unlink(missing_ok=True)
     attempt = 1
@@ -199,7 +205,7 @@ def recorded_figures(configuration: Configuration, seed: int, bag: Path, duratio
         attempt += 1
 
 
-def study_figures(runs: Sequence[tuple[Configuration, int, Path]], duration: float, composed: bool, jobs: int,
+def study_figures(runs: Sequence[tuple[Configuration, int, Path]], duration: float, engine: str, jobs: int,
                   attempts: int) -> Dict[str, Dict[int, Dict[str, float]]]:
     """Figures of every run (configuration, seed, bag), ``jobs`` at a time; a bag that exists is only analysed.
 
@@ -222,7 +228,7 @@ def study_figures(runs: Sequence[tuple[Configuration, int, Path]], duration: flo
             report(f"{name}: analysing {bag}")
             return run_figures(bag, duration)
         report(f"{name}: recording {bag} (at {began - start:.0f} s)")
-        figures = recorded_figures(configuration, seed, bag, duration, composed, attempts,
+        figures = recorded_figures(configuration, seed, bag, duration, engine, attempts,
                                    lambda line: report(f"{name}: {line}"))
         report(f"{name}: recorded and analysed in {time.monotonic() - began:.0f} s (elapsed "
                f"{time.monotonic() - start:.0f} s, load {os.getloadavg()[0]:.1f})")
@@ -329,11 +335,14 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument("--composed", action="store_true",
                         help="run each graph in one process (faster, but the recorder may then fall behind and "
                              "lose steps, which fails the run)")
+    parser.add_argument("--in-process", action="store_true",
+                        help="hawt run instead of hawt launch: the same numbers, several times faster")
     parser.add_argument("--attempts", type=int, default=3, help="launches of a run before giving up (default 3)")
     parser.add_argument("--reuse", action="store_true",
                         help="analyse the bags already in --output instead of recording them again (records "
                              "only the missing ones)")
     args = parser.parse_args(argv)
+    engine = "in_process" if args.in_process else "composed" if args.composed else "processes"
     runs = [(configuration, seed, bag_path(args.output, seed, configuration))
             for seed in args.seeds for configuration in CONFIGURATIONS]
     try:
@@ -341,9 +350,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         if existing and not args.reuse:
             raise BagError(f"{existing[0]}: exists; pass --reuse to analyse it, or choose another --output")
         print(f"ipc study: {len(runs)} runs of {args.duration:g} s simulated, {len(runs) - len(existing)} to record "
-              f"({'composed' if args.composed else 'a process per node'}, {args.jobs} at a time) into {args.output}",
-              flush=True)
-        figures = study_figures(runs, args.duration, args.composed, args.jobs, args.attempts)
+              f"({engine}, {args.jobs} at a time) into {args.output}", flush=True)
+        figures = study_figures(runs, args.duration, engine, args.jobs, args.attempts)
     except (BagError, RuntimeError) as error:
         print(f"bench ipc_study: {error}", file=sys.stderr)
         return 1

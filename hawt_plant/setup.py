@@ -23,6 +23,7 @@ setup(
     entry_points={
         'console_scripts': [
             'plant = hawt_plant.plant_node:main',
+            'plant_description = hawt_plant.description_node:main',
         ],
     },
 )

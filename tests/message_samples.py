@@ -7,8 +7,9 @@ import random
 
 from builtin_interfaces.msg import Time
 
-MESSAGE_TYPES = ("BladeLoads", "TurbineState", "HarmonicLoads", "HarmonicPitch", "CollectivePitch",
-                 "PitchCommand", "ControlEvent", "ControllerSwitch", "ControllerState")
+MESSAGE_TYPES = ("BladeLoads", "TurbineState", "HarmonicLoads", "HarmonicPitch", "CollectivePitch", "BladePitch",
+                 "PitchCommand", "ControlEvent", "ControllerSwitch", "ControllerState", "PlantDescription")
+INTERFACE_NAMES = ("collective_pitch", "generator_torque", "blade_pitch", "harmonic/1", "harmonic/2", "harmonic/12")
 
 
 def filled(kind, index: int, blades: int = 3):
@@ -29,6 +30,12 @@ def filled(kind, index: int, blades: int = 3):
             setattr(msg, field, rng.randrange(2 ** int(type_name[4:])))
         elif type_name == "string":
             setattr(msg, field, f"{field} {rng.random()} ψ"[: rng.randrange(1, 30)])
+        elif type_name == "sequence<string>" and field == "interfaces":
+            setattr(msg, field, rng.sample(INTERFACE_NAMES, rng.randrange(4)))  # claimed interface names
+        elif type_name == "sequence<string>" and field.endswith("_interfaces"):
+            # one entry per controller of the list before it (activate, deactivate): its claims joined by spaces
+            setattr(msg, field, [" ".join(rng.sample(INTERFACE_NAMES, rng.randrange(1, 3)))
+                                 for _ in getattr(msg, field[:-len("_interfaces")])])
         elif type_name == "sequence<string>":
             setattr(msg, field, [f"/wt{rng.randrange(9)}/ipc_h{i}" for i in range(rng.randrange(4))])
         elif type_name.startswith("sequence<uint"):

@@ -16,7 +16,8 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from message_samples import MESSAGE_TYPES
 
 LISTING = {"names": ["ipc_h1", "ipc_h2", "cpc"], "types": ["ipc", "ipc", "cpc"],
-           "states": ["active", "inactive", "unconfigured"]}
+           "states": ["active", "inactive", "unconfigured"],
+           "interfaces": ["harmonic/1", "harmonic/2", "collective_pitch generator_torque"]}
 
 
 class Echo(Node):

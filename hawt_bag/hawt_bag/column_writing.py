@@ -11,11 +11,14 @@ from typing import Mapping, Optional, Sequence
 
 import numpy as np
 
+from hawt_core.topics import BLADE_LOADS, PITCH_COMMAND, TURBINE_STATE
+from hawt_core.topics import EVENTS as CONTROL_EVENTS
+
 from .cdr_columns import encode_messages
 from .errors import BagError
 from .interface_files import schema_text
 from .msg_definition import parse_schema, short_type_name
-from .plant_run import BLADE_LOADS, CONTROL_EVENTS, PITCH_COMMAND, TURBINE_STATE, topic_in
+from .plant_run import topic_in
 from .qos_profiles import QosOffer
 from .writer import BagWriter
 

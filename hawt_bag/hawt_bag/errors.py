@@ -1,6 +1,10 @@
-"""The one error of the bag library: bad or unreadable input, said in one line naming the file."""
+"""The error of the bag library: bad or unreadable input, said in one line naming the file.
 
-__all__ = ["BagError"]
+`UnfinishedBagError`, a `BagError`, marks the one case a command may want to tell apart:
+a file that starts as MCAP but whose writer never finished it.
+"""
+
+__all__ = ["BagError", "UnfinishedBagError"]
 
 
 class BagError(ValueError):
@@ -9,3 +13,7 @@ class BagError(ValueError):
     The message is one line and names the file, topic or field at fault, so a command
     can print it as it is and exit 2.
     """
+
+
+class UnfinishedBagError(BagError):
+    """An MCAP file cut off or never finished (no footer or summary to read): ``hawt bag recover`` rescues it."""

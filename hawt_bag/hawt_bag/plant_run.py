@@ -3,33 +3,30 @@
 Topics (DESIGN §5), relative to the turbine's namespace (``/wt1/plant/blade_loads`` …):
 ``plant/blade_loads`` and ``plant/state`` are required; ``control/pitch_command`` and
 ``control/events`` are read when present. Rows are matched by ``step`` (one row per
-plant step, DESIGN §3); ``time`` is the blade loads' ``header.stamp`` [s].
+plant step, DESIGN §3); ``time`` is the blade loads' ``header.stamp`` [s]. If the plant
+topics miss steps, the longest run of steps both hold is taken, with a warning.
 """
 from dataclasses import dataclass
 from typing import Callable, Optional
 
 import numpy as np
 
+from hawt_core.topics import BLADE_LOADS, PITCH_COMMAND, TURBINE_STATE
+from hawt_core.topics import EVENTS as CONTROL_EVENTS
+
 from .errors import BagError
 from .msg_definition import parse_schema, short_type_name
 from .reader import BagReader
+from .step_coverage import step_coverage, step_ranges
 from .topic_columns import TopicColumns, read_topic_columns
 
 __all__ = [
-    "BLADE_LOADS",
-    "CONTROL_EVENTS",
-    "PITCH_COMMAND",
-    "TURBINE_STATE",
     "PlantRun",
     "find_namespace",
     "load_plant_run",
     "topic_in",
 ]
 
-BLADE_LOADS = "plant/blade_loads"
-TURBINE_STATE = "plant/state"
-PITCH_COMMAND = "control/pitch_command"
-CONTROL_EVENTS = "control/events"
 
 _LOAD_FIELDS = ("azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch")
 _STATE_FIELDS = ("generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
@@ -101,6 +98,8 @@ class PlantRun:
         ``time`` [s], ``step``, ``source``, ``level``, ``kind``, ``detail``, in step order.
     counts : dict
         Topic → messages read.
+    warnings : tuple of str
+        One line each, e.g. the plant topics' gaps and the steps analysed instead.
     """
 
     namespace: str
@@ -110,6 +109,7 @@ class PlantRun:
     flag_names: dict
     events: list
     counts: dict
+    warnings: tuple[str, ...] = ()
 
 
 def _by_step(columns: TopicColumns) -> np.ndarray:
@@ -142,8 +142,8 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     Raises
     ------
     BagError
-        Naming the bag and the topic: missing, too short, steps missing in the middle,
-        or header stamps that do not increase.
+        Naming the bag and the topic: missing, too short, or header stamps that do not
+        increase.
     """
     try:
         namespace = find_namespace(reader.topic_names(), namespace)
@@ -157,11 +157,14 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     load_rows, state_rows = _by_step(loads), _by_step(state)
     steps, in_loads, in_state = np.intersect1d(loads.fields["step"][load_rows], state.fields["step"][state_rows],
                                                return_indices=True)
-    load_rows, state_rows = load_rows[in_loads], state_rows[in_state]
-    gaps = np.flatnonzero(np.diff(steps) != 1)
-    if gaps.size:
-        raise BagError(f"{reader.path}: {loads_topic} and {state_topic} have steps missing: {gaps.size} gap(s), "
-                       f"the first after step {int(steps[gaps[0]])}")
+    first, last = max(step_ranges(steps), key=lambda run: run[1] - run[0], default=(0, -1))
+    kept = (steps >= first) & (steps <= last)
+    steps, load_rows, state_rows = steps[kept], load_rows[in_loads[kept]], state_rows[in_state[kept]]
+    gaps = [text for text in (step_coverage(c.topic, c.fields["step"]).gap_text() for c in (loads, state)) if text]
+    warnings = ()
+    if gaps:
+        warnings = (f"steps missing: {'; '.join(gaps)}; analysing steps {first}-{last}, the longest run both "
+                    "plant topics hold",)
     time = loads.stamp()[load_rows]
     if np.any(np.diff(time) <= 0.0):
         raise BagError(f"{reader.path}: {loads_topic}: header.stamp does not increase from step to step "
@@ -172,7 +175,7 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     counts = {loads_topic: len(loads), state_topic: len(state)}
     command, flag_names = _pitch_command(reader, topic_in(namespace, PITCH_COMMAND), counts, progress)
     events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts)
-    return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts)
+    return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings)
 
 
 def _pitch_command(reader: BagReader, topic: str, counts: dict, progress) -> tuple[Optional[dict], dict]:

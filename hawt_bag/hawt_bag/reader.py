@@ -15,7 +15,7 @@ from mcap.reader import NonSeekingReader, SeekingReader
 from mcap.records import Schema, Statistics
 from mcap.summary import Summary
 
-from .errors import BagError
+from .errors import BagError, UnfinishedBagError
 from .qos_profiles import QosOffer, parse_offered_qos
 
 __all__ = ["BagInfo", "BagMessage", "BagReader", "TopicInfo"]
@@ -114,7 +114,8 @@ class BagReader:
     ------
     BagError
         ``"<path>: no such file"``, ``"<path>: not an MCAP file"``, or
-        ``"<path>: truncated or unfinished MCAP (…); hawt bag recover <path> rescues its chunks"``.
+        ``"<path>: truncated or unfinished MCAP (…); hawt bag recover <path> rescues its chunks"``
+        (an `UnfinishedBagError`).
     """
 
     def __init__(self, path: os.PathLike) -> None:
@@ -128,14 +129,16 @@ class BagReader:
             self._file.seek(0)
             self._reader = SeekingReader(self._file)
             self._header = self._reader.get_header()
-            self._summary = self._reader.get_summary() or self._scan_summary()
+            summary = self._reader.get_summary()
+            self._has_summary = summary is not None and summary.statistics is not None
+            self._summary = summary or self._scan_summary()
         except BagError:
             self._file.close()
             raise
         except _FAULTS as error:
             self._file.close()
-            raise BagError(f"{self.path}: truncated or unfinished MCAP ({_one_line(error)}); "
-                           f"'hawt bag recover {self.path}' rescues its complete chunks") from None
+            raise UnfinishedBagError(f"{self.path}: truncated or unfinished MCAP ({_one_line(error)}); "
+                                     f"'hawt bag recover {self.path}' rescues its complete chunks") from None
 
     def _scan_summary(self) -> Summary:
         """A summary built by reading the whole file (a finished file written without one)."""
@@ -168,6 +171,11 @@ class BagReader:
     def summary(self) -> Summary:
         """The MCAP summary (channels, schemas, statistics, chunk indexes)."""
         return self._summary
+
+    @property
+    def has_summary(self) -> bool:
+        """Whether the file has its own summary section with statistics (False: `summary` was built by scanning)."""
+        return self._has_summary
 
     @property
     def file(self):

@@ -16,7 +16,6 @@ stops the recording with exit code 1 and says how to recover.
 """
 import argparse
 import re
-import signal
 import sys
 import time
 from dataclasses import dataclass
@@ -28,6 +27,9 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
+
+from hawt_core.stop_signals import stop_signals
+from hawt_core.topics import RECORDER_NODE
 
 from .errors import BagError
 from .interface_files import schema_text
@@ -63,7 +65,10 @@ class RecorderOptions:
     chunk_interval : float
         Longest time a chunk stays open [s]; bounds what a SIGKILL loses.
     depth : int
-        Subscription queue depth (keep-last).
+        Subscription queue depth (keep-last): how many messages of a topic the recorder may be behind
+        before the oldest are lost. 10000 covers 100 s of a 100 Hz lockstep plant that outruns the
+        recorder on a quiet machine (1000 lost steps in 60 s runs of the ipc graph); lockstep
+        back-pressure, which would need no bound, is issue 11's and not built.
     """
 
     output: str
@@ -73,8 +78,8 @@ class RecorderOptions:
     poll_period: float = 0.1
     chunk_size: int = 1024 * 1024
     chunk_interval: float = 1.0
-    depth: int = 1000
-    node_name: str = "hawt_recorder"
+    depth: int = 10000
+    node_name: str = RECORDER_NODE
 
 
 def _has_header(type_name: str) -> bool:
@@ -185,7 +190,7 @@ def add_record_arguments(parser: argparse.ArgumentParser) -> None:
                         help="chunk size before compression (default 1 MiB)")
     parser.add_argument("--chunk-interval", type=float, default=1.0, metavar="S",
                         help="close a chunk at least every S seconds: what a kill can lose (default 1)")
-    parser.add_argument("--node-name", default="hawt_recorder", help="the recorder node's name")
+    parser.add_argument("--node-name", default=RECORDER_NODE, help="the recorder node's name")
 
 
 def options_from(args: argparse.Namespace) -> RecorderOptions:
@@ -215,10 +220,10 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
     Path(options.output).parent.mkdir(parents=True, exist_ok=True)
     writer = BagWriter(options.output, chunk_size=options.chunk_size)
     stop = []
-    previous = {sig: signal.signal(sig, lambda *_: stop.append(True)) for sig in (signal.SIGINT, signal.SIGTERM)}
     counts, failure = {}, None
     try:
-        with rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
+        with stop_signals(lambda *_: stop.append(True)), \
+                rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
             recorder = Recorder(options, writer)
             executor = SingleThreadedExecutor()
             executor.add_node(recorder)
@@ -233,8 +238,6 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
             executor.shutdown()
             recorder.destroy_node()
     finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
         try:
             writer.finish()
         except OSError as error:

@@ -16,7 +16,6 @@ message with ``step == k`` on the trigger topic (``control/pitch_command`` for t
 controllers, ``relayed`` for the example relay), then goes on with k + 1. Timing is
 then the graph's own, so the same inputs give the same outputs on any machine load.
 """
-import signal
 import threading
 import time
 from dataclasses import dataclass, field
@@ -32,6 +31,10 @@ from rclpy.signals import SignalHandlerOptions
 from rcl_interfaces.msg import SetParametersResult
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Empty
+
+from hawt_core.step_sync import RESEND_PERIOD
+from hawt_core.stop_signals import stop_signals
+from hawt_node.node_main import wait_for_acknowledgements
 
 from .cdr_columns import FieldReader
 from .errors import BagError
@@ -281,11 +284,6 @@ def _step_groups(reader: BagReader, topics: list[str], start: int) -> list[list[
     return groups
 
 
-_RESEND_PERIOD = 0.5
-"""Step replay: an unanswered step is sent again after this many seconds, as the lockstep plant does (a
-message that reached a node before its executor watched the subscription is taken with the next one)."""
-
-
 def _send(player: Player, group) -> None:
     """Publish one step's recorded messages."""
     for _, message in group:
@@ -300,7 +298,7 @@ def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResul
         _send(player, group)
         result.published += len(group)
         deadline = time.monotonic() + options.step_timeout
-        resend = time.monotonic() + _RESEND_PERIOD
+        resend = time.monotonic() + RESEND_PERIOD
         with control.condition:
             while step not in control.trigger_steps and not control.stop:
                 now = time.monotonic()
@@ -309,7 +307,7 @@ def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResul
                                        f"within {options.step_timeout:g} s")
                 if now >= resend:
                     _send(player, group)
-                    resend = now + _RESEND_PERIOD
+                    resend = now + RESEND_PERIOD
                 control.condition.wait(min(deadline, resend) - now)
             control.trigger_steps.discard(step)
         if control.stop:
@@ -343,32 +341,28 @@ def replay(path, options: ReplayOptions = ReplayOptions(), ros_args: Optional[Li
         control = _Control(PlaybackClock(start, options.rate, paused=options.start_paused))
         result = ReplayResult()
         stop_handler = lambda *_: control.notify(lambda: setattr(control, "stop", True))  # noqa: E731
-        previous = {sig: signal.signal(sig, stop_handler) for sig in (signal.SIGINT, signal.SIGTERM)}
-        try:
-            with rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
-                player = Player({t: known[t] for t in wanted}, options, control)
-                executor = SingleThreadedExecutor()
-                executor.add_node(player)
-                spinner = threading.Thread(target=executor.spin, daemon=True)
-                spinner.start()
-                try:
-                    if trigger:
-                        player.subscribe_trigger(trigger, options.wait_timeout)
-                    if trigger or options.wait_for_subscribers:
-                        player.wait_for_subscribers(options.wait_timeout)
-                    report(f"replaying {path}: {len(wanted)} topic(s)"
-                           + (f", {len(groups)} steps through {trigger}" if trigger else f" at rate {options.rate:g}"))
-                    if trigger:
-                        _stepped(player, groups, options, result)
-                    else:
-                        _timed(player, reader, wanted, start, options, result)
-                finally:
-                    executor.shutdown()
-                    spinner.join(timeout=2.0)
-                    player.destroy_node()
-        finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
+        with stop_signals(stop_handler), rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
+            player = Player({t: known[t] for t in wanted}, options, control)
+            executor = SingleThreadedExecutor()
+            executor.add_node(player)
+            spinner = threading.Thread(target=executor.spin, daemon=True)
+            spinner.start()
+            try:
+                if trigger:
+                    player.subscribe_trigger(trigger, options.wait_timeout)
+                if trigger or options.wait_for_subscribers:
+                    player.wait_for_subscribers(options.wait_timeout)
+                report(f"replaying {path}: {len(wanted)} topic(s)"
+                       + (f", {len(groups)} steps through {trigger}" if trigger else f" at rate {options.rate:g}"))
+                if trigger:
+                    _stepped(player, groups, options, result)
+                else:
+                    _timed(player, reader, wanted, start, options, result)
+                wait_for_acknowledgements([player])  # the last messages reach their readers before the exit
+            finally:
+                executor.shutdown()
+                spinner.join(timeout=2.0)
+                player.destroy_node()
     return result
 
 

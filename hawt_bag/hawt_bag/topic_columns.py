@@ -1,8 +1,9 @@
 """A topic of a bag as numpy columns: the fast path from a recorded run to analysis arrays.
 
 For an indexed MCAP (chunked, with message indexes: what `BagWriter` and rosbag2 write)
-each chunk holding the topic is read and decompressed once; the topic's messages are
-located through its message index, their headers and CDR bytes gathered with numpy,
+each chunk holding the topic is read and decompressed once (once for all of them when
+`read_topics_columns` reads several topics); the topic's messages are located through
+its message index, their headers and CDR bytes gathered with numpy,
 and the fields decoded by `cdr_columns` — no Python work per message. Files without
 indexes are read message by message through the mcap reader.
 """
@@ -13,14 +14,14 @@ from typing import Iterable, Mapping, Optional
 import lz4.frame
 import numpy as np
 import zstandard
-from mcap.records import ChunkIndex
+from mcap.records import ChunkIndex, Schema
 
 from .cdr_columns import decode_columns
 from .errors import BagError
 from .msg_definition import parse_schema, short_type_name
 from .reader import BagReader
 
-__all__ = ["TopicColumns", "read_topic_columns"]
+__all__ = ["TopicColumns", "read_topic_columns", "read_topics_columns"]
 
 _CHUNK = struct.Struct("<BQQQQI")
 """Chunk record: opcode, record length, message start/end time, uncompressed size, CRC."""
@@ -97,32 +98,36 @@ def _u64(records: np.ndarray, positions: np.ndarray) -> np.ndarray:
     return records[positions[:, None] + np.arange(8)].view("<u8")[:, 0]
 
 
-def _indexed(reader: BagReader, channel_ids: set[int]):
-    """(buffer, starts, lengths, log, publish, sequence) in file order via chunk and message indexes."""
-    buffers, starts, lengths, logs, publishes, sequences = [], [], [], [], [], []
-    base = 0
+def _indexed(reader: BagReader, channel_ids: Mapping[str, set[int]]) -> dict:
+    """Topic → (buffer, starts, lengths, log, publish, sequence) in file order via chunk and message indexes.
+
+    Each chunk holding any of the topics is read and decompressed once.
+    """
+    parts = {topic: ([], [], [], [], [], []) for topic in channel_ids}
+    base = dict.fromkeys(channel_ids, 0)
     for index in sorted(reader.summary.chunk_indexes, key=lambda c: c.chunk_start_offset):
-        ids = [i for i in index.message_index_offsets if i in channel_ids]
-        if not ids:
+        wanted = {topic: [i for i in index.message_index_offsets if i in ids] for topic, ids in channel_ids.items()}
+        wanted = {topic: ids for topic, ids in wanted.items() if ids}
+        if not wanted:
             continue
         records = _chunk_records(reader.file, index)
-        offsets = np.sort(np.concatenate([_message_offsets(reader.file, index.message_index_offsets[i])
-                                          for i in ids]))
-        record_length = _u64(records, offsets + 1)
-        sequences.append(records[offsets[:, None] + 11 + np.arange(4)].view("<u4")[:, 0])
-        logs.append(_u64(records, offsets + 15))
-        publishes.append(_u64(records, offsets + 23))
-        size = (record_length - 22).astype(np.int64)
-        first = offsets + _MESSAGE_HEADER
-        packed = np.cumsum(size) - size
-        buffers.append(records[np.repeat(first - packed, size) + np.arange(int(size.sum()))])
-        starts.append(packed + base)
-        lengths.append(size)
-        base += int(size.sum())
-    if not buffers:
-        return None
-    return (np.concatenate(buffers), np.concatenate(starts), np.concatenate(lengths), np.concatenate(logs),
-            np.concatenate(publishes), np.concatenate(sequences))
+        for topic, ids in wanted.items():
+            buffers, starts, lengths, logs, publishes, sequences = parts[topic]
+            offsets = np.sort(np.concatenate([_message_offsets(reader.file, index.message_index_offsets[i])
+                                              for i in ids]))
+            record_length = _u64(records, offsets + 1)
+            sequences.append(records[offsets[:, None] + 11 + np.arange(4)].view("<u4")[:, 0])
+            logs.append(_u64(records, offsets + 15))
+            publishes.append(_u64(records, offsets + 23))
+            size = (record_length - 22).astype(np.int64)
+            first = offsets + _MESSAGE_HEADER
+            packed = np.cumsum(size) - size
+            buffers.append(records[np.repeat(first - packed, size) + np.arange(int(size.sum()))])
+            starts.append(packed + base[topic])
+            lengths.append(size)
+            base[topic] += int(size.sum())
+    return {topic: tuple(np.concatenate(column) for column in columns) if columns[0] else None
+            for topic, columns in parts.items()}
 
 
 def _scanned(reader: BagReader, topic: str):
@@ -154,15 +159,50 @@ def read_topic_columns(reader: BagReader, topic: str, fields: Optional[Iterable[
         Naming the bag and topic if the bag lacks it, or the field at fault if a
         message cannot be decoded.
     """
-    schema = reader.schema(topic)
+    return read_topics_columns(reader, [topic], fields)[topic]
+
+
+def read_topics_columns(reader: BagReader, topics: Iterable[str],
+                        fields: Optional[Iterable[str]] = None) -> dict[str, TopicColumns]:
+    """Read several topics into numpy columns, each chunk decompressed once for all of them.
+
+    Parameters
+    ----------
+    reader : BagReader
+    topics : iterable of str
+        Absolute topic names.
+    fields : iterable of str, optional
+        Field paths or prefixes to decode in every topic (all if None).
+
+    Returns
+    -------
+    dict
+        Topic → `TopicColumns`, as `read_topic_columns` gives them.
+
+    Raises
+    ------
+    BagError
+        As `read_topic_columns`.
+    """
+    topics = list(topics)
+    schemas = {topic: reader.schema(topic) for topic in topics}
+    fields = None if fields is None else tuple(fields)
+    channel_ids = {topic: {c.id for c in reader.summary.channels.values() if c.topic == topic} for topic in topics}
+    indexed = {topic: ids for topic, ids in channel_ids.items()
+               if any(ids & set(c.message_index_offsets) for c in reader.summary.chunk_indexes)}
+    try:
+        loaded = _indexed(reader, indexed)
+        loaded.update({topic: _scanned(reader, topic) for topic in topics if topic not in indexed})
+    except (struct.error, IndexError, ValueError, zstandard.ZstdError) as error:
+        raise BagError(f"{reader.path}: damaged chunk while reading {', '.join(topics)} ({error})") from None
+    return {topic: _columns(reader, topic, schemas[topic], loaded[topic], fields) for topic in topics}
+
+
+def _columns(reader: BagReader, topic: str, schema: Schema, loaded: Optional[tuple],
+             fields: Optional[tuple[str, ...]]) -> TopicColumns:
+    """Decode one topic's gathered messages (`_indexed` / `_scanned`) in log-time order."""
     root = short_type_name(schema.name)
     definitions = parse_schema(schema.data.decode(), schema.name)
-    channel_ids = {c.id for c in reader.summary.channels.values() if c.topic == topic}
-    chunks = [c for c in reader.summary.chunk_indexes if channel_ids & set(c.message_index_offsets)]
-    try:
-        loaded = _indexed(reader, channel_ids) if chunks else _scanned(reader, topic)
-    except (struct.error, IndexError, ValueError, zstandard.ZstdError) as error:
-        raise BagError(f"{reader.path}: damaged chunk while reading {topic} ({error})") from None
     if loaded is None:
         empty = np.zeros(0, dtype=np.int64)
         return TopicColumns(topic, schema.name, empty, empty, empty.astype(np.uint32), {})

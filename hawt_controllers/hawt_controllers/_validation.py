@@ -4,6 +4,9 @@ import math
 
 import numpy as np
 
+from hawt_core.arrays import finite_array as checked_array
+from hawt_core.arrays import finite_floats as checked_floats
+
 from .exceptions import ConfigurationError, InputError
 
 
@@ -49,16 +52,12 @@ def require_time_step(dt: float) -> float:
 
 
 def finite_array(argument: str, value, shape: tuple | None = None) -> np.ndarray:
-    """``np.asarray(value, float)`` checked for NaN/inf and, if given, for ``shape``.
+    """``np.asarray(value, float)`` checked for NaN/inf and, if given, for ``shape`` (hawt_core.arrays);
+    raises :class:`InputError` naming ``argument``."""
+    return checked_array(argument, value, shape=shape, error=InputError)
 
-    Raises
-    ------
-    InputError
-        Naming ``argument``: "expected shape (3,), found (2,)" or "NaN or inf in ...".
-    """
-    array = np.asarray(value, dtype=float)
-    if shape is not None and array.shape != shape:
-        raise InputError(argument, f"expected shape {shape}, found {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise InputError(argument, "NaN or inf in input")
-    return array
+
+def finite_floats(argument: str, values) -> list[float]:
+    """Plain floats of one sample checked for NaN/inf (hawt_core.arrays); raises :class:`InputError` naming
+    ``argument``."""
+    return checked_floats(argument, values, error=InputError)

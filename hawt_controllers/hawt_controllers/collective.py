@@ -34,11 +34,11 @@ import enum
 import math
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import NamedTuple
 
-import numpy as np
 import yaml
 
-from ._validation import finite_array, require_finite, require_positive, require_time_step
+from ._validation import finite_array, finite_floats, require_finite, require_positive, require_time_step
 from .exceptions import ConfigurationError
 from .filters import ExponentialLowPass
 from .limits import PitchLimits, limit_pitch
@@ -85,7 +85,7 @@ class BaselineCollectiveConfig:
     proportional_gain : float
         K_P at zero pitch [s] [PC_KP].
     integral_gain : float
-        K_I at zero pitch [-] [PC_KI]; > 0.
+        K_I at zero pitch [-] [PC_KI]; >= 0.
     gain_doubling_pitch : float
         θ_K [rad] [PC_KK]: the pitch at which the pitch sensitivity has doubled.
     min_pitch, max_pitch : float
@@ -174,16 +174,16 @@ class BaselineCollectiveConfig:
         Raises
         ------
         ConfigurationError
-            NaN/inf anywhere; non-positive corner frequency, reference speed,
-            K_I, θ_K, rates, slip; region speeds out of order; region 2 torque
-            above rated; T_max below rated torque; min_pitch >= max_pitch.
+            NaN/inf anywhere; negative K_P or K_I (K_I = 0 is a P law, the
+            repetitive-PD's); non-positive corner frequency, reference speed, θ_K,
+            rates, slip; region speeds out of order; region 2 torque above rated;
+            T_max below rated torque; min_pitch >= max_pitch.
         """
         for f in fields(self):
             require_finite(f.name, getattr(self, f.name))
         for name in (
             "generator_speed_corner_frequency",
             "rated_generator_speed",
-            "integral_gain",
             "gain_doubling_pitch",
             "max_pitch_rate",
             "region25_generator_speed",
@@ -191,8 +191,9 @@ class BaselineCollectiveConfig:
             "max_torque_rate",
         ):
             require_positive(name, getattr(self, name))
-        if self.proportional_gain < 0.0:
-            raise ConfigurationError("proportional_gain", f"must be >= 0, found {self.proportional_gain}")
+        for name in ("proportional_gain", "integral_gain"):
+            if getattr(self, name) < 0.0:
+                raise ConfigurationError(name, f"must be >= 0, found {getattr(self, name)}")
         for name in ("cut_in_generator_speed", "region2_torque_constant", "rated_generator_power"):
             if getattr(self, name) < 0.0:
                 raise ConfigurationError(name, f"must be >= 0, found {getattr(self, name)}")
@@ -298,8 +299,7 @@ def torque_demand(
     return min(max(torque, 0.0), c.max_generator_torque), region
 
 
-@dataclass(frozen=True)
-class CollectiveOutput:
+class CollectiveOutput(NamedTuple):
     """One step of the baseline controller (fields of ``hawt_msgs/CollectivePitch`` and flags).
 
     Attributes
@@ -356,6 +356,7 @@ class BaselineCollectiveController:
     def __init__(self, config: BaselineCollectiveConfig) -> None:
         config.validate()
         self.config = config
+        self.pitch_limits = config.pitch_limits
         self.speed_filter = ExponentialLowPass(config.generator_speed_corner_frequency)
         self.pitch_integrator = PIController()
         self.pitch_command: float | None = None
@@ -383,7 +384,8 @@ class BaselineCollectiveController:
         if generator_torque is not None:
             self.torque_command = float(finite_array("generator_torque", generator_torque))
 
-    def step(self, generator_speed: float, measured_pitch: float, dt: float) -> CollectiveOutput:
+    def step(self, generator_speed: float, measured_pitch: float, dt: float,
+             extra: float = 0.0) -> CollectiveOutput:
         """Advance the controller by one sample.
 
         Parameters
@@ -396,14 +398,17 @@ class BaselineCollectiveController:
             previous command (see the note in the code).
         dt : float
             Time since the previous step [s].
+        extra : float, optional
+            Pitch [rad] added to the gain-scheduled PI's demand before the limits (a companion
+            law's term, e.g. the repetitive-PD's derivative and learnt terms; finite, the caller checks).
 
         Returns
         -------
         CollectiveOutput
         """
         c = self.config
-        generator_speed = float(finite_array("generator_speed", generator_speed))
-        measured_pitch = float(finite_array("measured_pitch", measured_pitch))
+        generator_speed, = finite_floats("generator_speed", (generator_speed,))
+        measured_pitch, = finite_floats("measured_pitch", (measured_pitch,))
         dt = require_time_step(dt)
         if self.pitch_command is None:
             self.reset(generator_speed, measured_pitch)
@@ -419,18 +424,18 @@ class BaselineCollectiveController:
         self.torque_command = torque
 
         gain = gain_correction_factor(self.pitch_command, c.gain_doubling_pitch)
-        demand = gain * self.pitch_integrator.update(
-            speed - c.rated_generator_speed,
+        demand = gain * self.pitch_integrator.update_values(
+            [speed - c.rated_generator_speed],
             dt,
             kp=c.proportional_gain,
             ki=c.integral_gain,
             saturation=BoxSaturation(c.min_pitch / gain, c.max_pitch / gain),
-        )
+        )[0] + extra
         # The rate limit counts from the previous collective command, not from the measured mean
         # pitch as Jonkman's DISCON does: with B blades, IPC of harmonics n = B, 2B, … moves every
         # blade alike, so the measured mean carries it and the collective would follow it (that
         # feedback made 3P IPC unstable on the NREL 5 MW, measured in this project).
-        limited = limit_pitch(np.array([float(demand)]), np.array([self.pitch_command]), dt, c.pitch_limits)
+        limited = limit_pitch([demand], [self.pitch_command], dt, self.pitch_limits)
         self.pitch_command = float(limited.pitch[0])
         return CollectiveOutput(
             pitch=self.pitch_command,

@@ -29,6 +29,7 @@ from scipy import signal
 
 from ._validation import (
     finite_array,
+    finite_floats,
     require_below_nyquist,
     require_nonnegative,
     require_positive,
@@ -92,7 +93,18 @@ class DiscreteFilter:
         self.dt = require_positive("dt", dt)
         self.channels = tuple(int(c) for c in channels)
         self._zi_unit = signal.sosfilt_zi(sos)
+        self._sections = [tuple(row) for row in sos.tolist()]
+        self._size = math.prod(self.channels)
         self.state = np.zeros((sos.shape[0], 2) + self.channels)
+
+    @property
+    def state(self) -> np.ndarray:
+        """The sections' delay states, shape ``(n_sections, 2, *channels)`` (scipy's ``zi`` layout)."""
+        return np.array(self._state).reshape((len(self._sections), 2) + self.channels)
+
+    @state.setter
+    def state(self, value: ArrayLike) -> None:
+        self._state = np.asarray(value, dtype=float).reshape(len(self._sections), 2, self._size).tolist()
 
     @property
     def dc_gain(self) -> float:
@@ -123,19 +135,30 @@ class DiscreteFilter:
         """Filter one sample (shape ``channels``) and return the output sample.
 
         Runs the transposed direct form II recursion of ``sosfilt`` on the
-        state directly (same state layout), which saves ``sosfilt``'s per-call
-        checks (~45 µs) on the per-step path; :meth:`filter` calls ``sosfilt``.
+        state directly (same state layout, :meth:`step_values`), which saves
+        ``sosfilt``'s per-call checks (~45 µs) on the per-step path;
+        :meth:`filter` calls ``sosfilt``.
         """
         x = finite_array("sample", sample)
         if x.shape != self.channels:
             raise InputError("sample", f"expected shape {self.channels}, found {x.shape}")
-        z = self.state
-        for k, (b0, b1, b2, _, a1, a2) in enumerate(self.sos):
-            y = b0 * x + z[k, 0]
-            z[k, 0] = b1 * x - a1 * y + z[k, 1]
-            z[k, 1] = b2 * x - a2 * y
-            x = y
-        return x
+        return np.array(self.step_values(x.ravel().tolist())).reshape(self.channels)
+
+    def step_values(self, sample: list[float]) -> list[float]:
+        """:meth:`step` on plain floats, one per channel (flattened), already checked: the per-step path.
+
+        The recursion of :meth:`step` itself, without arrays (numpy's per-call cost on two
+        values is many times the arithmetic).
+        """
+        output = []
+        for channel, x in enumerate(sample):
+            for (b0, b1, b2, _, a1, a2), (z0, z1) in zip(self._sections, self._state):
+                y = b0 * x + z0[channel]
+                z0[channel] = b1 * x - a1 * y + z1[channel]
+                z1[channel] = b2 * x - a2 * y
+                x = y
+            output.append(x)
+        return output
 
     def filter(self, block: ArrayLike) -> np.ndarray:
         """Filter a block of samples, shape ``(T, *channels)``, continuing from the state.
@@ -287,7 +310,7 @@ class ExponentialLowPass:
 
     def step(self, sample: float, dt: float) -> float:
         """Filter one sample taken ``dt`` [s] after the previous one; return the output."""
-        sample = float(finite_array("sample", sample))
+        sample, = finite_floats("sample", (sample,))
         dt = require_time_step(dt)
         if self.output is None:
             self.output = sample

@@ -43,11 +43,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 
 from ._validation import (
     finite_array,
+    finite_floats,
     require_below_nyquist,
     require_finite,
     require_nonnegative,
@@ -56,6 +58,7 @@ from ._validation import (
 )
 from .exceptions import ConfigurationError, InputError
 from .filters import DiscreteFilter, cascade, first_order_lowpass, notch, second_order_lowpass
+from .interpolation import interpolate
 from .pi import PIController
 from .saturation import NormSaturation
 
@@ -223,7 +226,7 @@ class HarmonicIpcConfig:
         if self.soft_start_enabled:
             factor *= soft_start_factor(operating_point, self.soft_start_begin, self.soft_start_end)
         if self.schedule_breakpoints:
-            factor *= float(np.interp(operating_point, self.schedule_breakpoints, self.schedule_factors))
+            factor *= interpolate(operating_point, self.schedule_breakpoints, self.schedule_factors)
         return factor
 
 
@@ -247,8 +250,7 @@ def design_prefilter(config: HarmonicIpcConfig, dt: float) -> DiscreteFilter | N
     return cascade(*stages) if stages else None
 
 
-@dataclass(frozen=True)
-class IpcOutput:
+class IpcOutput(NamedTuple):
     """One step of a harmonic IPC law (fields of ``hawt_msgs/HarmonicPitch`` and diagnostics).
 
     Attributes
@@ -318,7 +320,7 @@ class HarmonicIpc:
         self.ramp = 0.0
         self.ramp_target = 0.0
         self.ramp_rate = math.inf
-        self._filtered = np.zeros(2)
+        self._filtered = [0.0, 0.0]
 
     @property
     def active(self) -> bool:
@@ -354,7 +356,7 @@ class HarmonicIpc:
         values = np.zeros(2) if moments is None else finite_array("moments", moments, shape=(2,))
         if self.prefilter is not None:
             self.prefilter.reset(values)
-        self._filtered = values.copy()
+        self._filtered = values.tolist()
 
     def activate(self, ramp_time: float | None = None, initial: tuple[float, float] | None = None) -> None:
         """Start ramping the output in over ``ramp_time`` [s] (default ``config.ramp_time``).
@@ -410,7 +412,7 @@ class HarmonicIpc:
         -------
         IpcOutput
         """
-        moments = finite_array("moments", [moment_cos, moment_sin])
+        moments = finite_floats("moments", (moment_cos, moment_sin))
         dt = require_time_step(dt)
         if self.config.uses_operating_point and not math.isfinite(operating_point):
             raise InputError(
@@ -420,29 +422,29 @@ class HarmonicIpc:
             raise InputError("pitch_headroom", "must not be NaN")
         if not math.isclose(dt, self.dt, rel_tol=_DT_TOLERANCE):
             self._redesign(dt)
-        self._filtered = moments if self.prefilter is None else self.prefilter.step(moments)
+        self._filtered = moments if self.prefilter is None else self.prefilter.step_values(moments)
 
         self._advance_ramp(dt)
         factor = self.config.gain_factor(operating_point) if self.config.uses_operating_point else 1.0
         if self.ramp == 0.0 and self.ramp_target == 0.0:
             self.law.reset(0.0)
-            demand = np.zeros(2)
+            demand = [0.0, 0.0]
         else:
             limit = min(self.config.max_amplitude, max(pitch_headroom, 0.0))
-            demand = self.ramp * self.law.update(
+            demand = [self.ramp * value for value in self.law.update_values(
                 self._filtered,
                 dt,
                 kp=factor * self.config.proportional_gain,
                 ki=factor * self.config.integral_gain,
                 saturation=NormSaturation(limit),
-            )
+            )]
         return IpcOutput(
             harmonic=int(self.config.harmonic),
-            cos=float(demand[0]),
-            sin=float(demand[1]),
+            cos=demand[0],
+            sin=demand[1],
             phase_offset=float(self.config.phase_offset),
-            filtered_cos=float(self._filtered[0]),
-            filtered_sin=float(self._filtered[1]),
+            filtered_cos=self._filtered[0],
+            filtered_sin=self._filtered[1],
             gain_factor=factor,
             ramp=self.ramp,
             active=self.active,

@@ -14,10 +14,13 @@ the loop delay and the pre-filter), and the gain schedule over collective pitch
 keeps the loop gain ``k_i k`` constant across the operating points.
 
 Run ``python -m hawt_controllers.ipc_design`` to print the design and write the
-parameter file the ``ipc`` graph uses.
+parameter file the ``ipc`` graph uses, and the retuned 1P controller of the ``switching``
+graph derived from it (:func:`retuned`); ``--retuned-only`` derives that one again from the
+existing file.
 """
 import argparse
 import math
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, List, Sequence
@@ -25,16 +28,22 @@ from typing import Dict, List, Sequence
 import numpy as np
 import yaml
 
+from hawt_controllers.coleman_coupling import offset_from_dc_response, relative_gain_array
+from hawt_controllers.controller import HarmonicContribution
 from hawt_controllers.ipc import HarmonicIpcConfig, design_prefilter
 from hawt_controllers.ipc_tuning import design_integral_gain
-from hawt_controllers.mbc import mbc_forward, mbc_inverse
+from hawt_controllers.limits import PitchLimits
+from hawt_controllers.loop_assembly import LoopAssembler
+from hawt_controllers.mbc import mbc_forward
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import Turbine, nrel_5mw
 
-__all__ = ["HarmonicResponse", "measure_harmonic_response", "design", "main"]
+__all__ = ["HarmonicResponse", "CouplingPoint", "measure_harmonic_response", "coupling_survey", "design", "retuned",
+           "main"]
 
 DEFAULT_FILE = Path(__file__).resolve().parent.parent / "config" / "ipc_nrel5mw.yaml"
+RETUNED_FILE = DEFAULT_FILE.with_name("ipc_nrel5mw_retuned.yaml")
 
 
 @dataclass(frozen=True)
@@ -55,11 +64,14 @@ def _mean_components(turbine: Turbine, wind_speed: float, harmonic: int, demand:
                          ModelConfig(dt=dt, tower_shadow=False))
     out = model.reset_to_operating_point()
     collective, torque = float(np.mean(out.pitch)), float(out.generator_torque)
-    blades = model.number_of_blades
+    actuator = turbine.pitch_actuator
+    assembler = LoopAssembler(model.number_of_blades, PitchLimits(actuator.min_angle, actuator.max_angle,
+                                                                  actuator.max_rate), dt)
     samples = []
     for step in range(int((settle + average) / dt)):
-        pitch = collective + mbc_inverse(demand, 0.0, out.azimuth, harmonic, blades)
-        out = model.step(np.asarray(pitch), torque)
+        pitch = collective + assembler.individual([(HarmonicContribution(harmonic, demand, 0.0), 1.0)],
+                                                  out.azimuth)
+        out = model.step(pitch, torque)
         if step * dt >= settle:
             c = mbc_forward(out.root_moment_oop, out.azimuth, harmonic)
             samples.append((c.cos, c.sin))
@@ -107,6 +119,57 @@ def design(turbine: Turbine, harmonics: Sequence[int], wind_speeds: Sequence[flo
     return nodes
 
 
+@dataclass(frozen=True)
+class CouplingPoint:
+    """Disario's analysis of one measured response (hawt_controllers.coleman_coupling, the notes' check B10).
+
+    ``offset`` is the phase offset φ_n = nψ_n [rad] that decouples tilt from yaw at DC (atan2(P21(0), P11(0))
+    of the response measured without offset); ``cross_gain`` |P21/P11| and ``rga`` RGA11 at DC without it
+    (with it: 0 and 1); ``time_constant`` the first-order blade K/(τs + 1) with the same offset,
+    τ = tan(φ_n)/(nω0) (Disario eq. 3-7).
+    """
+
+    response: HarmonicResponse
+    offset: float
+    cross_gain: float
+    rga: float
+    time_constant: float
+
+
+def coupling_survey(turbine: Turbine, wind_speeds: Sequence[float], harmonics: Sequence[int], dt: float = 0.01,
+                    progress=lambda line: None) -> List[CouplingPoint]:
+    """The decoupling offset and the coupling without it, per wind speed and harmonic, from the plant's response."""
+    points = []
+    for v in wind_speeds:
+        for n in harmonics:
+            r = measure_harmonic_response(turbine, v, n, dt=dt)
+            p11, p21 = math.cos(r.phase), math.sin(r.phase)  # the response rotated by φ, its sign taken out
+            dc = np.array([[p11, -p21], [p21, p11]])
+            rga = float(relative_gain_array(dc)[0, 0])
+            points.append(CouplingPoint(r, offset_from_dc_response(p11, p21), abs(p21 / p11), rga,
+                                        math.tan(r.phase) / (n * r.rotor_speed)))
+            progress(f"{v:g} m/s, harmonic {n}: offset {math.degrees(r.phase):.1f} deg")
+    return points
+
+
+def retuned(nodes: Dict[str, dict], harmonic: int = 1, gain_factor: float = 1.3) -> Dict[str, dict]:
+    """The ``ipc_h{n}_retuned`` controller of the switching graph: harmonic n's design with ``gain_factor`` times
+    its integral gain and no gain schedule."""
+    design_n = nodes[f"/**/ipc_h{harmonic}"]["ros__parameters"]
+    return {f"/**/ipc_h{harmonic}_retuned": {"ros__parameters": {
+        "harmonic": harmonic, "integral_gain": gain_factor * design_n["integral_gain"],
+        "phase_offset": design_n["phase_offset"]}}}
+
+
+def _write(path: Path, nodes: Dict[str, dict], what: str, argv: Sequence[str]) -> None:
+    header = (f"# {what}, written by `python -m hawt_controllers.ipc_design {' '.join(argv or [])}`.\n"
+              "# Gains, phase offsets and schedules come from the turbine model's measured response (see that "
+              "module).\n")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(header + yaml.safe_dump(nodes, sort_keys=False))
+    print(f"wrote {path}")
+
+
 def main(argv: Sequence[str] = None) -> None:
     parser = argparse.ArgumentParser(description="Tune the IPC harmonics from the turbine model's measured response "
                                                  "and write the ipc graph's parameter file.")
@@ -119,15 +182,18 @@ def main(argv: Sequence[str] = None) -> None:
                         help="delay from measurement to pitch [s]: one plant step plus the pitch actuator's lag")
     parser.add_argument("--dt", type=float, default=0.01)
     parser.add_argument("-o", "--output", type=Path, default=DEFAULT_FILE)
+    parser.add_argument("--retuned-output", type=Path, default=RETUNED_FILE)
+    parser.add_argument("--retuned-only", action="store_true",
+                        help="only derive the retuned 1P controller from the existing --output file")
+    argv = sys.argv[1:] if argv is None else argv
     args = parser.parse_args(argv)
-    nodes = design(nrel_5mw(), args.harmonics, args.wind_speeds, args.reference_speed,
-                   2 * math.pi * args.bandwidth_hz, args.loop_delay, args.dt)
-    header = ("# IPC parameters of the NREL 5 MW, written by `python -m hawt_controllers.ipc_design "
-              f"{' '.join(argv or [])}`.\n# Gains, phase offsets and schedules come from the turbine model's "
-              "measured response (see that module).\n")
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text(header + yaml.safe_dump(nodes, sort_keys=False))
-    print(f"wrote {args.output}")
+    if args.retuned_only:
+        nodes = yaml.safe_load(args.output.read_text())
+    else:
+        nodes = design(nrel_5mw(), args.harmonics, args.wind_speeds, args.reference_speed,
+                       2 * math.pi * args.bandwidth_hz, args.loop_delay, args.dt)
+        _write(args.output, nodes, "IPC parameters of the NREL 5 MW", argv)
+    _write(args.retuned_output, retuned(nodes), f"The retuned 1P controller, derived from {args.output.name}", argv)
 
 
 if __name__ == "__main__":

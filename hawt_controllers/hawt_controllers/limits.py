@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validation import finite_array, require_finite, require_positive, require_time_step
+from ._validation import finite_floats, require_finite, require_positive, require_time_step
 from .exceptions import ConfigurationError, InputError
 
 __all__ = ["LimitFlag", "LimitedPitch", "PitchLimits", "limit_pitch"]
@@ -71,21 +71,14 @@ class LimitedPitch(NamedTuple):
         Blades whose demand was outside [min_angle, max_angle].
     rate_saturated : ndarray of bool, shape (B,)
         Blades whose rate limit was active.
+    flags : LimitFlag
+        OR of the flags over all blades.
     """
 
     pitch: np.ndarray
     angle_saturated: np.ndarray
     rate_saturated: np.ndarray
-
-    @property
-    def flags(self) -> LimitFlag:
-        """OR of the flags over all blades."""
-        flags = LimitFlag.NONE
-        if self.angle_saturated.any():
-            flags |= LimitFlag.ANGLE_SATURATED
-        if self.rate_saturated.any():
-            flags |= LimitFlag.RATE_SATURATED
-        return flags
+    flags: LimitFlag
 
 
 def limit_pitch(demand: ArrayLike, previous: ArrayLike, dt: float, limits: PitchLimits) -> LimitedPitch:
@@ -110,16 +103,18 @@ def limit_pitch(demand: ArrayLike, previous: ArrayLike, dt: float, limits: Pitch
         ``pitch`` with ``min_angle <= pitch <= max_angle`` and
         ``|pitch − previous| <= max_rate·dt`` whenever ``previous`` is in range.
     """
-    demand = finite_array("demand", demand)
-    if demand.ndim != 1:
-        raise InputError("demand", f"expected one value per blade, found shape {demand.shape}")
-    previous = finite_array("previous", previous)
-    if previous.shape != demand.shape:
-        raise InputError("previous", f"expected shape {demand.shape} like demand, found {previous.shape}")
+    demand = finite_floats("demand", demand)
+    previous = finite_floats("previous", previous)
+    if len(previous) != len(demand):
+        raise InputError("previous", f"expected shape {(len(demand),)} like demand, found {(len(previous),)}")
     dt = require_time_step(dt)
-    clamped = np.clip(demand, limits.min_angle, limits.max_angle)
-    step = limits.max_rate * dt
-    change = np.clip(clamped - previous, -step, step)
-    rate_limited = change != clamped - previous
-    pitch = np.clip(previous + change, limits.min_angle, limits.max_angle)
-    return LimitedPitch(pitch=pitch, angle_saturated=clamped != demand, rate_saturated=rate_limited)
+    low, high, step = limits.min_angle, limits.max_angle, limits.max_rate * dt
+    pitch, angle_saturated, rate_saturated = [], [], []
+    for wanted, last in zip(demand, previous):  # per blade on floats: numpy's per-call cost on B values is larger
+        clamped = min(max(wanted, low), high)
+        change = min(max(clamped - last, -step), step)
+        pitch.append(min(max(last + change, low), high))
+        angle_saturated.append(clamped != wanted)
+        rate_saturated.append(change != clamped - last)
+    flags = LimitFlag(LimitFlag.ANGLE_SATURATED * any(angle_saturated) | LimitFlag.RATE_SATURATED * any(rate_saturated))
+    return LimitedPitch(np.array(pitch), np.array(angle_saturated), np.array(rate_saturated), flags)

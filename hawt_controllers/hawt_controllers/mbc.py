@@ -37,12 +37,12 @@ What is supported, and why
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import List, NamedTuple, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validation import finite_array
+from ._validation import finite_array, finite_floats
 from .exceptions import ConfigurationError, InputError
 
 __all__ = [
@@ -51,7 +51,9 @@ __all__ = [
     "check_configuration",
     "harmonic_rank",
     "mbc_forward",
+    "mbc_forward_sample",
     "mbc_inverse",
+    "mbc_inverse_sample",
 ]
 
 
@@ -194,6 +196,64 @@ def mbc_forward(blade_values: ArrayLike, azimuth: ArrayLike, harmonic: int) -> H
         cos=scale * np.sum(values * np.cos(angles), axis=-1),
         sin=scale * np.sum(values * np.sin(angles), axis=-1),
     )
+
+
+def mbc_forward_sample(blade_values: Sequence[float], azimuth: float, harmonic: int) -> HarmonicComponents:
+    """:func:`mbc_forward` of one sample on plain floats: the per-step path of the controllers.
+
+    Same equations (Fratini 2019 eq. 2.7/4.10) and the same order of operations; on
+    three blades, numpy's per-call cost would be many times the arithmetic. The
+    caller has checked ``harmonic`` against B (:func:`check_configuration`).
+
+    Returns
+    -------
+    HarmonicComponents
+        ``mean``, ``cos``, ``sin`` as floats.
+
+    Raises
+    ------
+    InputError
+        For NaN/inf.
+
+    Examples
+    --------
+    >>> psi = 0.3
+    >>> m = [math.cos(psi + 2 * math.pi * i / 3) for i in range(3)]
+    >>> [round(v, 12) + 0.0 for v in mbc_forward_sample(m, psi, 1)]
+    [0.0, 1.0, 0.0]
+    """
+    values = finite_floats("blade_values", blade_values)
+    psi, = finite_floats("azimuth", (azimuth,))
+    n_blades = len(values)
+    spacing = 2.0 * math.pi / n_blades
+    cos = sin = 0.0
+    for i, value in enumerate(values):
+        angle = harmonic * (psi + spacing * i)
+        cos += value * math.cos(angle)
+        sin += value * math.sin(angle)
+    scale = 2.0 / n_blades
+    return HarmonicComponents(mean=sum(values) / n_blades, cos=scale * cos, sin=scale * sin)
+
+
+def mbc_inverse_sample(cos: float, sin: float, azimuth: float, harmonic: int, n_blades: int,
+                       phase_offset: float = 0.0) -> List[float]:
+    """:func:`mbc_inverse` of one sample on plain floats: θ_i = c cos(n ψ_i + φ_n) + s sin(n ψ_i + φ_n).
+
+    The per-step path of the loop assembler (Fratini 2019 eq. 4.11), the same order of
+    operations as :func:`mbc_inverse`; the caller has checked ``harmonic`` against B.
+
+    Raises
+    ------
+    InputError
+        For NaN/inf.
+    """
+    c, s, psi, phi = finite_floats("cos, sin, azimuth, phase_offset", (cos, sin, azimuth, phase_offset))
+    spacing = 2.0 * math.pi / n_blades
+    pitch = []
+    for i in range(n_blades):
+        angle = harmonic * (psi + spacing * i) + phi
+        pitch.append(c * math.cos(angle) + s * math.sin(angle))
+    return pitch
 
 
 def mbc_inverse(

@@ -1,225 +1,282 @@
-"""The ``mbc`` node: forward MBC transform of the blade loads, and the pitch command of every step.
+"""The ``mbc`` node: the loop assembler of the ROS graph, ``control/pitch_command`` of every step.
 
-Forward: each ``plant/blade_loads`` of step k gives ``control/mbc/h{n}`` for every
-configured harmonic n (DESIGN.md §3). Return: the collective of step k plus the
-remodulated demand of every active IPC harmonic, limited per blade in angle and
-rate, is ``control/pitch_command`` of step k.
+Every controller's contribution of step k — the collective, each ``harmonic/<n>`` demand,
+the ``blade_pitch`` increments — goes into the command of step k through
+:class:`hawt_controllers.loop_assembly.LoopAssembler` (the same core the in-process
+runner uses). The node learns which interfaces exist from the controllers' own
+announcements and from the switches (``controller_manager/controllers``,
+``controller_manager/switch``), so a new controller type needs no change here. It also
+publishes the forward transform of the blade loads for the ``harmonics`` it is given
+(``control/mbc/h{n}``, for watching; controllers transform the loads themselves).
 
-Lockstep waits for every input of step k: the loads, the collective and the
-demand of every harmonic that has a publishing IPC controller at step k
-(``ipc_harmonics`` at start, then as ``controller_manager`` switches say:
-hawt_controllers.switching.HarmonicWindows). Realtime answers each collective
-with the latest IPC demands at the azimuth extrapolated to the moment of sending.
+Lockstep waits for every input of step k: the loads, the collective and the contribution
+of every interface that has a publishing controller at step k (controllers active at the
+start, then as switches say: hawt_controllers.switching.InterfaceWindows). So that the
+first steps are the same in every run, no step is answered before every controller
+named in ``controllers`` has announced itself and, with ``await_schedule``, before
+controller_manager's schedule has arrived (so a scheduled switch is never late).
+Realtime answers each collective with the latest contributions at the azimuth
+extrapolated to the moment of sending.
 
-An IPC controller that stops answering (its process died: no demand of the step
-within ``input_timeout`` in lockstep, none for ``stale_steps`` in realtime) is
-"lost": its last demand fades to zero over ``fade_time`` while the others go on,
-the command is flagged FLAG_STALE_IPC and an ``ipc_lost`` event says so. When it
-answers again (respawned) it is followed again (``ipc_returned``). A missing
-collective is never skipped: without it the plant's safety system takes over.
+A contributor that stops answering (its process died: nothing for step k within
+``input_timeout`` in lockstep, nothing for ``stale_steps`` in realtime) is "lost": its last
+contribution fades to zero over ``fade_time`` while the others go on, the command is
+flagged FLAG_STALE_IPC and a ``contribution_lost`` event says so; when it answers again
+(respawned) it is followed again (``contribution_returned``). A missing collective is never
+skipped: without it the plant's safety system takes over.
 """
 import math
 import time
+from typing import Any, Dict, Optional, Set
 
 import numpy as np
-from hawt_msgs.msg import BladeLoads, CollectivePitch, ControlEvent, HarmonicLoads, HarmonicPitch, PitchCommand
+from hawt_msgs.msg import BladeLoads, CollectivePitch, ControllerState, ControlEvent, HarmonicLoads, PitchCommand
+from hawt_msgs.msg import PlantDescription as PlantDescriptionMessage
 from rclpy.node import Node
 
 from hawt_controllers.collective import DEFAULT_BASELINE_FILE, load_baseline_config
-from hawt_controllers.limits import PitchLimits, limit_pitch
-from hawt_controllers.mbc import check_configuration, mbc_forward, mbc_inverse
+from hawt_controllers.contribution_messages import from_message, message_type
+from hawt_controllers.exceptions import ConfigurationError
+from hawt_controllers.limits import PitchLimits
+from hawt_controllers.loop_assembly import LoopAssembler, assembly_problem, extrapolated_azimuth, fade_factor
+from hawt_controllers.mbc import check_configuration, mbc_forward
 from hawt_controllers.switch_listener import SwitchListener
-from hawt_controllers.switching import HarmonicWindows
-from hawt_tools.events import EventPublisher
-from hawt_tools.node_main import node_entry_point
-from hawt_tools.parameters import (ParameterError, ParameterSpec, accepted, check_values, declare_parameters,
-                                   rejection)
-from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
-from hawt_tools.step_sync import StepAnswer, StepJoin
-from hawt_tools.topics import BLADE_LOADS, COLLECTIVE, PITCH_COMMAND, ipc_topic, mbc_topic
+from hawt_controllers.switching import InterfaceWindows
+from hawt_core.command_interfaces import parse_interface
+from hawt_core.parameter_table import ParameterError, check_values
+from hawt_core.plant_description import PlantDescription
+from hawt_core.step_sync import StepAnswer, StepJoin
+from hawt_core.topics import BLADE_LOADS, COLLECTIVE, CONTROLLER_STATES, PITCH_COMMAND, PLANT_DESCRIPTION, mbc_topic
+from hawt_node.events import EventPublisher
+from hawt_node.node_main import node_entry_point
+from hawt_node.parameters import ParameterSpec, accepted, declare_parameters, rejection
+from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
 
 __all__ = ["MbcNode", "PARAMETERS", "main"]
 
 _LIMITS = load_baseline_config(DEFAULT_BASELINE_FILE).pitch_limits
 
 PARAMETERS = (
-    ParameterSpec("blades", 3, "number of blades B", minimum=3, maximum=12, read_only=True),
-    ParameterSpec("harmonics", [1, 2, 3], "harmonics n published on control/mbc/h{n}", read_only=True),
-    ParameterSpec("ipc_harmonics", [0], "harmonics whose IPC controller is active at step 0 ([0]: none); "
-                  "controller_manager switches change the set", read_only=True),
-    ParameterSpec("dt", 0.01, "plant step", "s", minimum=1e-4, maximum=1.0, read_only=True),
+    ParameterSpec("harmonics", [0], "harmonics n whose forward transform is published on control/mbc/h{n} "
+                  "for watching ([0]: none)", read_only=True),
+    ParameterSpec("controllers", [""], "controller names that must have announced themselves before the first "
+                  "step is answered (lockstep: the graph's controllers, so every run starts alike; ['']: none)",
+                  read_only=True),
+    ParameterSpec("await_schedule", False, "answer the first step only once controller_manager has published "
+                  "its schedule (lockstep with a schedule: every scheduled switch is then known before its step)",
+                  read_only=True),
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("max_pitch", _LIMITS.max_angle, "highest pitch command", "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("max_pitch_rate", _LIMITS.max_rate, "largest pitch rate", "rad/s", minimum=1e-3, maximum=1.0),
-    ParameterSpec("stale_steps", 5, "realtime: an IPC controller whose newest demand is older than this many "
+    ParameterSpec("stale_steps", 5, "realtime: a contributor whose newest contribution is older than this many "
                   "steps is lost", minimum=1, maximum=1000),
-    ParameterSpec("input_timeout", 1.0, "lockstep: an IPC controller that has not answered the step this long "
+    ParameterSpec("input_timeout", 1.0, "lockstep: a contributor that has not answered the step this long "
                   "(wall clock) after the plant's loads is lost (keep it below the plant's command_timeout; a "
                   "busy machine can delay a live node by a fraction of a second)", "s", minimum=0.01,
                   maximum=60.0),
-    ParameterSpec("fade_time", 2.0, "time over which a lost controller's last demand fades to zero", "s",
+    ParameterSpec("fade_time", 2.0, "time over which a lost contributor's last contribution fades to zero", "s",
                   minimum=0.0, maximum=600.0),
     ParameterSpec("latency", 0.0, "realtime: extra time the command takes to reach the plant, added to the "
                   "azimuth extrapolation", "s", minimum=0.0, maximum=0.1),
 )
 
 
-def _active(harmonics) -> tuple:
-    return tuple(n for n in harmonics if n > 0)
+def pitch_limits(values) -> PitchLimits:
+    """The command's limits from the assembler's parameter values."""
+    return PitchLimits(values["min_pitch"], values["max_pitch"], values["max_pitch_rate"])
 
 
 class MbcNode(Node):
-    """Thin node around hawt_controllers.mbc and hawt_controllers.limits."""
+    """Thin node around hawt_controllers.loop_assembly (module notes)."""
+
+    PARAMETERS = PARAMETERS
+
+    @staticmethod
+    def check_parameters(values) -> None:
+        """The pitch limits must make sense together (min_pitch below max_pitch)."""
+        try:
+            pitch_limits(values).validate()
+        except ConfigurationError as error:
+            names = {"min_angle": "min_pitch", "max_angle": "max_pitch", "max_rate": "max_pitch_rate"}
+            reason = error.reason.replace("max_angle", "max_pitch")
+            raise ParameterError(f"{names.get(error.field, error.field)}: {reason}") from None
 
     def __init__(self, **node_kwargs) -> None:
         super().__init__("mbc", **node_kwargs)
         self.values = declare_parameters(self, PARAMETERS)
-        self.blades = self.values["blades"]
-        for n in (*self.values["harmonics"], *_active(self.values["ipc_harmonics"])):
-            check_configuration(n, self.blades)
-        self.limits = self._limits(self.values)
+        self.expected = {name.strip("/").rsplit("/", 1)[-1] for name in self.values["controllers"] if name.strip()}
+        self.announced: Set[str] = set()
         self.events = EventPublisher(self)
-        self.forward = {n: self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP_HISTORY)
-                        for n in self.values["harmonics"]}
+        self.assembler: Optional[LoopAssembler] = None
+        self.plant: Optional[PlantDescription] = None
+        self.forward = {}
         self.answer = StepAnswer(self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY).publish)
         self.lockstep = self.values["mode"] == "lockstep"
         self.join = StepJoin(())
-        self.demands = {}
-        self.ipc_subscriptions = {}
-        self.windows = HarmonicWindows(_active(self.values["ipc_harmonics"]), self.values["dt"])
-        self.lost = {}
+        self.demands: Dict[str, Any] = {}
+        self.subscribed: Dict[str, Any] = {}
+        self.windows = InterfaceWindows((), 1.0)
+        self.lost: Dict[str, tuple] = {}
+        self.loads: Optional[BladeLoads] = None
+        self.loads_received = 0.0
         self.switches = SwitchListener(self)
-        self._follow_windows(0)
+        self._subscribe(COLLECTIVE, CollectivePitch)
         if self.lockstep:
             self.create_timer(0.05, self._watch_inputs)
-        self.loads: BladeLoads = None
-        self.loads_received = 0.0
+        self.create_subscription(PlantDescriptionMessage, PLANT_DESCRIPTION, self._on_description, LATCHED)
+        self.create_subscription(ControllerState, CONTROLLER_STATES, self._on_controller, LATCHED)
         self.create_subscription(BladeLoads, BLADE_LOADS, self._on_loads, CONTROL_LOOP)
-        self.create_subscription(CollectivePitch, COLLECTIVE, lambda m: self._input("collective", m), CONTROL_LOOP)
         self.add_on_set_parameters_callback(self._check_parameters)
         self.add_post_set_parameters_callback(self._apply_parameters)
 
-    @staticmethod
-    def _limits(values) -> PitchLimits:
-        return PitchLimits(values["min_pitch"], values["max_pitch"], values["max_pitch_rate"])
+    def _on_description(self, msg: PlantDescriptionMessage) -> None:
+        if self.plant is not None:
+            return
+        self.plant = PlantDescription.from_fields(msg)
+        for n in self.values["harmonics"]:
+            if n > 0:
+                check_configuration(n, self.plant.blades)
+                self.forward[n] = self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP_HISTORY)
+        self.assembler = LoopAssembler(self.plant.blades, pitch_limits(self.values), self.plant.dt)
+        self.windows.dt = self.plant.dt
+
+    def _on_controller(self, msg: ControllerState) -> None:
+        """A controller's announcement: subscribe to what it claims; one active from step 0 contributes from 0."""
+        self.announced.add(msg.name.rsplit("/", 1)[-1])
+        for interface in msg.interfaces:
+            self._subscribe(parse_interface(interface).topic, message_type(interface))
+        if msg.state == ControllerState.ACTIVE and msg.step == 0:
+            self.windows.start(msg.interfaces)
+
+    def _subscribe(self, topic: str, kind: type) -> None:
+        if topic not in self.subscribed:
+            self.subscribed[topic] = self.create_subscription(kind, topic, lambda m, t=topic: self._input(t, m),
+                                                              CONTROL_LOOP)
 
     def _check_parameters(self, changes):
         try:
-            values = check_values(PARAMETERS, self.values, changes)
-            self._limits(values).validate()
+            pitch_limits(check_values(PARAMETERS, self.values, changes)).validate()
         except (ParameterError, ValueError) as error:
             return rejection(error)
         return accepted()
 
     def _apply_parameters(self, changes) -> None:
         self.values = check_values(PARAMETERS, self.values, changes)
-        self.limits = self._limits(self.values)
+        if self.assembler is not None:
+            self.assembler.limits = pitch_limits(self.values)
         self.events(ControlEvent.INFO, "parameter_change",
                     ", ".join(f"{p.name}={p.value}" for p in changes), step=self.join.step or 0)
 
-    def _follow_windows(self, step: int):
-        """Subscribe to every harmonic a controller may publish; require those publishing at ``step`` and not
-        lost. Returns the step's inputs if that change completes them (StepJoin.set_required), else None."""
-        for n in self.windows.harmonics():
-            if n not in self.ipc_subscriptions:
-                self.ipc_subscriptions[n] = self.create_subscription(
-                    HarmonicPitch, ipc_topic(n), lambda m, n=n: self._input(f"h{n}", m), CONTROL_LOOP)
-        return self.join.set_required(
-            {"loads", "collective", *(f"h{n}" for n in self.windows.publishing(step) if n not in self.lost)}
-            if self.lockstep else {"collective"})
+    def _publishing_topics(self, step: int) -> Set[str]:
+        """Contribution topics whose contribution of ``step`` comes from a controller (the collective always)."""
+        return {COLLECTIVE, *(parse_interface(i).topic for i in self.windows.publishing(step))}
 
-    def _lose(self, harmonic: int, step: int, why: str) -> None:
-        """Fade out a controller that stopped answering, from its last demand."""
-        self.lost[harmonic] = (self.demands.get(harmonic), step)
-        self.events(ControlEvent.WARN, "ipc_lost", f"control/ipc/h{harmonic}: {why}; its last demand fades out "
-                    f"over {self.values['fade_time']:g} s, the other harmonics go on", step=step)
+    def _require(self, step: int) -> Optional[dict]:
+        """Require the inputs of ``step``; the step's inputs if that change completes them (StepJoin.set_required)."""
+        if not self.lockstep:
+            return self.join.set_required({COLLECTIVE})
+        return self.join.set_required({"loads", *(t for t in self._publishing_topics(step) if t not in self.lost)})
+
+    def _lose(self, topic: str, step: int, why: str) -> None:
+        """Fade out a contributor that stopped answering, from its last contribution."""
+        self.lost[topic] = (self.demands.get(topic), step)
+        self.events(ControlEvent.WARN, "contribution_lost", f"{topic}: {why}; its last contribution fades out over "
+                    f"{self.values['fade_time']:g} s, the others go on", step=step)
 
     def _watch_inputs(self) -> None:
-        """Lockstep: give up on IPC demands of the pending step after input_timeout."""
+        """Lockstep: give up on contributions of the pending step after input_timeout."""
         inputs = self.join.inputs
-        if self.loads is None or self.join.step != self.loads.step or "collective" not in inputs:
+        if self.loads is None or self.join.step != self.loads.step or COLLECTIVE not in inputs:
             return  # no step pending, or its collective is missing (never skipped: the plant's safety system acts)
         if self.answer.last is not None and self.answer.last.step >= self.loads.step:
             return
         if time.monotonic() - self.loads_received < self.values["input_timeout"]:
             return
-        missing = [n for n in self.windows.publishing(self.loads.step)
-                   if f"h{n}" not in inputs and n not in self.lost]
-        for n in missing:
-            self._lose(n, self.loads.step, f"no demand for step {self.loads.step} within "
-                                           f"{self.values['input_timeout']:g} s")
-        complete = self._follow_windows(self.loads.step)
+        for topic in sorted(self._publishing_topics(self.loads.step) - inputs.keys() - self.lost.keys()):
+            self._lose(topic, self.loads.step, f"nothing for step {self.loads.step} within "
+                                               f"{self.values['input_timeout']:g} s")
+        complete = self._require(self.loads.step)
         if complete is not None:
-            self._command(complete["collective"])
+            self._command(complete[COLLECTIVE])
 
     def _on_loads(self, msg: BladeLoads) -> None:
+        if self.assembler is None or not self.expected <= self.announced \
+                or (self.values["await_schedule"] and not self.switches.has_schedule):
+            return  # the plant resends the step until it is answered
         oop = np.asarray(msg.root_moment_oop)
-        if oop.shape != (self.blades,) or len(msg.pitch) != self.blades or not np.all(np.isfinite(oop)) \
-                or not math.isfinite(msg.azimuth):
+        if oop.shape != (self.plant.blades,) or len(msg.pitch) != self.plant.blades \
+                or not np.all(np.isfinite(oop)) or not math.isfinite(msg.azimuth):
             self.events(ControlEvent.ERROR, "invalid_input",
-                        f"plant/blade_loads step {msg.step}: expected {self.blades} finite moments and pitches, "
-                        f"got {list(msg.root_moment_oop)} / {list(msg.pitch)}", step=msg.step, stamp=msg.header.stamp)
+                        f"plant/blade_loads step {msg.step}: expected {self.plant.blades} finite moments and "
+                        f"pitches, got {list(msg.root_moment_oop)} / {list(msg.pitch)}", step=msg.step,
+                        stamp=msg.header.stamp)
             return
         if self.loads is None or msg.step != self.loads.step:  # a resent step keeps its first arrival time
             self.loads_received = time.monotonic()
         self.loads = msg
         for switch in self.switches.due(msg.step):
-            try:
-                for n in {n for _, n in switch.activate if n > 0}:
-                    check_configuration(n, self.blades)
-                self.windows.apply(switch)
-            except ValueError as error:
-                self.events(ControlEvent.ERROR, "switch", f"switch of step {switch.step} not followed: {error}",
+            incoming = [i for _, claims in switch.activate for i in claims]
+            problems = [p for p in (assembly_problem(i, self.plant.blades) for i in incoming) if p]
+            if problems:
+                self.events(ControlEvent.ERROR, "switch", f"switch of step {switch.step} not followed: {problems[0]}",
                             step=msg.step, stamp=msg.header.stamp)
-        complete = self._follow_windows(msg.step)
-        collective_pitch = float(np.mean(msg.pitch))
+                continue
+            for interface in incoming:
+                self._subscribe(parse_interface(interface).topic, message_type(interface))
+            self.windows.apply(switch)
+        complete = self._require(msg.step)
         for n, publisher in self.forward.items():
             components = mbc_forward(oop, msg.azimuth, n)
             out = HarmonicLoads(step=msg.step, harmonic=n, azimuth=msg.azimuth, rotor_speed=msg.rotor_speed,
                                 cos=float(components.cos), sin=float(components.sin), mean=float(components.mean),
-                                collective_pitch=collective_pitch)
+                                collective_pitch=float(np.mean(msg.pitch)))
             out.header = msg.header
             publisher.publish(out)
         if complete is not None:
-            self._command(complete["collective"])
+            self._command(complete[COLLECTIVE])
         self._input("loads", msg)
 
     def _input(self, name: str, msg) -> None:
-        if name.startswith("h"):
-            self.demands[msg.harmonic] = msg
-            if msg.harmonic in self.lost:
-                del self.lost[msg.harmonic]
-                self.events(ControlEvent.INFO, "ipc_returned", f"control/ipc/h{msg.harmonic} answers again from "
-                            f"step {msg.step}", step=msg.step)
+        if name not in ("loads", COLLECTIVE):
+            self.demands[name] = msg
+            if name in self.lost:
+                del self.lost[name]
+                self.events(ControlEvent.INFO, "contribution_returned", f"{name} answers again from step {msg.step}",
+                            step=msg.step)
             if not self.lockstep:
-                return  # realtime: a demand waits for the next collective (no repeated command per demand)
+                return  # realtime: a contribution waits for the next collective (one command per step)
         if self.answer.handled(msg.step) or self.loads is None:
             return
         inputs = self.join.add(name, msg.step, msg)
         if inputs is not None:
-            self._command(inputs["collective"])
+            self._command(inputs[COLLECTIVE])
 
-    def _command(self, collective: CollectivePitch) -> None:
-        loads, flags = self.loads, 0
-        azimuth = loads.azimuth
-        if not self.lockstep:
-            azimuth += loads.rotor_speed * (time.monotonic() - self.loads_received + self.values["latency"])
-        individual = np.zeros(self.blades)
-        for n in self.windows.publishing(collective.step):
-            demand, fade = self.demands.get(n), 1.0
-            if n not in self.lost and not self.lockstep and demand is not None \
-                    and collective.step - demand.step > self.values["stale_steps"]:
-                self._lose(n, collective.step, f"no demand for {collective.step - demand.step} steps")
-            if n in self.lost:
-                demand, since = self.lost[n]
-                fade = max(0.0, 1.0 - (collective.step - since) * self.values["dt"] / self.values["fade_time"]) \
-                    if self.values["fade_time"] > 0 else 0.0
+    def _contributions(self, step: int) -> tuple:
+        """(contribution, weight) of every publishing contributor at ``step``, and the FLAG_STALE_IPC bit if any is
+        lost or not finite."""
+        weighted, flags = [], 0
+        for topic in sorted(self._publishing_topics(step) - {COLLECTIVE}):
+            demand, weight = self.demands.get(topic), 1.0
+            if topic not in self.lost and not self.lockstep and demand is not None \
+                    and step - demand.step > self.values["stale_steps"]:
+                self._lose(topic, step, f"nothing for {step - demand.step} steps")
+            if topic in self.lost:
+                demand, since = self.lost[topic]
+                weight = fade_factor(step - since, self.plant.dt, self.values["fade_time"])
                 flags |= PitchCommand.FLAG_STALE_IPC
-            if demand is None or not (math.isfinite(demand.cos) and math.isfinite(demand.sin)):
+            contribution = from_message(demand) if demand is not None else None
+            if contribution is None or not contribution.finite():
                 flags |= PitchCommand.FLAG_STALE_IPC
                 continue
-            individual += fade * mbc_inverse(demand.cos, demand.sin, azimuth, n, self.blades, demand.phase_offset)
+            weighted.append((contribution, weight))
+        return weighted, flags
+
+    def _command(self, collective: CollectivePitch) -> None:
+        loads = self.loads
+        azimuth = loads.azimuth if self.lockstep else extrapolated_azimuth(
+            loads.azimuth, loads.rotor_speed, time.monotonic() - self.loads_received + self.values["latency"])
+        contributions, flags = self._contributions(collective.step)
         if not (math.isfinite(collective.pitch) and math.isfinite(collective.generator_torque)):
             self.events(ControlEvent.ERROR, "invalid_input",
                         f"control/collective step {collective.step}: pitch {collective.pitch}, torque "
@@ -231,10 +288,16 @@ class MbcNode(Node):
                                          step=collective.step, header=collective.header)
             flags |= PitchCommand.FLAG_INVALID_INPUT
         previous = np.asarray(self.answer.last.pitch if self.answer.last is not None else loads.pitch)
-        limited = limit_pitch(collective.pitch + individual, previous, self.values["dt"], self.limits)
-        msg = PitchCommand(step=collective.step, pitch=limited.pitch.tolist(),
+        try:
+            command = self.assembler.assemble(collective.pitch, contributions, azimuth, previous)
+        except ValueError as error:
+            self.events(ControlEvent.ERROR, "invalid_input", f"step {collective.step}: {error}; contributions "
+                        "left out", step=collective.step)
+            command = self.assembler.assemble(collective.pitch, (), azimuth, previous)
+            flags |= PitchCommand.FLAG_INVALID_INPUT
+        msg = PitchCommand(step=collective.step, pitch=command.pitch.tolist(),
                            generator_torque=collective.generator_torque, collective=collective.pitch,
-                           individual=(limited.pitch - collective.pitch).tolist(), flags=flags | int(limited.flags))
+                           individual=command.individual.tolist(), flags=flags | int(command.flags))
         msg.header = collective.header
         self.answer.send(msg)
 

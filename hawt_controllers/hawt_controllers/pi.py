@@ -14,13 +14,15 @@ limit shrinks with the pitch headroom).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validation import finite_array, require_finite, require_time_step
+from ._validation import finite_array, finite_floats, require_finite, require_time_step
 from .exceptions import ConfigurationError
+from .interpolation import interpolate
 from .saturation import Saturation
 
 __all__ = ["GainSchedule", "PIController"]
@@ -44,12 +46,19 @@ class PIController:
 
     def __init__(self, shape: tuple[int, ...] = ()) -> None:
         self.shape = tuple(shape)
-        self.integrator = np.zeros(self.shape)
+        self._integrator = [0.0] * math.prod(self.shape)
         self.saturated = False
+
+    @property
+    def integrator(self) -> np.ndarray:
+        return np.array(self._integrator).reshape(self.shape)
 
     def reset(self, initial: ArrayLike = 0.0) -> None:
         """Set the integrator so that the output is ``initial`` at zero error (bumpless start)."""
-        self.integrator = np.array(np.broadcast_to(finite_array("initial", initial), self.shape), dtype=float)
+        if isinstance(initial, float) and math.isfinite(initial):  # the per-step reset of an idle law
+            self._integrator = [initial] * len(self._integrator)
+        else:
+            self._integrator = np.broadcast_to(finite_array("initial", initial), self.shape).ravel().tolist()
         self.saturated = False
 
     def update(
@@ -78,11 +87,16 @@ class PIController:
         e = finite_array("error", error)
         if e.shape != self.shape:
             e = np.broadcast_to(e, self.shape)
-        dt = require_time_step(dt)
-        kp = require_finite("kp", kp)
-        ki = require_finite("ki", ki)
-        self.integrator, integrator_saturated = saturation.apply(self.integrator + ki * e * dt)
-        output, output_saturated = saturation.apply(kp * e + self.integrator)
+        output = self.update_values(e.ravel().tolist(), require_time_step(dt), kp=require_finite("kp", kp),
+                                    ki=require_finite("ki", ki), saturation=saturation)
+        return np.array(output).reshape(self.shape)
+
+    def update_values(self, error: list[float], dt: float, *, kp: float, ki: float,
+                      saturation: Saturation) -> list[float]:
+        """:meth:`update` on plain floats (the error flattened), already checked: the per-step path."""
+        self._integrator, integrator_saturated = saturation.limit_values(
+            [i + ki * e * dt for i, e in zip(self._integrator, error)])
+        output, output_saturated = saturation.limit_values([kp * e + i for e, i in zip(error, self._integrator)])
         self.saturated = integrator_saturated or output_saturated
         return output
 
@@ -126,8 +140,5 @@ class GainSchedule:
 
     def gains_at(self, value: float) -> tuple[float, float]:
         """(kp, ki) at the scheduling variable ``value``."""
-        x = float(finite_array("value", value))
-        return (
-            float(np.interp(x, self.breakpoints, self.kp)),
-            float(np.interp(x, self.breakpoints, self.ki)),
-        )
+        x, = finite_floats("value", (value,))
+        return interpolate(x, self.breakpoints, self.kp), interpolate(x, self.breakpoints, self.ki)

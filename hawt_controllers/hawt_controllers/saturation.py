@@ -20,6 +20,15 @@ class Saturation(Protocol):
     def apply(self, value: np.ndarray) -> tuple[np.ndarray, bool]:
         """Return the limited value and True if the limit was active."""
 
+    def limit_values(self, values: list[float]) -> tuple[list[float], bool]:
+        """:meth:`apply` on plain floats (the value flattened): the per-step path."""
+
+
+def _apply(saturation: Saturation, value: np.ndarray) -> tuple[np.ndarray, bool]:
+    array = np.asarray(value, dtype=float)
+    limited, active = saturation.limit_values(array.ravel().tolist())
+    return np.array(limited).reshape(array.shape), active
+
 
 @dataclass(frozen=True)
 class BoxSaturation:
@@ -42,8 +51,11 @@ class BoxSaturation:
 
     def apply(self, value: np.ndarray) -> tuple[np.ndarray, bool]:
         """Clamp ``value`` elementwise; flag if any element was clamped."""
-        limited = np.clip(value, self.lower, self.upper)
-        return limited, bool(np.any(limited != value))
+        return _apply(self, value)
+
+    def limit_values(self, values: list[float]) -> tuple[list[float], bool]:
+        limited = [min(max(v, self.lower), self.upper) for v in values]
+        return limited, limited != values
 
 
 @dataclass(frozen=True)
@@ -67,7 +79,11 @@ class NormSaturation:
 
     def apply(self, value: np.ndarray) -> tuple[np.ndarray, bool]:
         """Scale ``value`` if its norm exceeds the limit; flag if it did."""
-        norm = float(np.linalg.norm(value))
+        return _apply(self, value)
+
+    def limit_values(self, values: list[float]) -> tuple[list[float], bool]:
+        norm = math.hypot(*values)
         if norm <= self.limit:
-            return value, False
-        return value * (self.limit / norm), True
+            return values, False
+        scale = self.limit / norm
+        return [v * scale for v in values], True

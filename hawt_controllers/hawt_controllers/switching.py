@@ -6,30 +6,35 @@ node applies that switch when it handles that step, so a lockstep run switches a
 the same step in any process layout (anchor_ros2.md §3.1: "all in one single
 timestep of the controller manager's control loop").
 
-Who publishes ``control/ipc/h{n}`` at step k, the rule the IPC nodes follow and
-the mbc node waits for (:class:`HarmonicWindows`):
+Controllers claim command interfaces (DESIGN §4.1, hawt_core.command_interfaces);
+one active claimant per interface. Who publishes the contribution of an interface
+at step k, the rule the controllers follow and the loop assembler waits for
+(:class:`InterfaceWindows`):
 
 - an activated controller publishes from the switch step S on;
 - a deactivated one goes on publishing its ramp to zero for ``ramp_steps`` steps
   (S ≤ k < S + R), then falls silent;
-- when one controller replaces another of the same harmonic in one switch, the
+- when one controller replaces another on an interface in one switch, the
   outgoing one is silent from S and the incoming one starts from the outgoing
   one's last output (bumpless transfer, anchor_ros2.md §3.3), so exactly one
-  controller publishes each harmonic at every step.
+  controller publishes each interface at every step.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, Iterable, List, Mapping, Sequence, Tuple
+from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 __all__ = [
-    "ControllerInfo", "Switch", "SwitchRefused", "ScheduledSwitch", "HarmonicWindows", "plan_switch",
-    "resolve_controller", "ramp_steps", "parse_schedule", "STATE_NAMES",
+    "ControllerInfo", "Switch", "SwitchRefused", "ScheduledSwitch", "InterfaceWindows", "plan_switch",
+    "resolve_controller", "ramp_steps", "parse_schedule", "STATE_NAMES", "TRANSITIONS",
 ]
 
 STATE_NAMES = {1: "unconfigured", 2: "inactive", 3: "active", 4: "finalized"}
 """lifecycle_msgs/State primary state ids -> labels."""
+
+TRANSITIONS = ("configure", "cleanup", "activate", "deactivate", "shutdown")
+"""The standard lifecycle transitions a shell may ask a controller for (``ros2 lifecycle set`` labels)."""
 
 
 @dataclass(frozen=True)
@@ -42,19 +47,20 @@ class ControllerInfo:
         Fully qualified node name, e.g. ``/wt1/ipc_h1``.
     type : str
         The executable, e.g. ``ipc``.
-    harmonic : int
-        Harmonic n it acts on; 0 for a collective controller.
+    interfaces : tuple of str
+        Command interfaces it claims, e.g. ``("harmonic/1",)``.
     state : str
         ``unconfigured``, ``inactive``, ``active`` or ``finalized``.
     switchable : bool
-        False for a controller the manager must not switch (the collective one).
+        False for a controller the manager must not switch off alone, only swap for another claimant of
+        its interfaces (the collective ones).
     publishing_until : float
         Last step + 1 at which it still publishes (its ramp out); inf while active.
     """
 
     name: str
     type: str
-    harmonic: int
+    interfaces: Tuple[str, ...]
     state: str
     switchable: bool = True
     publishing_until: float = 0.0
@@ -62,17 +68,25 @@ class ControllerInfo:
 
 @dataclass(frozen=True)
 class Switch:
-    """A switch effective at plant step ``step``: (name, harmonic) pairs in and out, ramp time [s]."""
+    """A switch effective at plant step ``step``: (name, claimed interfaces) pairs in and out, ramp time [s]."""
 
     step: int
-    activate: Tuple[Tuple[str, int], ...] = ()
-    deactivate: Tuple[Tuple[str, int], ...] = ()
+    activate: Tuple[Tuple[str, Tuple[str, ...]], ...] = ()
+    deactivate: Tuple[Tuple[str, Tuple[str, ...]], ...] = ()
     ramp_time: float = 0.0
 
-    def replaced(self, harmonic: int) -> bool:
-        """True if a controller of ``harmonic`` (> 0) comes in while another of it goes out."""
-        return harmonic > 0 and any(n == harmonic for _, n in self.activate) \
-            and any(n == harmonic for _, n in self.deactivate)
+    def replaced(self, interface: str) -> bool:
+        """True if a controller claiming ``interface`` comes in while another claiming it goes out."""
+        return any(interface in claims for _, claims in self.activate) \
+            and any(interface in claims for _, claims in self.deactivate)
+
+    def replaces(self, claims: Sequence[str]) -> bool:
+        """True if any of ``claims`` is handed over from one controller to another in this switch."""
+        return any(self.replaced(interface) for interface in claims)
+
+    def names(self) -> Tuple[str, ...]:
+        """Every controller the switch names."""
+        return tuple(name for name, _ in (*self.activate, *self.deactivate))
 
 
 class SwitchRefused(ValueError):
@@ -99,13 +113,16 @@ def resolve_controller(name: str, controllers: Mapping[str, ControllerInfo]) -> 
 
 
 def plan_switch(controllers: Mapping[str, ControllerInfo], activate: Sequence[str], deactivate: Sequence[str],
-                strict: bool, step: int) -> Tuple[List[ControllerInfo], List[ControllerInfo], List[str]]:
+                strict: bool, step: int, assembly_problem: Callable[[str], Optional[str]] = lambda name: None,
+                ) -> Tuple[List[ControllerInfo], List[ControllerInfo], List[str]]:
     """Check a switch request at ``step``; the controllers to activate and deactivate, and what was skipped.
 
     ros2_control semantics (anchor_ros2.md §3.1): STRICT refuses the whole switch if any
     name fails; BEST_EFFORT skips what cannot be done and refuses only if nothing is left.
-    In both modes a switch that would leave two controllers publishing one harmonic
-    (two active, or one coming in while another still ramps out) is refused.
+    In both modes a switch that would leave two controllers publishing one interface
+    (two active claimants, or one coming in while another still ramps out) is refused,
+    and so is the activation of a controller whose interface the graph's loop assembler
+    cannot assemble (``assembly_problem(interface)`` returns the reason).
 
     Raises
     ------
@@ -118,13 +135,13 @@ def plan_switch(controllers: Mapping[str, ControllerInfo], activate: Sequence[st
         for name in names:
             try:
                 info = controllers[resolve_controller(name, controllers)]
-                if not info.switchable:
-                    raise SwitchRefused(f"{info.name}: a {info.type} controller cannot be switched "
-                                        f"(without it the plant's safety system would stop the turbine)")
                 if info.state == target:
                     raise SwitchRefused(f"{info.name}: already {target}")
                 if info.state not in ("active", "inactive"):
                     raise SwitchRefused(f"{info.name}: {info.state}, cannot {kind}")
+                problems = [p for p in map(assembly_problem, info.interfaces) if p] if kind == "activate" else []
+                if problems:
+                    raise SwitchRefused(f"{info.name}: cannot be assembled: {problems[0]}")
             except SwitchRefused as reason:
                 if strict:
                     raise
@@ -136,73 +153,84 @@ def plan_switch(controllers: Mapping[str, ControllerInfo], activate: Sequence[st
     both = {c.name for c in chosen["activate"]} & {c.name for c in chosen["deactivate"]}
     if both:
         raise SwitchRefused(f"{sorted(both)[0]}: both activated and deactivated")
-    _check_one_per_harmonic(controllers, chosen["activate"], chosen["deactivate"], step)
+    for outgoing in chosen["deactivate"]:
+        if not outgoing.switchable and not any(set(outgoing.interfaces) <= set(c.interfaces)
+                                               for c in chosen["activate"]):
+            raise SwitchRefused(f"{outgoing.name}: a {outgoing.type} controller can only be swapped for another "
+                                f"claimant of {', '.join(outgoing.interfaces)} in the same switch, not switched "
+                                f"off (without it the plant's safety system would stop the turbine)")
+    _check_one_per_interface(controllers, chosen["activate"], chosen["deactivate"], step)
     return chosen["activate"], chosen["deactivate"], skipped
 
 
-def _check_one_per_harmonic(controllers: Mapping[str, ControllerInfo], activate: List[ControllerInfo],
-                            deactivate: List[ControllerInfo], step: int) -> None:
+def _check_one_per_interface(controllers: Mapping[str, ControllerInfo], activate: List[ControllerInfo],
+                             deactivate: List[ControllerInfo], step: int) -> None:
     outgoing = {c.name for c in deactivate}
     for incoming in activate:
-        if incoming.harmonic == 0:
-            continue
-        same = [c for c in activate if c.harmonic == incoming.harmonic and c.name != incoming.name]
-        if same:
-            raise SwitchRefused(f"{incoming.name}, {same[0].name}: only one controller per harmonic "
-                                f"{incoming.harmonic} may be active")
-        for other in controllers.values():
-            if other.name == incoming.name or other.harmonic != incoming.harmonic or other.name in outgoing:
-                continue
-            if other.state == "active":
-                raise SwitchRefused(f"{incoming.name}: {other.name} is the active controller of harmonic "
-                                    f"{incoming.harmonic}; deactivate it in the same switch to swap them")
-            if other.publishing_until > step:
-                raise SwitchRefused(f"{incoming.name}: {other.name} still ramps out harmonic {incoming.harmonic} "
-                                    f"until step {int(other.publishing_until)}")
+        for interface in incoming.interfaces:
+            same = [c for c in activate if interface in c.interfaces and c.name != incoming.name]
+            if same:
+                raise SwitchRefused(f"{incoming.name}, {same[0].name}: both claim {interface}; only one "
+                                    f"controller per interface may be active")
+            for other in controllers.values():
+                if other.name == incoming.name or interface not in other.interfaces or other.name in outgoing:
+                    continue
+                if other.state == "active":
+                    raise SwitchRefused(f"{incoming.name}: {other.name} is the active claimant of {interface}; "
+                                        f"deactivate it in the same switch to swap them")
+                if other.publishing_until > step:
+                    raise SwitchRefused(f"{incoming.name}: {other.name} still ramps out {interface} until step "
+                                        f"{int(other.publishing_until)}")
 
 
-class HarmonicWindows:
-    """Steps at which each harmonic has a controller publishing its demand (the rule in the module notes).
+class InterfaceWindows:
+    """Steps at which each command interface has a controller publishing its contribution (module notes).
 
     Parameters
     ----------
-    initial : iterable of int
-        Harmonics with an active controller from step 0.
+    initial : iterable of str
+        Interfaces with an active claimant from step 0.
     dt : float
         Plant step [s], to turn ramp times into steps.
     """
 
-    def __init__(self, initial: Iterable[int], dt: float) -> None:
+    def __init__(self, initial: Iterable[str], dt: float) -> None:
         self.dt = float(dt)
-        self._windows: Dict[int, List[List[float]]] = {n: [[0, math.inf]] for n in initial if n > 0}
+        self._windows: Dict[str, List[List[float]]] = {name: [[0, math.inf]] for name in initial}
 
     def apply(self, switch: Switch) -> None:
         """Update the windows with a switch (switches must be applied in step order)."""
         end = switch.step + ramp_steps(switch.ramp_time, self.dt)
-        for _, n in switch.deactivate:
-            if n > 0 and not switch.replaced(n):
-                window = self._window_at(n, switch.step)
-                if window is not None:
+        for _, claims in switch.deactivate:
+            for interface in claims:
+                window = self._window_at(interface, switch.step)
+                if window is not None and not switch.replaced(interface):
                     window[1] = end
-        for _, n in switch.activate:
-            if n > 0:
-                window = self._window_at(n, switch.step)
+        for _, claims in switch.activate:
+            for interface in claims:
+                window = self._window_at(interface, switch.step)
                 if window is None:
-                    self._windows.setdefault(n, []).append([switch.step, math.inf])
+                    self._windows.setdefault(interface, []).append([switch.step, math.inf])
                 else:
                     window[1] = math.inf
 
+    def start(self, interfaces: Iterable[str], step: int = 0) -> None:
+        """Interfaces whose claimant is active from ``step`` on (a controller that starts active)."""
+        for interface in interfaces:
+            if self._window_at(interface, step) is None:
+                self._windows.setdefault(interface, []).append([step, math.inf])
+
     def publishing(self, step: int) -> frozenset:
-        """The harmonics whose demand of ``step`` comes from a controller."""
-        return frozenset(n for n, windows in self._windows.items()
+        """The interfaces whose contribution of ``step`` comes from a controller."""
+        return frozenset(name for name, windows in self._windows.items()
                          if any(start <= step < end for start, end in windows))
 
-    def harmonics(self) -> frozenset:
-        """Every harmonic that has had or will have a controller."""
+    def interfaces(self) -> frozenset:
+        """Every interface that has had or will have a publishing controller."""
         return frozenset(self._windows)
 
-    def _window_at(self, harmonic: int, step: int):
-        for window in self._windows.get(harmonic, ()):
+    def _window_at(self, interface: str, step: int):
+        for window in self._windows.get(interface, ()):
             if window[0] <= step < window[1]:
                 return window
         return None

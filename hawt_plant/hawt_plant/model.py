@@ -71,6 +71,9 @@ class ModelConfig:
         Use Øye's dynamic inflow filter instead of the quasi-steady induction.
     tower_shadow : bool
         Apply the tower's potential-flow disturbance to the blade elements.
+    torque_disturbance : float
+        Amplitude D [N m, high-speed shaft] of a periodic disturbance D sin(psi) added to the generator
+        torque acting on the drivetrain, unmeasured (Fratini 2019 R4, a period of one revolution).
     """
 
     dt: float = 0.01
@@ -78,6 +81,7 @@ class ModelConfig:
     bem_relaxation: float = 0.5
     dynamic_inflow: bool = False
     tower_shadow: bool = True
+    torque_disturbance: float = 0.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.dt) and 0.0 < self.dt <= 0.1):
@@ -86,6 +90,8 @@ class ModelConfig:
             raise ValueError(f"bem_iterations: expected an integer >= 1, found {self.bem_iterations!r}")
         if not 0.0 < self.bem_relaxation <= 1.0:
             raise ValueError(f"bem_relaxation: expected a value in (0, 1], found {self.bem_relaxation}")
+        if not (math.isfinite(self.torque_disturbance) and self.torque_disturbance >= 0.0):
+            raise ValueError(f"torque_disturbance: expected a finite amplitude >= 0, found {self.torque_disturbance}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -343,10 +349,11 @@ class TurbineModel:
         dt = self._config.dt
         limit = self._turbine.generator.max_torque_rate * dt
         self._generator_torque += min(max(torque_command - self._generator_torque, -limit), limit)
-        self._velocity += dt * self._accelerations(self._generator_torque)
+        acting = self._acting_torque()
+        self._velocity += dt * self._accelerations(acting)
         self._displacement += dt * self._velocity
         self._rotor_speed += dt * self._rotor_acceleration
-        self._generator_speed += dt * self._generator_acceleration(self._generator_torque)
+        self._generator_speed += dt * self._generator_acceleration(acting)
         self._torsion += dt * (self._rotor_speed - self._generator_speed)
         self._azimuth = (self._azimuth + dt * self._rotor_speed) % (2.0 * math.pi)
         self._pitch, self._pitch_rate = self._pitch_actuator.step(self._pitch, self._pitch_rate, command)
@@ -354,8 +361,13 @@ class TurbineModel:
         self._time = self._step_index * dt
         self._sample_inflow()
         self._evaluate_loads(update_induction=True)
-        self._output = self._make_output(self._accelerations(self._generator_torque))
+        self._output = self._make_output(self._accelerations(self._acting_torque()))
         return self._output
+
+    def _acting_torque(self) -> float:
+        """The generator torque acting on the drivetrain: the actuator's plus the periodic disturbance."""
+        disturbance = self._config.torque_disturbance
+        return self._generator_torque + disturbance * math.sin(self._azimuth) if disturbance else self._generator_torque
 
     # ------------------------------------------------------------------ boundary checks
 
@@ -791,7 +803,7 @@ class TurbineModel:
         base_ss += y_acc * ss.modal_height_moment - g * y_top * ss.modal_first_moment
         ratio = self._gearbox_ratio
         spin_reaction = (self._hub_inertia * self._rotor_acceleration
-                         + self._generator_inertia * ratio * self._generator_acceleration(self._generator_torque))
+                         + self._generator_inertia * ratio * self._generator_acceleration(self._acting_torque()))
         base_ss -= spin_reaction * self._cos_tilt
         generator_speed = ratio * self._generator_speed
         return TurbineOutput(

@@ -25,67 +25,23 @@ from typing import Optional
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, TurbineState
+from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, PlantDescription, TurbineState
 from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 
-from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.loop_latency import LoopLatency
-from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.model import TurbineOutput
+from hawt_plant.plant_setup import PARAMETERS, check_parameters, make_plant
 from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
-from hawt_plant.turbine import load_turbine, nrel_5mw
-from hawt_tools.events import EventPublisher
-from hawt_tools.node_main import node_entry_point
-from hawt_tools.parameters import ParameterError, ParameterSpec, declare_parameters
-from hawt_tools.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY
-from hawt_tools.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, TURBINE_STATE
+from hawt_node.events import EventPublisher
+from hawt_node.node_main import node_entry_point
+from hawt_node.parameters import declare_parameters
+from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
+from hawt_node.recording import unrecorded_topics
+from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
-
-PARAMETERS = (
-    ParameterSpec("turbine_file", "", "turbine definition YAML ('' = the packaged NREL 5 MW)", read_only=True),
-    ParameterSpec("dt", 0.01, "plant step (100 Hz by default)", "s", minimum=1e-3, maximum=0.1, read_only=True),
-    ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
-    ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",
-                  minimum=0.0, read_only=True),
-    ParameterSpec("wind_type", "steady", "inflow model", choices=WIND_KINDS, read_only=True),
-    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s", minimum=3.0, maximum=30.0,
-                  read_only=True),
-    ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=0.99,
-                  read_only=True),
-    ParameterSpec("turbulence_class", "B", "IEC turbulence category", choices=("A", "B", "C"), read_only=True),
-    ParameterSpec("seed", 0, "seed of the turbulent field", minimum=0, maximum=2**31 - 1, read_only=True),
-    ParameterSpec("field_duration", 600.0, "length of the turbulent field (wraps after)", "s", minimum=10.0,
-                  maximum=7200.0, read_only=True),
-    ParameterSpec("bts_file", "", "TurbSim .bts file for wind_type bts", read_only=True),
-    ParameterSpec("step_speed", 14.0, "wind_type step: hub speed after the step", "m/s", minimum=0.0,
-                  maximum=40.0, read_only=True),
-    ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
-                  read_only=True),
-    ParameterSpec("tower_shadow", True, "potential-flow tower shadow on the blade elements", read_only=True),
-    ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
-    ParameterSpec("initial_azimuth", 0.0, "azimuth of blade 1 at time 0", "rad", minimum=0.0,
-                  maximum=2 * math.pi, read_only=True),
-    ParameterSpec("resend_period", 0.5, "lockstep: wall time after which an unanswered step is sent again", "s",
-                  minimum=0.01, maximum=60.0),
-    ParameterSpec("wait_for_subscribers", 0, "send the first step only once plant/blade_loads has this many "
-                  "subscribers (a recorder or test that must see every step)", minimum=0, maximum=1000,
-                  read_only=True),
-    ParameterSpec("wait_for_recorder", False, "send the first step only once the node hawt_recorder subscribes "
-                  "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
-                  read_only=True),
-    ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
-    ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
-                  "unanswered, resends included; must exceed resend_period) after which the safety system trips "
-                  "and feathers", "s", minimum=0.01, maximum=600.0, read_only=True),
-    ParameterSpec("startup_timeout", 30.0, "wall time the first command may take once the plant has started "
-                  "(controllers starting up) before the safety system trips", "s", minimum=0.01, maximum=3600.0,
-                  read_only=True),
-    ParameterSpec("stale_burst_gap", 1.0, "realtime: commands older than the last applied one are reported once "
-                  "per burst; a burst ends after this long without one", "s", minimum=0.0, maximum=600.0,
-                  read_only=True),
-)
 
 def _stamp(seconds: float) -> Time:
     nanoseconds = int(round(seconds * 1e9))
@@ -95,31 +51,31 @@ def _stamp(seconds: float) -> Time:
 class PlantNode(Node):
     """Thin node around TurbineModel."""
 
+    PARAMETERS = PARAMETERS
+    """The node's parameter table (hawt_tools.parameter_check reads it before a graph starts)."""
+
+    @staticmethod
+    def check_parameters(values) -> None:
+        """The rules across parameters (plant_setup.check_parameters), without building the model."""
+        check_parameters(values)
+
     def __init__(self, **node_kwargs) -> None:
         super().__init__("plant", **node_kwargs)
         v = self.values = declare_parameters(self, PARAMETERS)
-        turbine = load_turbine(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
-        wind = make_wind(InflowSettings(
-            kind=v["wind_type"], wind_speed=v["wind_speed"], shear_exponent=v["shear_exponent"],
-            hub_height=turbine.hub_height, turbulence_class=v["turbulence_class"], seed=v["seed"],
-            field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
-            step_speed=v["step_speed"], step_time=v["step_time"]))
-        self.model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
-                                                             dynamic_inflow=v["dynamic_inflow"]))
-        self.output = self.model.reset_to_operating_point(v["initial_azimuth"])
+        check_parameters(v)
+        turbine, self.model, self.output = make_plant(v)
         self.actuator = turbine.pitch_actuator
         self.blades = self.model.number_of_blades
         self.command = (np.array(self.output.pitch), float(self.output.generator_torque))
         self.step_index = 0
         self.last_steps = int(round(v["duration"] / v["dt"])) if v["duration"] > 0 else None
         self.lockstep = v["mode"] == "lockstep"
-        if self.lockstep and v["command_timeout"] <= v["resend_period"]:
-            raise ParameterError(f"command_timeout: {v['command_timeout']} s must exceed resend_period "
-                                 f"{v['resend_period']} s in lockstep (a step is resent before the safety system trips)")
         self.safety = SafetySystem(SafetySettings(v["command_timeout"], v["startup_timeout"],
                                                   self.actuator.max_angle, self.actuator.max_rate))
         self.order = CommandOrder(v["stale_burst_gap"])
         self.events = EventPublisher(self)
+        self.description_publisher = self.create_publisher(PlantDescription, PLANT_DESCRIPTION, LATCHED)
+        self.description_publisher.publish(PlantDescription(**turbine.description(v["dt"]).as_fields()))
         self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP_HISTORY)
         self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
         self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
@@ -193,7 +149,7 @@ class PlantNode(Node):
 
         The plant then no longer waits for commands, but stepping faster than the graph ran
         would outrun the readers that kept up with it (a recorder's backlog is bounded by the
-        publishers' history, hawt_tools.qos.CONTROL_LOOP_HISTORY).
+        publishers' history, hawt_node.qos.CONTROL_LOOP_HISTORY).
         """
         if self.step_index == 0:
             return self.values["dt"]
@@ -219,9 +175,7 @@ class PlantNode(Node):
 
     def _recorder_ready(self) -> bool:
         """True once hawt_recorder subscribes to every topic with a publisher; after 10 s, True with a warning."""
-        missing = [topic for topic, _ in self.get_topic_names_and_types()
-                   if self.get_publishers_info_by_topic(topic)
-                   and not any(s.node_name == "hawt_recorder" for s in self.get_subscriptions_info_by_topic(topic))]
+        missing = unrecorded_topics(self)
         if missing and time.monotonic() - self.created > 10.0:
             self.events(ControlEvent.WARN, "recorder", f"starting without the recorder on {', '.join(missing)}")
             return True

@@ -22,7 +22,7 @@ from typing import Optional
 
 import numpy as np
 
-from hawt_tools.step_sync import StepVerdict, classify_step
+from hawt_core.step_sync import StepVerdict, classify_step
 
 __all__ = ["command_rejection", "CommandOrder", "SafetySettings", "SafetySystem", "FEATHERED_TORQUE"]
 
@@ -50,10 +50,11 @@ def command_rejection(pitch: np.ndarray, generator_torque: float, blades: int, m
     values = np.asarray(pitch, dtype=float)
     if values.shape != (blades,):
         return f"pitch: expected {blades} values, found {values.size}"
-    if not (np.all(np.isfinite(values)) and math.isfinite(generator_torque)):
-        return f"not finite: pitch {values.tolist()}, generator_torque {generator_torque}"
-    if np.any(values < min_angle - 1e-9) or np.any(values > max_angle + 1e-9):
-        return f"pitch {values.tolist()} outside [{min_angle}, {max_angle}] rad"
+    floats = values.tolist()  # B plain floats: numpy's per-call cost would be many times the checks
+    if not (all(map(math.isfinite, floats)) and math.isfinite(generator_torque)):
+        return f"not finite: pitch {floats}, generator_torque {generator_torque}"
+    if min(floats) < min_angle - 1e-9 or max(floats) > max_angle + 1e-9:
+        return f"pitch {floats} outside [{min_angle}, {max_angle}] rad"
     if not 0.0 <= generator_torque <= max_torque:
         return f"generator_torque {generator_torque} outside [0, {max_torque}] N*m"
     return None

@@ -20,6 +20,8 @@ from typing import Any, Mapping
 import numpy as np
 import yaml
 
+from hawt_core.plant_description import PlantDescription
+
 __all__ = [
     "AirfoilPolar",
     "BladeAerodynamics",
@@ -338,6 +340,15 @@ class Turbine:
             + self.nacelle.shaft_above_tower_top
             + self.rotor.overhang * math.sin(self.rotor.shaft_tilt)
         )
+
+    def description(self, dt: float) -> PlantDescription:
+        """What the plant tells every node on ``plant/description`` when it steps at ``dt`` [s]."""
+        return PlantDescription(
+            turbine=self.name, dt=float(dt), blades=self.rotor.number_of_blades,
+            rated_rotor_speed=self.schedule.rated_rotor_speed, rated_power=self.generator.rated_power,
+            rated_generator_torque=self.generator.rated_torque, gearbox_ratio=self.drivetrain.gearbox_ratio,
+            min_pitch=self.pitch_actuator.min_angle, max_pitch=self.pitch_actuator.max_angle,
+            max_pitch_rate=self.pitch_actuator.max_rate)
 
 
 def nrel_5mw() -> Turbine:

@@ -5,6 +5,7 @@ one-line message naming the file, field or parameter at fault.
 """
 import argparse
 import json
+import math
 import os
 import signal
 import subprocess
@@ -16,7 +17,7 @@ from typing import Dict, List, Optional
 from hawt_bag.errors import BagError
 
 from hawt_tools.graph_file import GraphError, load_graph
-from hawt_tools.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
+from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
 __all__ = ["main", "find_graph"]
 
@@ -67,11 +68,14 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority.
     """
     from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
+    from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
 
-    # --mode beats the graph's own 'mode' values (an override of every node); -p beats --mode
-    modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes] if mode else []
+    # --mode beats the graph's own 'mode' values (an override of every node that has one); -p beats --mode
+    modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes if takes_parameter(graph, spec, "mode")] \
+        if mode else []
     overrides = parse_overrides(graph, modes + list(parameters))
     global_parameters = {"wait_for_recorder": True} if record else {}  # the plant starts once all is recorded
+    check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
     if priority:
         check_priority(priority)
     recorder = _start_recorder(Path(record)) if record else None
@@ -89,6 +93,23 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     if recorder is not None and recorded != 0:
         raise RuntimeError(f"the recorder of {record} failed (exit code {recorded})")
     return code
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from hawt_tools.in_process import run_graph
+    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.parameter_check import check_graph_parameters
+
+    graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
+    if args.record and Path(args.record).exists():
+        raise BagError(f"{args.record}: exists; refusing to overwrite a bag (choose another --record name)")
+    if args.duration is not None and not (args.duration > 0):
+        raise GraphError(f"--duration {args.duration}: expected a positive simulated time [s]")
+    overrides = parse_overrides(graph, args.param)
+    check_graph_parameters(graph, overrides)
+    run = run_graph(graph, overrides, args.record, args.duration, _progress)
+    print(run.events[-1]["detail"] + (f"; recorded into {args.record}" if args.record else ""))
+    return 0
 
 
 def _start_recorder(path: Path) -> subprocess.Popen:
@@ -153,6 +174,14 @@ def _cmd_bag_info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_bag_verify(args: argparse.Namespace) -> int:
+    from hawt_bag.verification import verify_bag
+
+    report = verify_bag(args.bag)
+    print(json.dumps(report.as_dict()) if args.json else report.text())
+    return 0 if report.ok else 1
+
+
 def _cmd_bag_recover(args: argparse.Namespace) -> int:
     from hawt_bag.recover import recover_bag
 
@@ -166,11 +195,18 @@ def _progress(line: str) -> None:
         print(f"hawt: {line}", file=sys.stderr, flush=True)
 
 
+def _warn(command: str, warnings: List[str]) -> None:
+    """Each warning of an analysis as one line on stderr."""
+    for warning in warnings:
+        print(f"hawt {command}: warning: {warning}", file=sys.stderr)
+
+
 def _cmd_analyze(args: argparse.Namespace) -> int:
-    from hawt_bag.analysis_report import analysis_text, write_analysis_report
-    from hawt_bag.run_analysis import analyze_bag
+    from hawt_analysis.analysis_report import analysis_text, write_analysis_report
+    from hawt_analysis.run_analysis import analyze_bag
 
     analysis = analyze_bag(args.bag, args.namespace, progress=_progress)
+    _warn("analyze", analysis.summary["warnings"])
     print(json.dumps(analysis.summary) if args.json else analysis_text(analysis.summary))
     if args.report:
         _progress(f"writing the report into {args.report}")
@@ -179,10 +215,12 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 
 
 def _cmd_compare(args: argparse.Namespace) -> int:
-    from hawt_bag.analysis_report import comparison_text, write_comparison_report
-    from hawt_bag.run_analysis import compare_bags
+    from hawt_analysis.analysis_report import comparison_text, write_comparison_report
+    from hawt_analysis.run_analysis import compare_bags
 
-    _, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
+    analyses, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
+    for analysis in analyses:
+        _warn("compare", analysis.summary["warnings"])
     print(json.dumps(comparison) if args.json else comparison_text(comparison))
     if args.report:
         _progress(f"report: {write_comparison_report(comparison, args.report)}")
@@ -213,10 +251,76 @@ def _cmd_switch(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_lifecycle(args: argparse.Namespace) -> int:
+    from hawt_tools.controller_client import ControllerManagerError, lifecycle_transition
+
+    try:
+        ok, state = lifecycle_transition(args.node, args.transition, args.namespace)
+    except ControllerManagerError as error:
+        raise RuntimeError(str(error)) from None
+    if not ok:
+        raise GraphError(f"{args.node}: transition {args.transition} refused (state {state}; the node's log "
+                         "says why)")
+    print(f"{args.node}: {state}")
+    return 0
+
+
+def _cmd_coupling(args: argparse.Namespace) -> int:
+    """Disario's azimuth offset per wind speed and harmonic, from the plant's measured response."""
+    from hawt_controllers.ipc_design import coupling_survey
+    from hawt_plant.turbine import nrel_5mw
+
+    if args.bag:
+        return _coupling_identified(args)
+    for v in args.wind_speeds:
+        if not 3.0 <= v <= 30.0:
+            raise GraphError(f"--wind-speeds: {v:g} m/s is outside the plant's 3..30 m/s")
+    for n in args.harmonics:
+        if not 1 <= n <= 4:
+            raise GraphError(f"--harmonics: {n} is outside 1..4")
+    points = coupling_survey(nrel_5mw(), args.wind_speeds, args.harmonics, progress=_progress)
+    rows = [{"wind_speed": p.response.wind_speed, "harmonic": p.response.harmonic,
+             "collective_pitch_deg": math.degrees(p.response.collective_pitch),
+             "rotor_speed_rpm": p.response.rotor_speed * 30 / math.pi, "sensitivity": p.response.sensitivity,
+             "offset_deg": math.degrees(p.offset), "cross_gain": p.cross_gain, "rga": p.rga,
+             "time_constant": p.time_constant} for p in points]
+    if args.json:
+        print(json.dumps(rows))
+        return 0
+    print("NREL 5 MW, uniform wind, open loop (generator torque held): the phase offset phi_n = n psi_n that "
+          "decouples tilt from yaw at DC")
+    print("(Disario 2018: 19 deg at 25 m/s, 12.1 rpm, for FAST's NREL 5 MW)")
+    print(f"{'wind m/s':>8s} {'n':>2s} {'pitch deg':>9s} {'rpm':>6s} {'dM/dtheta MN*m/rad':>19s} {'offset deg':>10s} "
+          f"{'|P21/P11| at 0':>14s} {'RGA11 at 0':>10s} {'tau s':>6s}")
+    for row in rows:
+        print(f"{row['wind_speed']:8.1f} {row['harmonic']:2d} {row['collective_pitch_deg']:9.2f} "
+              f"{row['rotor_speed_rpm']:6.2f} {row['sensitivity'] / 1e6:19.2f} {row['offset_deg']:10.1f} "
+              f"{row['cross_gain']:14.3f} {row['rga']:10.3f} {row['time_constant']:6.3f}")
+    return 0
+
+
+def _coupling_identified(args: argparse.Namespace) -> int:
+    """``hawt coupling --bag``: the tilt/yaw plant identified from a recorded excitation run."""
+    from hawt_analysis.identification import identify_coleman_plant
+
+    _progress(f"identifying the Coleman-frame plant of harmonic {args.harmonics[0]} from {args.bag}")
+    found = identify_coleman_plant(args.bag, args.harmonics[0], args.namespace)
+    row = {"offset_deg": math.degrees(found.offset), "band_offset_deg": math.degrees(found.band_offset),
+           "coherence": found.coherence}
+    if args.json:
+        print(json.dumps(row))
+        return 0
+    print(f"{args.bag}, harmonic {args.harmonics[0]}, identified by cross-spectra: the offset that decouples tilt "
+          f"from yaw at low frequency {row['offset_deg']:.1f} deg; the one that minimises the mean |P12| over "
+          f"0.1-1 rad/s {row['band_offset_deg']:.1f} deg (coherence there >= {found.coherence:.2f}; "
+          "Disario: 19 deg at 25 m/s)")
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     """Baseline and IPC graphs on the same turbulent wind, each recorded; their loads compared."""
-    from hawt_bag.analysis_report import comparison_text, write_comparison_report
-    from hawt_bag.run_analysis import compare_bags
+    from hawt_analysis.analysis_report import comparison_text, write_comparison_report
+    from hawt_analysis.run_analysis import compare_bags
     from hawt_tools.launcher import package_prefix
 
     run = time.strftime("demo-%Y%m%d-%H%M%S")
@@ -268,6 +372,22 @@ def _parser() -> argparse.ArgumentParser:
                              "and stops after it")
     launch.set_defaults(run=_cmd_launch)
 
+    run = commands.add_parser(
+        "run", help="run a graph's cores in this process, without middleware (bit-identical to lockstep)",
+        description="The in-process engine: reads the same graph and parameter files as 'launch', builds the "
+                    "same plant and controller cores and steps them in lockstep order with no DDS, so the "
+                    "result equals 'hawt launch GRAPH' in lockstep bit for bit, only faster. A switch "
+                    "schedule in steps works the same way. --record writes the graph's topics to MCAP for "
+                    "analyze and compare.")
+    run.add_argument("graph", metavar="GRAPH", help="graph file, or the name of an installed graph")
+    run.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="launch arguments of the graph")
+    run.add_argument("--duration", type=float, metavar="S",
+                     help="simulated seconds to run (default: the plant's duration parameter)")
+    run.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
+                     help="override a parameter of one node (repeatable)")
+    run.add_argument("--record", metavar="FILE.mcap", help="write the run's topics into this new bag")
+    run.set_defaults(run=_cmd_run)
+
     from hawt_bag.recorder import add_record_arguments
 
     record = commands.add_parser("record", help="record topics of the running graph into an MCAP bag",
@@ -304,11 +424,20 @@ def _parser() -> argparse.ArgumentParser:
                         help="step replay: how long to wait for each step's answer (default 10)")
     replay.set_defaults(run=_cmd_replay)
 
-    bag = commands.add_parser("bag", help="inspect or rescue a bag (info, recover)")
+    bag = commands.add_parser("bag", help="inspect, verify or rescue a bag (info, verify, recover)")
     bag_commands = bag.add_subparsers(dest="bag_command", required=True, metavar="SUBCOMMAND")
     info = bag_commands.add_parser("info", help="duration, size, compression, topics with type, QoS and count")
     info.add_argument("bag", metavar="FILE.mcap")
     info.set_defaults(run=_cmd_bag_info)
+    verify = bag_commands.add_parser(
+        "verify", help="check every stepped topic for missing and repeated steps, and the file for its summary",
+        description="Check a recording lost nothing: plant/blade_loads, plant/state and control/pitch_command must "
+                    "hold every step from their first to their last; other stepped topics are listed with their "
+                    "runs of steps; a step recorded twice is an error unless resent identical; the file must have "
+                    "its summary. Exit 0 if all is well, 1 if not, 2 if the file is missing or not MCAP.")
+    verify.add_argument("bag", metavar="FILE.mcap")
+    verify.add_argument("--json", action="store_true", help="print the same facts as one JSON object")
+    verify.set_defaults(run=_cmd_bag_verify)
     recover = bag_commands.add_parser("recover", help="rewrite what an unfinished bag holds into a complete one")
     recover.add_argument("bag", metavar="FILE.mcap")
     recover.add_argument("-o", "--output", metavar="OUT.mcap", help="default: FILE.recovered.mcap")
@@ -339,9 +468,9 @@ def _parser() -> argparse.ArgumentParser:
     switch = commands.add_parser(
         "switch", help="activate and deactivate controllers of a running graph at one plant step",
         description="Ask the graph's controller_manager to switch controllers atomically at one plant step "
-                    "(ros2_control semantics). An outgoing IPC contribution ramps out over the ramp time, an "
-                    "incoming one ramps in; a controller that replaces another of its harmonic starts from the "
-                    "other's output. Prints the step the switch takes effect at.")
+                    "(ros2_control semantics; one active claimant per command interface). An outgoing "
+                    "contribution ramps out over the ramp time, an incoming one ramps in; a controller that replaces "
+                    "another on its interfaces starts from the other's output. Prints the step the switch takes effect at.")
     switch.add_argument("--activate", nargs="+", default=[], metavar="NAME", help="controllers to activate")
     switch.add_argument("--deactivate", nargs="+", default=[], metavar="NAME", help="controllers to deactivate")
     switch.add_argument("--ramp", type=float, metavar="S", help="ramp time (default: the manager's ramp_time)")
@@ -352,6 +481,33 @@ def _parser() -> argparse.ArgumentParser:
     switch.add_argument("--namespace", metavar="NS", help="turbine namespace of the controller manager (needed only "
                                                           "if the graph has several)")
     switch.set_defaults(run=_cmd_switch)
+
+    lifecycle = commands.add_parser(
+        "lifecycle", help="a controller's lifecycle state, or a standard transition (as ros2 lifecycle set)",
+        description="Print a lifecycle node's state, or ask it for a standard transition first. A controller "
+                    "hands activate/deactivate to its controller_manager, so they take effect at a plant step "
+                    "exactly as 'hawt switch' does.")
+    lifecycle.add_argument("node", metavar="NODE", help="node name (e.g. ipc_h1 or /wt1/ipc_h1)")
+    from hawt_controllers.switching import TRANSITIONS
+
+    lifecycle.add_argument("transition", nargs="?", choices=TRANSITIONS, help="the transition to ask for")
+    lifecycle.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when several are running")
+    lifecycle.set_defaults(run=_cmd_lifecycle)
+
+    coupling = commands.add_parser(
+        "coupling", help="the azimuth offset that decouples tilt from yaw, per wind speed and harmonic (Disario)",
+        description="Measure the plant's non-rotating response to a static cyclic pitch demand per wind speed and "
+                    "harmonic (open loop, the generator torque held) and give Disario's DC-decoupling phase offset "
+                    "phi_n, the tilt/yaw cross gain and RGA11 without it, and the first-order blade time constant "
+                    "with the same offset.")
+    coupling.add_argument("--wind-speeds", type=float, nargs="+",
+                          default=[5.0, 7.0, 9.0, 11.4, 13.0, 15.0, 18.0, 21.0, 25.0], help="[m/s]")
+    coupling.add_argument("--harmonics", type=int, nargs="+", default=[1])
+    coupling.add_argument("--bag", help="identify instead from a recorded run with coleman_excitation (the "
+                                        "identification graph), for the first of --harmonics")
+    coupling.add_argument("--namespace", help="the turbine (e.g. /wt1) when the bag holds several")
+    coupling.add_argument("--json", action="store_true", help="print the rows as JSON")
+    coupling.set_defaults(run=_cmd_coupling)
 
     demo = commands.add_parser(
         "demo", help="run the baseline and IPC graphs on the same turbulent wind and compare their loads",

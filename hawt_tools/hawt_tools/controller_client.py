@@ -7,7 +7,7 @@ import rclpy
 from hawt_msgs.srv import ListControllers, SwitchControllers
 from rclpy.node import Node
 
-from hawt_tools.topics import LIST_CONTROLLERS, SWITCH_CONTROLLERS
+from hawt_core.topics import LIST_CONTROLLERS, SWITCH_CONTROLLERS
 
 __all__ = ["ControllerRow", "SwitchResult", "ControllerManagerError", "find_managers", "list_controllers",
            "switch_controllers"]
@@ -23,7 +23,7 @@ class ControllerRow:
 
     name: str
     type: str
-    harmonic: int
+    interfaces: str
     state: str
 
 
@@ -60,16 +60,17 @@ def _call(node: Node, service_type, name: str, request, timeout: float):
 
 
 def list_controllers(node: Node, namespace: str, timeout: float = 5.0) -> Tuple[ControllerRow, ...]:
-    """The controllers of the manager in ``namespace`` with their lifecycle states."""
+    """The controllers of the manager in ``namespace`` with their claimed interfaces and lifecycle states."""
     response = _call(node, ListControllers, f"{namespace}/{LIST_CONTROLLERS}", ListControllers.Request(), timeout)
-    return tuple(ControllerRow(*row) for row in zip(response.names, response.types, response.harmonics,
+    return tuple(ControllerRow(*row) for row in zip(response.names, response.types, response.interfaces,
                                                     response.states))
 
 
-def _manager(node: Node, namespace: Optional[str]) -> str:
+def _manager(node: Node, namespace: Optional[str], timeout: float) -> str:
+    """The namespace of the graph's one controller manager (given, or discovered within ``timeout`` s)."""
     if namespace is not None:
         return "/" + namespace.strip("/") if namespace.strip("/") else ""
-    managers = find_managers(node)
+    managers = find_managers(node, timeout)
     if not managers:
         raise ControllerManagerError("no controller_manager in the graph (is a graph with one running, in this "
                                      "ROS_DOMAIN_ID?)")
@@ -89,8 +90,33 @@ def switch_controllers(activate: Sequence[str], deactivate: Sequence[str], stric
     with rclpy.init():
         node = Node("_hawt_switch", start_parameter_services=False, enable_rosout=False)
         try:
-            response = _call(node, SwitchControllers, f"{_manager(node, namespace)}/{SWITCH_CONTROLLERS}", request,
+            response = _call(node, SwitchControllers, f"{_manager(node, namespace, timeout)}/{SWITCH_CONTROLLERS}", request,
                              timeout)
         finally:
             node.destroy_node()
     return SwitchResult(response.ok, response.message, int(response.effective_step))
+
+
+def lifecycle_transition(name: str, transition: Optional[str] = None, namespace: Optional[str] = None,
+                         timeout: float = 30.0) -> Tuple[bool, str]:
+    """Ask the lifecycle node ``name`` for a standard transition (None: none); (succeeded, state label after).
+
+    ``name`` is a full node name or a plain one (looked up under the graph's controller manager's
+    namespace). A controller passes ``activate``/``deactivate`` on to its controller_manager, so the
+    transition takes effect at a plant step like ``hawt switch``.
+    """
+    from lifecycle_msgs.msg import Transition
+    from lifecycle_msgs.srv import ChangeState, GetState
+
+    with rclpy.init():
+        node = Node("_hawt_lifecycle", start_parameter_services=False, enable_rosout=False)
+        try:
+            full = name if name.startswith("/") else f"{_manager(node, namespace, timeout)}/{name}"
+            ok = True
+            if transition is not None:
+                request = ChangeState.Request(transition=Transition(label=transition))
+                ok = bool(_call(node, ChangeState, f"{full}/change_state", request, timeout).success)
+            state = _call(node, GetState, f"{full}/get_state", GetState.Request(), timeout).current_state.label
+        finally:
+            node.destroy_node()
+    return ok, state

@@ -14,7 +14,8 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 
-from hawt_tools.node_main import node_entry_point
+from hawt_node.node_main import node_entry_point
+from hawt_node.parameters import ParameterSpec, declare_parameters
 
 __all__ = ["PulseSource", "Relay", "CounterSink"]
 
@@ -38,13 +39,20 @@ def _blade_loads(step: int, blades: int, rotor_speed: float, dt: float) -> Blade
 class PulseSource(Node):
     """Publishes ``count`` BladeLoads messages on ``out`` at ``rate_hz`` once ``wait_for_subscribers`` are matched."""
 
+    PARAMETERS = (
+        ParameterSpec("rate_hz", 50.0, "messages per second", "Hz", minimum=1e-3),
+        ParameterSpec("count", 0, "messages to send (0: until stopped)", minimum=0),
+        ParameterSpec("blades", 3, "blades of the pretended rotor", minimum=1, maximum=12),
+        ParameterSpec("rotor_speed", 1.267, "rotor speed of the pretended rotor", "rad/s"),
+        ParameterSpec("wait_for_subscribers", 0, "send the first message once 'out' has this many subscribers",
+                      minimum=0),
+    )
+
     def __init__(self, **node_kwargs) -> None:
         super().__init__("pulse_source", **node_kwargs)
-        self.rate_hz = self.declare_parameter("rate_hz", 50.0).value
-        self.count = self.declare_parameter("count", 0).value
-        self.blades = self.declare_parameter("blades", 3).value
-        self.rotor_speed = self.declare_parameter("rotor_speed", 1.267).value
-        self.wait_for_subscribers = self.declare_parameter("wait_for_subscribers", 0).value
+        values = declare_parameters(self, self.PARAMETERS)
+        self.rate_hz, self.count, self.blades = values["rate_hz"], values["count"], values["blades"]
+        self.rotor_speed, self.wait_for_subscribers = values["rotor_speed"], values["wait_for_subscribers"]
         self.get_logger().info(
             f"rate_hz={self.rate_hz} count={self.count} blades={self.blades} rotor_speed={self.rotor_speed}")
         self.publisher = self.create_publisher(BladeLoads, "out", _QOS)
@@ -67,10 +75,15 @@ class PulseSource(Node):
 class Relay(Node):
     """Republishes BladeLoads from ``in`` to ``out`` with the moments multiplied by ``gain``."""
 
+    PARAMETERS = (
+        ParameterSpec("gain", 1.0, "factor on the moments"),
+        ParameterSpec("label", "", "a name shown in the node's first log line"),
+    )
+
     def __init__(self, **node_kwargs) -> None:
         super().__init__("relay", **node_kwargs)
-        self.gain = self.declare_parameter("gain", 1.0).value
-        self.label = self.declare_parameter("label", "").value
+        values = declare_parameters(self, self.PARAMETERS)
+        self.gain, self.label = values["gain"], values["label"]
         self.get_logger().info(f"gain={self.gain} label={self.label!r}")
         self.publisher = self.create_publisher(BladeLoads, "out", _QOS)
         self.create_subscription(BladeLoads, "in", self._relay, _QOS)
@@ -84,10 +97,15 @@ class Relay(Node):
 class CounterSink(Node):
     """Counts BladeLoads arriving on ``in``; done after ``expect`` messages; writes them to ``record_file``."""
 
+    PARAMETERS = (
+        ParameterSpec("expect", 0, "done after this many messages (0: never)", minimum=0),
+        ParameterSpec("record_file", "", "JSON file to write what arrived to when the node ends ('': none)"),
+    )
+
     def __init__(self, **node_kwargs) -> None:
         super().__init__("counter_sink", **node_kwargs)
-        self.expect = self.declare_parameter("expect", 0).value
-        self.record_file = self.declare_parameter("record_file", "").value
+        values = declare_parameters(self, self.PARAMETERS)
+        self.expect, self.record_file = values["expect"], values["record_file"]
         self.received: Dict[int, list] = {}
         self.done = Future()
         self.create_subscription(BladeLoads, "in", self._count, _QOS)

@@ -36,8 +36,8 @@ class GraphSnapshot:
         for manager, rows in self.controllers:
             lines.append(f"controllers of {manager or '/'}controller_manager ({len(rows)}):")
             width = max((len(row.name) for row in rows), default=0)
-            lines += [f"  {row.name:<{width}}  {row.state:<8}  {row.type}"
-                      + (f" h{row.harmonic}" if row.harmonic else "") for row in rows]
+            lines += [f"  {row.name:<{width}}  {row.state:<8}  {row.type:<10}  claims {row.interfaces}"
+                      for row in rows]
         return "\n".join(lines)
 
 

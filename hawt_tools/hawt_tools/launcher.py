@@ -22,8 +22,10 @@ from ament_index_python.packages import PackageNotFoundError, get_package_prefix
 
 from rclpy.task import Future
 
+from hawt_core.stop_signals import stop_signals
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
-from hawt_tools.node_main import first_done, run_nodes
+from hawt_tools.node_parameters import typed_override
+from hawt_node.node_main import first_done, run_nodes
 
 __all__ = [
     "LaunchFailure",
@@ -91,12 +93,6 @@ def _nest(values: Sequence[Tuple[str, object]]) -> Dict[str, object]:
     return tree
 
 
-def _typed(text: str) -> object:
-    """A command-line value with the type YAML gives it, as rcl types ``-p`` values ('' stays a string)."""
-    value = yaml.safe_load(text) if text else text
-    return text if value is None else value
-
-
 def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
                   global_parameters: Mapping[str, object] = ()) -> List[str]:
     """The ``--ros-args ...`` list of one node; inline parameters are written to files in ``parameter_dir``."""
@@ -116,10 +112,11 @@ def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
         arguments += ["-r", f"{source_name}:={target}"]
     arguments += list(spec.ros_arguments)
     if spec.label in overrides:
-        # rcl lets a node's own entries beat '/**' ones, where '-p' lands; a last file keyed by
-        # the node's full name makes command-line overrides win over every file of the graph.
+        # rcl applies the matching node-name keys in the order they first appear over all files
+        # (hawt_tools.node_parameters); a last file under a key of its own, the node's
+        # full name, makes command-line overrides win over every file of the graph.
         path = parameter_dir / f"{spec.label.strip('/').replace('/', '__')}_overrides.yaml"
-        values = [(name, _typed(value)) for name, value in overrides[spec.label]]
+        values = [(name, typed_override(value)) for name, value in overrides[spec.label]]
         path.write_text(yaml.safe_dump({spec.label: {"ros__parameters": _nest(values)}}))
         arguments += ["--params-file", str(path)]
     return arguments
@@ -208,9 +205,8 @@ class ProcessGraph:
             Wall-clock seconds after which the graph is stopped (None: until a node with
             ``on_exit: shutdown`` finishes, every node has finished, a node dies, or SIGINT/SIGTERM).
         """
-        previous = {sig: signal.signal(sig, lambda *_: self.request_stop(0, "interrupted")) for sig in
-                    (signal.SIGINT, signal.SIGTERM)}
-        with tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
+        with stop_signals(lambda *_: self.request_stop(0, "interrupted")), \
+                tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
             processes = [
                 _Process(spec, [str(exe), *spec.arguments,
                                 *ros_arguments(spec, self.overrides, Path(parameter_dir), self.global_parameters)])
@@ -221,8 +217,6 @@ class ProcessGraph:
                 self._supervise(processes, duration)
             finally:
                 self._stop_all(processes)
-                for sig, handler in previous.items():
-                    signal.signal(sig, handler)
         code, reason = self._stop_reason or (0, "")
         if code:
             raise LaunchFailure(reason)
@@ -271,7 +265,7 @@ class ProcessGraph:
                     process.pump.join(timeout=2.0)
 
 
-def _node_class(graph: Graph, spec: NodeSpec) -> type:
+def node_class(graph: Graph, spec: NodeSpec) -> type:
     """The node class behind an executable, from its console-script entry point's ``node_class``."""
     where = f"{graph.path}:{spec.line}"
     try:
@@ -296,7 +290,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
     Stops when a node with ``on_exit: shutdown`` is done, after ``duration`` wall
     seconds, or on SIGINT/SIGTERM.
     """
-    classes = [_node_class(graph, spec) for spec in graph.nodes]
+    classes = [node_class(graph, spec) for spec in graph.nodes]
     for spec in graph.nodes:
         executable_path(graph, spec)
     with tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:

@@ -2,9 +2,10 @@
 import os
 import signal
 import subprocess
-import threading
 import time
 from pathlib import Path
+
+from ros_probe import ProbeNode
 
 HERE = Path(__file__).resolve().parent
 
@@ -48,33 +49,8 @@ def wait_for_file(path: Path, process: subprocess.Popen, timeout: float = 30.0) 
         time.sleep(0.05)
 
 
-class Probe:
-    """A node in this test process (own context, spun in a thread) to watch the graph and receive messages."""
+class Probe(ProbeNode):
+    """A node in this test process, spun in a thread, to watch the graph and receive messages."""
 
     def __init__(self) -> None:
-        import rclpy
-        from rclpy.executors import SingleThreadedExecutor
-
-        self.context = rclpy.Context()
-        rclpy.init(context=self.context)
-        self.node = rclpy.create_node("bag_test_probe", context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        self.executor.add_node(self.node)
-        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
-        self.thread.start()
-
-    def wait_subscribed(self, topic: str, node_name: str, timeout: float = 30.0) -> None:
-        """Until node ``node_name`` has a subscription on ``topic`` that a publisher there can match."""
-        deadline = time.monotonic() + timeout
-        while not any(info.node_name == node_name for info in self.node.get_subscriptions_info_by_topic(topic)):
-            assert time.monotonic() < deadline, f"{node_name} did not subscribe to {topic} within {timeout} s"
-            time.sleep(0.05)
-        time.sleep(0.3)
-
-    def close(self) -> None:
-        import rclpy
-
-        self.executor.shutdown()
-        self.thread.join(timeout=5)
-        self.node.destroy_node()
-        rclpy.shutdown(context=self.context)
+        super().__init__("bag_test_probe", background=True)

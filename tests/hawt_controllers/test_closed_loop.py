@@ -1,9 +1,11 @@
 """Closed loop of the cores on the NREL 5 MW model: the load reductions the IPC literature reports.
 
-Steady 18 m/s, shear alpha = 0.2, tower shadow, 100 Hz, composed exactly as the nodes compose
-them (cpc -> collective; mbc forward -> ipc_h{n} -> mbc inverse + limits), with the shipped
-tuning (config/ipc_nrel5mw.yaml). The ROS graph runs the same cores (test_plant_node.py,
-the graph tests); here the loop runs in one process so a 60 s run takes seconds.
+Steady 18 m/s, shear alpha = 0.2, tower shadow, 100 Hz, composed exactly as the graph composes
+them: the plug-in controllers (``cpc`` -> collective_pitch + generator_torque, ``ipc`` of harmonic n ->
+harmonic/<n>, built from the plant's description) and the one loop assembler
+(hawt_controllers.loop_assembly: inverse MBC + sum + limits), with the shipped tuning
+(config/ipc_nrel5mw.yaml). The ROS graph runs the same cores (test_plant_node.py, the graph
+tests); here the loop runs in one process so a 60 s run takes seconds.
 """
 import math
 
@@ -12,12 +14,12 @@ import pytest
 import yaml
 
 from hawt_analysis.harmonics import harmonic_amplitudes
-from hawt_controllers.collective import BaselineCollectiveController, load_baseline_config
-from hawt_controllers.ipc import HarmonicIpc
+from hawt_controllers.collective import load_baseline_config
+from hawt_controllers.controller import CollectiveContribution
+from hawt_controllers.cpc_controller import CollectivePitchController
+from hawt_controllers.ipc_controller import HarmonicIpcController
 from hawt_controllers.ipc_design import DEFAULT_FILE
-from hawt_controllers.ipc_node import PARAMETERS, config_from
-from hawt_controllers.limits import limit_pitch
-from hawt_controllers.mbc import mbc_forward, mbc_inverse
+from hawt_controllers.loop_assembly import LoopAssembler
 from hawt_plant.model import TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import nrel_5mw
@@ -26,36 +28,31 @@ DT = 0.01
 RATED_SPEED = 12.1 * math.pi / 30
 
 
-def _ipc(harmonic: int) -> HarmonicIpc:
-    values = {spec.name: spec.default for spec in PARAMETERS}
-    values.update(yaml.safe_load(DEFAULT_FILE.read_text())[f"/**/ipc_h{harmonic}"]["ros__parameters"])
-    law = HarmonicIpc(config_from(values), DT)
-    law.activate(ramp_time=0.0)
-    return law
+def _ipc(harmonic: int, plant) -> HarmonicIpcController:
+    values = yaml.safe_load(DEFAULT_FILE.read_text())[f"/**/ipc_h{harmonic}"]["ros__parameters"]
+    controller = HarmonicIpcController(values, plant)
+    controller.on_activate(0.0, (), None)
+    return controller
 
 
 def _run(harmonics, duration=60.0, settle=30.0) -> dict:
     turbine = nrel_5mw()
+    plant = turbine.description(DT)
     model = TurbineModel(turbine, PowerLawWind(18.0, hub_height=turbine.hub_height, shear_exponent=0.2))
     out = model.reset_to_operating_point()
-    baseline = load_baseline_config()
-    cpc = BaselineCollectiveController(baseline)
-    cpc.reset(out.generator_speed, float(np.mean(out.pitch)), out.generator_torque)
-    laws = {n: _ipc(n) for n in harmonics}
+    controllers = [CollectivePitchController({}, plant), *(_ipc(n, plant) for n in harmonics)]
+    assert [c.claims() for c in controllers] == [("collective_pitch", "generator_torque"),
+                                                 *((f"harmonic/{n}",) for n in harmonics)]
+    assembler = LoopAssembler(plant.blades, load_baseline_config().pitch_limits, plant.dt)
     previous = np.asarray(out.pitch)
     rows = []
     for step in range(int(duration / DT)):
-        collective = cpc.step(out.generator_speed, float(np.mean(out.pitch)), DT)
-        individual = np.zeros(3)
-        operating_point = float(np.mean(out.pitch))
-        for n, law in laws.items():
-            loads = mbc_forward(out.root_moment_oop, out.azimuth, n)
-            demand = law.step(loads.cos, loads.sin, DT, operating_point=operating_point,
-                              pitch_headroom=operating_point)
-            individual += mbc_inverse(demand.cos, demand.sin, out.azimuth, n, 3, demand.phase_offset)
-        limited = limit_pitch(collective.pitch + individual, previous, DT, baseline.pitch_limits)
-        previous = limited.pitch
-        out = model.step(limited.pitch, collective.generator_torque)
+        contributions = [c for controller in controllers for c in controller.update(step, out, out)]
+        collective = next(c for c in contributions if isinstance(c, CollectiveContribution))
+        command = assembler.assemble(collective.pitch, [(c, 1.0) for c in contributions if c is not collective],
+                                     out.azimuth, previous)
+        previous = command.pitch
+        out = model.step(command.pitch, collective.generator_torque)
         if out.time >= settle:
             rows.append((out.azimuth, out.rotor_speed, out.electrical_power, out.hub_tilt_moment,
                          out.hub_yaw_moment, *out.root_moment_oop, *out.pitch))

@@ -181,7 +181,7 @@ def test_loader_refuses_unknown_and_missing_parameters(tmp_path):
 @pytest.mark.parametrize(
     "change, message",
     [
-        ({"integral_gain": 0.0}, "integral_gain: must be > 0"),
+        ({"integral_gain": -0.001}, "integral_gain: must be >= 0"),
         ({"generator_speed_corner_frequency": math.nan}, "generator_speed_corner_frequency: must be finite"),
         ({"region2_start_generator_speed": 60.0}, "region2_start_generator_speed: must be > cut_in"),
         ({"max_generator_torque": 40000.0}, "max_generator_torque: must be >= P_rated"),

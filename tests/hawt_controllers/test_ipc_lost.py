@@ -8,12 +8,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
 
-from hawt_bag.run_analysis import analyze_bag
+from hawt_analysis.run_analysis import analyze_bag
 
 pytestmark = pytest.mark.ros
 
@@ -22,7 +21,7 @@ launch:
 - node: {pkg: hawt_plant, exec: plant, name: plant, namespace: lost, on_exit: shutdown,
          param: [{name: duration, value: 60.0}, {name: report_period, value: 1.0}]}
 - node: {pkg: hawt_controllers, exec: cpc, name: cpc, namespace: lost}
-- node: {pkg: hawt_controllers, exec: mbc, name: mbc, namespace: lost, param: [{name: ipc_harmonics, value: [1, 2]}]}
+- node: {pkg: hawt_controllers, exec: mbc, name: mbc, namespace: lost, param: [{name: controllers, value: [cpc, ipc_h1, ipc_h2]}]}
 - node: {pkg: hawt_controllers, exec: ipc, name: ipc_h1, namespace: lost,
          param: [{from: $(find-pkg-share hawt_controllers)/config/ipc_nrel5mw.yaml}]}
 - node: {pkg: hawt_controllers, exec: ipc, name: ipc_h2, namespace: lost, respawn: true, respawn_delay: 1.0,
@@ -62,10 +61,11 @@ def test_the_run_completes_with_every_step(run):
 
 
 def test_the_lost_controller_is_reported_and_its_return_too(run):
-    """control/events holds ipc_lost for h2 and, after the respawn, ipc_returned."""
+    """control/events holds contribution_lost for control/ipc/h2 and, after the respawn, contribution_returned."""
     steps = {kind: [e["step"] for e in run.run.events if e["kind"] == kind and e["detail"].startswith("control/ipc/h2")]
-             for kind in ("ipc_lost", "ipc_returned")}
-    assert steps["ipc_lost"] and steps["ipc_returned"] and steps["ipc_returned"][0] > steps["ipc_lost"][0]
+             for kind in ("contribution_lost", "contribution_returned")}
+    assert steps["contribution_lost"] and steps["contribution_returned"] \
+        and steps["contribution_returned"][0] > steps["contribution_lost"][0]
 
 
 def test_every_command_stays_finite_within_limits_and_rate(run):

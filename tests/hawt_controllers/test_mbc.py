@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from hawt_controllers.exceptions import ConfigurationError, InputError
-from hawt_controllers.mbc import blade_azimuths, harmonic_rank, mbc_forward, mbc_inverse
+from hawt_controllers.mbc import (blade_azimuths, harmonic_rank, mbc_forward, mbc_forward_sample, mbc_inverse,
+                                  mbc_inverse_sample)
 
 RANK_TWO_CASES = [(3, 1), (3, 2), (3, 4), (4, 1), (5, 1), (5, 2)]
 
@@ -160,6 +161,21 @@ def test_one_sample_and_a_time_series_give_the_same_components():
         assert np.shape(single.cos) == ()
         np.testing.assert_allclose([single.mean, single.cos, single.sin], [batch.mean[k], batch.cos[k], batch.sin[k]])
     assert mbc_inverse(0.1, 0.2, 0.3, 1, 4).shape == (4,)
+
+
+@pytest.mark.parametrize("n_blades, harmonic", [(3, 1), (3, 2), (3, 3), (4, 1), (5, 4)])
+def test_the_per_step_forms_equal_the_array_forms_bit_for_bit(n_blades, harmonic):
+    """mbc_forward_sample / mbc_inverse_sample (plain floats, the controllers' per-step path) give exactly what
+    mbc_forward / mbc_inverse give for one sample, so every engine's numbers are the transform's."""
+    rng = np.random.default_rng(11)
+    for _ in range(200):
+        moments, psi, phi = rng.normal(size=n_blades) * 1e6, rng.uniform(-20, 20), rng.uniform(-1, 1)
+        array, sample = mbc_forward(moments, psi, harmonic), mbc_forward_sample(moments.tolist(), psi, harmonic)
+        assert (float(array.mean), float(array.cos), float(array.sin)) == tuple(sample)
+        assert mbc_inverse(0.01, -0.02, psi, harmonic, n_blades, phi).tolist() == \
+            mbc_inverse_sample(0.01, -0.02, psi, harmonic, n_blades, phi)
+    with pytest.raises(InputError, match="blade_values: NaN at sample 1"):
+        mbc_forward_sample([1.0, math.nan, 2.0], 0.0, 1)
 
 
 def test_two_blades_are_refused_with_the_reason():

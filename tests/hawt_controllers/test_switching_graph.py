@@ -1,7 +1,7 @@
 """Controller switches in the real graph: at their step, bumpless, recorded, and the same in every lockstep run.
 
-The switching graph (plant, cpc, mbc, ipc_h1, ipc_h2, ipc_h1_retuned, controller_manager) runs
-30 s in lockstep, each node its own process, with a schedule given in steps:
+The switching graph (plant, cpc, mbc, ipc_h1, ipc_h2, ipc_h1_retuned, ipc_h4, blade_sine, controller_manager)
+runs 30 s in lockstep, each node its own process, with a schedule given in steps:
 CPC -> +IPC-1P (step 600) -> +IPC-2P (1200) -> swap IPC-1P for the retuned one (1800) -> all IPC off (2400).
 """
 import math
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from hawt_bag.reader import BagReader
-from hawt_bag.run_analysis import analyze_bag
+from hawt_analysis.run_analysis import analyze_bag
 from hawt_bag.topic_columns import read_topic_columns
 
 pytestmark = pytest.mark.ros

@@ -6,19 +6,16 @@ CPC -> +IPC-1P -> +IPC-2P -> swap IPC-1P for the retuned one -> all IPC off, plu
 """
 import math
 import subprocess
-import sys
-import threading
 import time
 
 import numpy as np
 import pytest
+from launched_graph import CLI, LaunchedGraph
 
-from hawt_bag.run_analysis import analyze_bag
+from hawt_analysis.run_analysis import analyze_bag
 from hawt_tools.controller_client import switch_controllers
 
 pytestmark = pytest.mark.ros
-
-CLI = [sys.executable, "-m", "hawt_tools.cli"]
 SWITCHES = ((["ipc_h1"], [], -1.0), (["ipc_h2"], [], -1.0), (["ipc_h1_retuned"], ["ipc_h1"], -1.0),
             ([], ["ipc_h1_retuned", "ipc_h2"], 1.0))
 
@@ -30,17 +27,10 @@ def _hawt(*arguments):
 @pytest.fixture(scope="module")
 def session(tmp_path_factory):
     bag = tmp_path_factory.mktemp("realtime_switching") / "run.mcap"
-    graph = subprocess.Popen([*CLI, "launch", "switching", "--mode", "realtime", "namespace:=rts", "duration:=60",
-                              "-p", "plant.report_period:=1", "--record", str(bag)],
-                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    lines = []
-    reader = threading.Thread(target=lambda: lines.extend(graph.stdout), daemon=True)
-    reader.start()
     answers, refused, listing = [], None, None
-    try:
-        deadline = time.monotonic() + 120.0
-        while not any("t=1.0 s" in line for line in list(lines)) and time.monotonic() < deadline:
-            time.sleep(0.2)
+    with LaunchedGraph(["switching", "--mode", "realtime", "namespace:=rts", "duration:=60",
+                        "-p", "plant.report_period:=1", "--record", str(bag)]) as graph:
+        graph.wait_for_line("t=1.0 s", 120.0)
         time.sleep(7.0)  # CPC alone for over one revolution
         for number, (activate, deactivate, ramp) in enumerate(SWITCHES):
             answers.append(switch_controllers(activate, deactivate, ramp_time=ramp, namespace="rts", timeout=30.0))
@@ -49,12 +39,7 @@ def session(tmp_path_factory):
             if number == 2:
                 listing = _hawt("list", "--settle", "3")  # discovery trickles in on a loaded machine
             time.sleep(7.0)  # over one revolution (5 s) between switches, for the harmonics of each segment
-        graph.wait(timeout=180)
-        reader.join(timeout=10)
-    finally:
-        if graph.poll() is None:
-            graph.kill()
-    assert graph.returncode == 0, "".join(lines[-40:])
+        assert graph.finish() == 0, graph.tail()
     return answers, refused, listing, analyze_bag(bag)
 
 
@@ -66,19 +51,27 @@ def test_each_switch_is_answered_with_the_step_it_takes_effect_at(session):
     assert steps == sorted(steps) and len(set(steps)) == 4
 
 
-def test_a_second_controller_for_one_harmonic_is_refused_with_the_reason(session):
-    """hawt switch activating ipc_h1_retuned while ipc_h1 is active: exit 2, and the message says how to swap."""
+def test_a_second_claimant_of_an_interface_is_refused_with_the_reason(session):
+    """hawt switch activating ipc_h1_retuned while ipc_h1 holds harmonic/1: exit 2, and the message names both
+    controllers and the interface and says how to swap."""
     refused = session[1]
     assert refused.returncode == 2 and "deactivate it in the same switch to swap them" in refused.stderr
+    assert "/rts/ipc_h1_retuned: /rts/ipc_h1 is the active claimant of harmonic/1" in refused.stderr
 
 
-def test_hawt_list_shows_each_controllers_state(session):
-    """After the swap: ipc_h1 inactive, ipc_h1_retuned and ipc_h2 active, cpc active."""
+def test_hawt_list_shows_each_controllers_state_and_claims(session):
+    """After the swap: ipc_h1 inactive, ipc_h1_retuned and ipc_h2 active, cpc active; ipc_h4 and blade_sine, never
+    switched, inactive; each with the interfaces it claims."""
     assert "controllers of /rts/controller_manager" in session[2].stdout, session[2].stdout
     listing = session[2].stdout.split("controllers of /rts/controller_manager")[-1].splitlines()[1:]
-    lines = {line.split()[0]: line.split()[1] for line in listing if line.strip().startswith("/rts/")}
-    assert lines == {"/rts/cpc": "active", "/rts/ipc_h1": "inactive", "/rts/ipc_h1_retuned": "active",
-                     "/rts/ipc_h2": "active"}
+    rows = {line.split()[0]: line.split() for line in listing if line.strip().startswith("/rts/")}
+    assert {name: row[1] for name, row in rows.items()} == {
+        "/rts/cpc": "active", "/rts/ipc_h1": "inactive", "/rts/ipc_h1_retuned": "active", "/rts/ipc_h2": "active",
+        "/rts/ipc_h4": "inactive", "/rts/blade_sine": "inactive"}
+    claims = {name: row[row.index("claims") + 1:] for name, row in rows.items()}
+    assert claims == {"/rts/cpc": ["collective_pitch", "generator_torque"], "/rts/ipc_h1": ["harmonic/1"],
+                      "/rts/ipc_h1_retuned": ["harmonic/1"], "/rts/ipc_h2": ["harmonic/2"],
+                      "/rts/ipc_h4": ["harmonic/4"], "/rts/blade_sine": ["blade_pitch"]}
 
 
 def test_the_bag_holds_each_switch_at_its_step_and_no_pitch_step_beyond_the_rate_limit(session):

@@ -7,24 +7,22 @@ the plant's steps and can publish commands; the bag is read into columns afterwa
 import math
 import signal
 import subprocess
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Dict, Iterable, List, Optional
 
 import numpy as np
 import psutil
-import rclpy
 import yaml
 from hawt_bag.reader import BagReader
 from hawt_bag.topic_columns import TopicColumns, read_topic_columns
 from hawt_msgs.msg import BladeLoads, CollectivePitch, ControlEvent, HarmonicPitch, PitchCommand
-from rclpy.executors import SingleThreadedExecutor
-from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
+from hawt_node.recording import unrecorded_topics
 from hawt_plant.turbine import nrel_5mw
 from hawt_tools.cli import find_graph
+from ros_probe import ProbeNode
 
 ACTUATOR = nrel_5mw().pitch_actuator
 """Pitch limits of the plant the installed graphs run (the packaged NREL 5 MW)."""
@@ -52,19 +50,15 @@ def graph_outliving(folder: Path, graph: str, *nodes: str) -> Path:
     return path
 
 
-class Probe:
+class Probe(ProbeNode):
     """A node in the test process that follows one turbine's steps and events and can publish pitch commands.
 
     ``steps[topic]`` is the newest step seen on each followed topic (-1 before the first).
     """
 
     def __init__(self, namespace: str, harmonics: Iterable[int] = ()) -> None:
+        super().__init__("fault_probe")
         self.namespace = namespace
-        self.context = rclpy.Context()
-        rclpy.init(context=self.context)
-        self.node = Node("fault_probe", context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        self.executor.add_node(self.node)
         followed = {"plant/blade_loads": BladeLoads, "control/collective": CollectivePitch,
                     **{f"control/ipc/h{n}": HarmonicPitch for n in harmonics}}
         self.steps: Dict[str, int] = dict.fromkeys(followed, -1)
@@ -83,27 +77,17 @@ class Probe:
         """The newest step the plant has sent."""
         return self.steps["plant/blade_loads"]
 
-    def spin(self, seconds: float) -> None:
-        """Take everything that arrives during ``seconds`` of wall time."""
-        deadline = time.monotonic() + seconds
-        while (remaining := deadline - time.monotonic()) > 0:
-            self.executor.spin_once(timeout_sec=remaining)
-
-    def wait_until(self, condition: Callable[[], bool], launcher: subprocess.Popen, what: str) -> None:
+    def wait_while_launched(self, condition: Callable[[], bool], launcher: subprocess.Popen, what: str) -> None:
         """Spin until ``condition()`` holds; fails if the launch ends or LAUNCH_TIMEOUT passes first."""
-        deadline = time.monotonic() + LAUNCH_TIMEOUT
-        while not condition():
-            assert launcher.poll() is None, f"the launch ended (exit code {launcher.returncode}) before {what}"
-            assert time.monotonic() < deadline, f"no {what} within {LAUNCH_TIMEOUT} s"
-            self.spin(0.01)
+        self.wait_until(condition, what, alive=launcher, timeout=LAUNCH_TIMEOUT)
 
     def wait_for_step(self, step: int, launcher: subprocess.Popen) -> None:
         """Spin until the plant has sent step ``step`` or a later one."""
-        self.wait_until(lambda: self.plant_step >= step, launcher, f"plant step {step}")
+        self.wait_while_launched(lambda: self.plant_step >= step, launcher, f"plant step {step}")
 
     def wait_for_answer(self, step: int, launcher: subprocess.Popen, topic: str = "control/collective") -> None:
         """Spin until ``topic`` has answered plant step ``step`` or a later one."""
-        self.wait_until(lambda: self.steps[topic] >= step, launcher, f"answer of step {step} on {topic}")
+        self.wait_while_launched(lambda: self.steps[topic] >= step, launcher, f"answer of step {step} on {topic}")
 
     def wait_until_recorded(self, launcher: subprocess.Popen, margin: int = 50) -> None:
         """Spin until the recorder subscribes to the followed, command and event topics; then ``margin`` steps more.
@@ -111,17 +95,14 @@ class Probe:
         In realtime the plant does not wait for controllers that start after it, so the
         recorder may discover a controller's topic while the loop already runs.
         """
-        def recorded(topic: str) -> bool:
-            return any(info.node_name == "hawt_recorder"
-                       for info in self.node.get_subscriptions_info_by_topic(f"/{self.namespace}/{topic}"))
-        topics = (*self.steps, "control/pitch_command", "control/events")
-        self.wait_until(lambda: all(recorded(topic) for topic in topics), launcher, "the recorder's subscriptions")
+        topics = [f"/{self.namespace}/{topic}" for topic in (*self.steps, "control/pitch_command", "control/events")]
+        self.wait_while_launched(lambda: not unrecorded_topics(self.node, topics), launcher, "the recorder's subscriptions")
         for topic, step in dict(self.steps).items():
-            self.wait_until(lambda: self.steps[topic] >= step + margin, launcher, f"{margin} answers more on {topic}")
+            self.wait_while_launched(lambda: self.steps[topic] >= step + margin, launcher, f"{margin} answers more on {topic}")
 
     def wait_for_event(self, kind: str, launcher: subprocess.Popen) -> None:
         """Spin until an event of ``kind`` has arrived."""
-        self.wait_until(lambda: self.reported(kind), launcher, f"event {kind!r}")
+        self.wait_while_launched(lambda: self.reported(kind), launcher, f"event {kind!r}")
 
     def reported(self, kind: str, part_of_detail: str = "") -> bool:
         """True once an event of ``kind`` whose detail contains ``part_of_detail`` has arrived."""
@@ -139,12 +120,7 @@ class Probe:
                 return True
             self.commands.publish(command(self.plant_step))
             return False
-        self.wait_until(published_and_holds, launcher, what)
-
-    def close(self) -> None:
-        self.executor.shutdown()
-        self.node.destroy_node()
-        rclpy.shutdown(context=self.context)
+        self.wait_while_launched(published_and_holds, launcher, what)
 
 
 @dataclass

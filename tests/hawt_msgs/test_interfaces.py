@@ -101,7 +101,7 @@ def test_switch_controllers_request_and_response_round_trip(node):
 
 
 def test_list_controllers_response_round_trips(node):
-    """ListControllers' names, types and states arrive in order."""
+    """ListControllers' names, types, states and claimed interfaces arrive in order."""
     response = _call(node, ListControllers, "echo/list_controllers", ListControllers.Request())
-    assert {"names": list(response.names), "types": list(response.types),
-            "states": list(response.states)} == LISTING
+    assert {"names": list(response.names), "types": list(response.types), "states": list(response.states),
+            "interfaces": list(response.interfaces)} == LISTING

@@ -1,8 +1,5 @@
 """Specification of hawt_plant.bts: TurbSim binary full-field files, read and written."""
-import os
 import struct
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -34,13 +31,6 @@ def _turbsim_layout_file(path: Path, grid: np.ndarray, tower: np.ndarray, file_i
                          1000.0, -10000.0, 1000.0, 0.0, 1000.0, 0.0, len(description))
     steps = np.concatenate((grid.reshape(n_t, -1), tower.reshape(n_t, -1)), axis=1).astype("<i2")
     path.write_bytes(header + description + steps.tobytes())
-
-
-def test_importing_bts_does_not_import_rclpy():
-    """The .bts reader is pure numpy: importing it pulls in no ROS."""
-    code = "import sys, hawt_plant.bts; sys.exit('rclpy' in sys.modules)"
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "hawt_plant")}
-    assert subprocess.run([sys.executable, "-c", code], env=env).returncode == 0
 
 
 def test_write_read_round_trip_is_exact_up_to_int16_quantisation(generated, tmp_path):

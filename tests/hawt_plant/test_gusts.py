@@ -1,8 +1,4 @@
 """Specification of hawt_plant.gusts: wind step and IEC 61400-1 extreme operating gust."""
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,13 +11,6 @@ HUB = (np.zeros(1), np.zeros(1), np.full(1, 90.0))  # hub point of the NREL 5 MW
 def _hub_u(wind, t: float) -> float:
     """Longitudinal speed at the hub point."""
     return float(wind.velocity(t, *HUB)[0, 0])
-
-
-def test_importing_gusts_does_not_import_rclpy():
-    """The gust models are pure numpy: importing them pulls in no ROS."""
-    code = "import sys, hawt_plant.gusts; sys.exit('rclpy' in sys.modules)"
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "hawt_plant")}
-    assert subprocess.run([sys.executable, "-c", code], env=env).returncode == 0
 
 
 def test_eog_amplitude_for_nrel_5mw_at_rated_is_the_turbulence_branch():

@@ -1,8 +1,4 @@
 """Specification of hawt_plant.turbulence: IEC NTM fields from pyconturb, their cache and sampling."""
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -35,13 +31,6 @@ def unscaled_fields() -> list[np.ndarray]:
     """600 s, 3 x 3 fields for seeds 0..15, without hub sigma scaling (raw pyconturb)."""
     return [generate_turbulence(_small_spec(seed=seed, duration=600.0, scale_to_hub_sigma=False)).velocity_grid
             for seed in range(16)]
-
-
-def test_importing_turbulence_does_not_import_rclpy():
-    """The turbulence core is pure numpy: importing it pulls in no ROS."""
-    code = "import sys, hawt_plant.turbulence; sys.exit('rclpy' in sys.modules)"
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "hawt_plant")}
-    assert subprocess.run([sys.executable, "-c", code], env=env).returncode == 0
 
 
 @pytest.mark.parametrize("turbulence_class, sigma", [("A", 2.096), ("B", 1.834), ("C", 1.572)])

@@ -140,8 +140,13 @@ def test_a_node_that_dies_is_named_and_the_launch_fails(hawt_cli, tmp_path):
 
 
 def test_a_node_failing_at_start_is_named(hawt_cli, tmp_path):
-    """A relay given a number for its string label fails to start: exit 1, named."""
-    result = _launch(hawt_cli, _graph(tmp_path), tmp_path / "r.json", "-p", "relay.label:=3", "--duration", "20")
+    """A relay given a number for its string label fails to start: exit 1, named.
+
+    Through its ros_args, which the check before start does not read (-p relay.label:=3 is refused before start,
+    tests/hawt_tools/test_parameter_check.py).
+    """
+    graph = _graph(tmp_path, relay_extra='    ros_args: "-p label:=3"\n')
+    result = _launch(hawt_cli, graph, tmp_path / "r.json", "--duration", "20")
     assert result.returncode == 1
     assert "hawt launch: node /t/relay died unexpectedly (exit code 1)" in result.stderr
 
@@ -214,7 +219,10 @@ def test_hawt_list_shows_the_running_nodes_and_topics_with_types(hawt_cli, tmp_p
     launcher = _start(hawt_cli, _graph(tmp_path), tmp_path / "r.json", "--duration", "15")
     try:
         _wait_for_children(launcher, 3)
-        listing = subprocess.run([*hawt_cli, "list"], capture_output=True, text=True, timeout=30)
+        for _ in range(30):  # until discovery has found the three nodes (slow on a busy machine), not a fixed time
+            listing = subprocess.run([*hawt_cli, "list"], capture_output=True, text=True, timeout=30)
+            if listing.returncode != 0 or listing.stdout.startswith("nodes (3):"):
+                break
     finally:
         launcher.send_signal(signal.SIGINT)
         launcher.communicate(timeout=30)

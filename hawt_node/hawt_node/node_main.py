@@ -22,7 +22,6 @@ reliable readers have acknowledged what it sent, so the recorder of ``hawt launc
 --record`` gets the last steps. rclpy's own signal handler would shut the context
 down at once and make that impossible, so :func:`run_nodes` installs its own.
 """
-import signal
 import time
 from contextlib import contextmanager
 from typing import Callable, Iterator, List, Optional, Sequence
@@ -35,7 +34,8 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
-from hawt_tools.scheduling import priority_from_environment
+from hawt_core.stop_signals import stop_signals
+from hawt_node.scheduling import priority_from_environment
 
 __all__ = ["run_node", "run_nodes", "node_entry_point", "spin_nodes", "first_done", "make_executor",
            "wait_for_acknowledgements", "WAKE_PERIOD", "FLUSH_TIMEOUT"]
@@ -98,12 +98,8 @@ def _stop_on_signals() -> Iterator[Future]:
         if not stop.done():
             stop.set_result(True)
 
-    previous = {sig: signal.signal(sig, request_stop) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
+    with stop_signals(request_stop):
         yield stop
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
 
 
 def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequence[Node]], Optional[Future]],
@@ -112,7 +108,7 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
 
     Then the published messages are flushed (:func:`wait_for_acknowledgements`) and the
     nodes destroyed. The default context is used, with this module's signal handling. A
-    realtime priority in the environment (hawt_tools.scheduling) is set first, so that the
+    realtime priority in the environment (hawt_node.scheduling) is set first, so that the
     middleware's threads run at it too.
     """
     priority_from_environment()

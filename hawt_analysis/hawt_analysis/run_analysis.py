@@ -1,11 +1,12 @@
 """The numbers of ``hawt analyze`` and ``hawt compare`` for bags: `hawt_analysis` on the recorded topics.
 
 `analyze_bag` reads one turbine's run (`plant_run.load_plant_run`) and returns the
-dict of `hawt_analysis.summary.summarize` (DESIGN §8) with four more keys:
+dict of `hawt_analysis.summary.summarize` (DESIGN §8) with five more keys:
 ``bag`` (file, namespace, messages per topic), ``pitch_command`` (activity of the
 commanded pitch and the steps each PitchCommand flag was set; None without that
-topic), ``events`` (the ``control/events`` timeline) and ``segments`` (harmonic
-amplitudes between the steps of controller switches; empty without switches).
+topic), ``events`` (the ``control/events`` timeline), ``segments`` (harmonic
+amplitudes between the steps of controller switches; empty without switches) and
+``warnings`` (one line each, e.g. steps missing in the plant topics; empty if none).
 """
 import os
 from dataclasses import dataclass
@@ -13,13 +14,14 @@ from pathlib import Path
 from typing import Callable, Optional, Sequence
 
 import numpy as np
-from hawt_analysis.comparison import compare_summaries
-from hawt_analysis.pitch_activity import pitch_activity
-from hawt_analysis.summary import AnalysisOptions, segment_harmonics, summarize
 
-from .errors import BagError
-from .plant_run import PlantRun, load_plant_run
-from .reader import BagReader
+from hawt_bag.errors import BagError
+from hawt_bag.plant_run import PlantRun, load_plant_run
+from hawt_bag.reader import BagReader
+
+from .comparison import compare_summaries
+from .pitch_activity import pitch_activity
+from .summary import AnalysisOptions, segment_harmonics, summarize
 
 __all__ = ["BagAnalysis", "analyze_bag", "compare_bags"]
 
@@ -85,6 +87,7 @@ def analyze_bag(path: os.PathLike, namespace: Optional[str] = None, options: Ana
     summary["pitch_command"] = _command_summary(run, options)
     summary["events"] = run.events
     summary["segments"] = _switch_segments(run, options)
+    summary["warnings"] = list(run.warnings)
     return BagAnalysis(Path(path), run, summary)
 
 

@@ -3,8 +3,8 @@ from builtin_interfaces.msg import Time
 from hawt_msgs.msg import ControlEvent
 from rclpy.node import Node
 
-from hawt_tools.qos import EVENTS
-from hawt_tools.topics import EVENTS as EVENTS_TOPIC
+from hawt_node.qos import EVENTS
+from hawt_core.topics import EVENTS as EVENTS_TOPIC
 
 __all__ = ["EventPublisher"]
 

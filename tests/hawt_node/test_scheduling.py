@@ -6,12 +6,12 @@ import sys
 import pytest
 
 from hawt_tools.cli import main
-from hawt_tools.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
+from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
 PERMITTED = os.geteuid() == 0
 """Root may use SCHED_FIFO; another user gets the one-line refusal (both are specified below)."""
 
-_REPORT_POLICY = ("import os; from hawt_tools.scheduling import priority_from_environment; "
+_REPORT_POLICY = ("import os; from hawt_node.scheduling import priority_from_environment; "
                   "priority_from_environment(); print(os.sched_getscheduler(0), os.sched_getparam(0).sched_priority)")
 
 

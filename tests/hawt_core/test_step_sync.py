@@ -1,7 +1,7 @@
 """Lockstep step matching: a step fires once when complete; repeats are answered again, older steps dropped."""
 from types import SimpleNamespace
 
-from hawt_tools.step_sync import StepAnswer, StepJoin
+from hawt_core.step_sync import StepAnswer, StepJoin
 
 
 def test_a_step_fires_once_when_its_last_required_input_arrives():

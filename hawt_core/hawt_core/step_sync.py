@@ -8,7 +8,11 @@ message and does not advance its state.
 """
 from typing import Any, Callable, Dict, Iterable, Optional
 
-__all__ = ["StepAnswer", "StepJoin", "StepVerdict", "classify_step"]
+__all__ = ["StepAnswer", "StepJoin", "StepVerdict", "classify_step", "RESEND_PERIOD"]
+
+RESEND_PERIOD = 0.5
+"""Wall time [s] after which an unanswered step is sent again (the lockstep plant, step replay): a message
+that reached a node before its executor watched the subscription is only taken with the next one."""
 
 
 class StepVerdict:

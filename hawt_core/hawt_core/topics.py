@@ -1,12 +1,15 @@
-"""Topic and service names of DESIGN.md §5, relative so a graph runs under a namespace per turbine."""
+"""Topic, service and well-known node names (docs/architecture.md §3), topics relative so a graph runs under a
+namespace per turbine."""
 
 __all__ = [
     "BLADE_LOADS", "TURBINE_STATE", "COLLECTIVE", "PITCH_COMMAND", "EVENTS", "CLOCK",
-    "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "SWITCHES", "CONTROLLER_STATES", "mbc_topic", "ipc_topic",
+    "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "SWITCHES", "SCHEDULE", "CONTROLLER_STATES", "PLANT_DESCRIPTION",
+    "mbc_topic", "ipc_topic", "blade_pitch_topic", "RECORDER_NODE",
 ]
 
 BLADE_LOADS = "plant/blade_loads"
 TURBINE_STATE = "plant/state"
+PLANT_DESCRIPTION = "plant/description"
 COLLECTIVE = "control/collective"
 PITCH_COMMAND = "control/pitch_command"
 EVENTS = "control/events"
@@ -14,7 +17,10 @@ CLOCK = "/clock"
 SWITCH_CONTROLLERS = "controller_manager/switch_controllers"
 LIST_CONTROLLERS = "controller_manager/list_controllers"
 SWITCHES = "controller_manager/switch"
+SCHEDULE = "controller_manager/schedule"
 CONTROLLER_STATES = "controller_manager/controllers"
+RECORDER_NODE = "hawt_recorder"
+"""The recorder's node name (``hawt record``, ``hawt launch --record``): what a run waits for before it starts."""
 
 
 def mbc_topic(harmonic: int) -> str:
@@ -25,3 +31,8 @@ def mbc_topic(harmonic: int) -> str:
 def ipc_topic(harmonic: int) -> str:
     """The pitch demand of the IPC controller of harmonic n: ``control/ipc/h{n}``."""
     return f"control/ipc/h{harmonic}"
+
+
+def blade_pitch_topic() -> str:
+    """The per-blade pitch increments of the ``blade_pitch`` interface: ``control/blade_pitch``."""
+    return "control/blade_pitch"

@@ -11,7 +11,7 @@ import os
 from pathlib import Path
 from typing import Mapping, Sequence
 
-from .errors import BagError
+from hawt_bag.errors import BagError
 
 __all__ = ["analysis_text", "comparison_text", "write_analysis_report", "write_comparison_report"]
 
@@ -149,7 +149,7 @@ def _folder(directory: os.PathLike) -> Path:
 
 def write_analysis_report(analysis, directory: os.PathLike) -> Path:
     """Write ``index.html``, the PNGs of `hawt_analysis.plots.write_report` and ``summary.json``; return the index."""
-    from hawt_analysis.plots import write_report
+    from .plots import write_report
 
     directory = _folder(directory)
     images = write_report(analysis.run.channels, analysis.summary, directory)
@@ -160,7 +160,7 @@ def write_analysis_report(analysis, directory: os.PathLike) -> Path:
 
 def write_comparison_report(comparison: Mapping, directory: os.PathLike) -> Path:
     """Write ``index.html``, ``comparison.png`` and ``comparison.json``; return the index."""
-    from hawt_analysis.plots import write_comparison_report as plot
+    from .plots import write_comparison_report as plot
 
     directory = _folder(directory)
     images = plot(comparison, directory)

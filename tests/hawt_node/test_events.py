@@ -4,7 +4,7 @@ import rclpy
 from hawt_msgs.msg import ControlEvent
 from rclpy.node import Node
 
-from hawt_tools.events import EventPublisher
+from hawt_node.events import EventPublisher
 
 pytestmark = pytest.mark.ros
 

@@ -1,0 +1,87 @@
+"""The plant's parameter table and the model it builds from it, shared by the plant node and the in-process runner.
+
+:func:`make_plant` turns the plant's parameter values into the turbine, its model in the
+configured wind, and the model's output at the operating point of step 0 — the same for
+every engine, so the same parameters give the same run.
+"""
+import math
+from typing import Any, Mapping, Tuple
+
+from hawt_core.parameter_table import ParameterError, ParameterSpec
+from hawt_core.step_sync import RESEND_PERIOD
+from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.turbine import Turbine, load_turbine, nrel_5mw
+
+__all__ = ["PARAMETERS", "check_parameters", "make_plant"]
+
+PARAMETERS = (
+    ParameterSpec("turbine_file", "", "turbine definition YAML ('' = the packaged NREL 5 MW)", read_only=True),
+    ParameterSpec("dt", 0.01, "plant step (100 Hz by default)", "s", minimum=1e-3, maximum=0.1, read_only=True),
+    ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
+    ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",
+                  minimum=0.0, read_only=True),
+    ParameterSpec("wind_type", "steady", "inflow model", choices=WIND_KINDS, read_only=True),
+    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s", minimum=3.0, maximum=30.0,
+                  read_only=True),
+    ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=0.99,
+                  read_only=True),
+    ParameterSpec("turbulence_class", "B", "IEC turbulence category", choices=("A", "B", "C"), read_only=True),
+    ParameterSpec("seed", 0, "seed of the turbulent field", minimum=0, maximum=2**31 - 1, read_only=True),
+    ParameterSpec("field_duration", 600.0, "length of the turbulent field (wraps after)", "s", minimum=10.0,
+                  maximum=7200.0, read_only=True),
+    ParameterSpec("bts_file", "", "TurbSim .bts file for wind_type bts", read_only=True),
+    ParameterSpec("step_speed", 14.0, "wind_type step: hub speed after the step", "m/s", minimum=0.0,
+                  maximum=40.0, read_only=True),
+    ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
+                  read_only=True),
+    ParameterSpec("tower_shadow", True, "potential-flow tower shadow on the blade elements", read_only=True),
+    ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
+    ParameterSpec("torque_disturbance", 0.0, "amplitude D of an unmeasured disturbance D sin(azimuth) on the "
+                  "generator torque acting on the drivetrain (Fratini R4)", "N*m", minimum=0.0, maximum=20000.0,
+                  read_only=True),
+    ParameterSpec("initial_azimuth", 0.0, "azimuth of blade 1 at time 0", "rad", minimum=0.0,
+                  maximum=2 * math.pi, read_only=True),
+    ParameterSpec("resend_period", RESEND_PERIOD, "lockstep: wall time after which an unanswered step is sent again", "s",
+                  minimum=0.01, maximum=60.0),
+    ParameterSpec("wait_for_subscribers", 0, "send the first step only once plant/blade_loads has this many "
+                  "subscribers (a recorder or test that must see every step)", minimum=0, maximum=1000,
+                  read_only=True),
+    ParameterSpec("wait_for_recorder", False, "send the first step only once the node hawt_recorder subscribes "
+                  "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
+                  read_only=True),
+    ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
+    ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
+                  "unanswered, resends included; must exceed resend_period) after which the safety system trips "
+                  "and feathers", "s", minimum=0.01, maximum=600.0, read_only=True),
+    ParameterSpec("startup_timeout", 30.0, "wall time the first command may take once the plant has started "
+                  "(controllers starting up) before the safety system trips", "s", minimum=0.01, maximum=3600.0,
+                  read_only=True),
+    ParameterSpec("stale_burst_gap", 1.0, "realtime: commands older than the last applied one are reported once "
+                  "per burst; a burst ends after this long without one", "s", minimum=0.0, maximum=600.0,
+                  read_only=True),
+)
+
+
+
+def check_parameters(values: Mapping[str, Any]) -> None:
+    """The plant's rules across parameters (each value already checked against its row); ParameterError if broken."""
+    if values["mode"] == "lockstep" and values["command_timeout"] <= values["resend_period"]:
+        raise ParameterError(f"command_timeout: {values['command_timeout']} s must exceed resend_period "
+                             f"{values['resend_period']} s in lockstep (a step is resent before the safety system "
+                             "trips)")
+
+
+def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, TurbineOutput]:
+    """The turbine, its model and the output of step 0 for the plant's parameter ``values``."""
+    v = values
+    turbine = load_turbine(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
+    wind = make_wind(InflowSettings(
+        kind=v["wind_type"], wind_speed=v["wind_speed"], shear_exponent=v["shear_exponent"],
+        hub_height=turbine.hub_height, turbulence_class=v["turbulence_class"], seed=v["seed"],
+        field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
+        step_speed=v["step_speed"], step_time=v["step_time"]))
+    model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
+                                                    dynamic_inflow=v["dynamic_inflow"],
+                                                    torque_disturbance=v["torque_disturbance"]))
+    return turbine, model, model.reset_to_operating_point(v["initial_azimuth"])

@@ -1,0 +1,320 @@
+"""The in-process runner (DESIGN §6): a graph's cores stepped in lockstep order with no middleware.
+
+``hawt run GRAPH`` reads the same graph and parameter files as ``hawt launch``, gives each
+node the parameters rcl would give it (hawt_tools.node_parameters), builds the same cores —
+the plant model (hawt_plant.plant_setup), every controller plug-in (hawt_controllers.
+controller), the loop assembler (hawt_controllers.loop_assembly) and the controller
+manager's switch schedule (hawt_controllers.switching) — and steps them in the order the
+lockstep graph does: at step k every controller updates on the plant's output of step k
+(active or not), the assembler sums what the active ones contribute, limits it, and the
+plant advances with that command. The result equals the lockstep ROS graph bit for bit,
+for the same graph, arguments and seed. A run can be written to MCAP with the topics the
+graph publishes, so ``hawt analyze`` and ``hawt compare`` read it unchanged.
+
+What the runner does not do, since nothing can happen there that the schedule did not
+say: live switches and parameter sets, lost contributors, realtime.
+"""
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+
+from hawt_controllers.controller import (CollectiveContribution, Contribution, Controller, HarmonicContribution,
+                                         controller_parameters, update_or_hold)
+from hawt_controllers.loop_assembly import LoopAssembler
+from hawt_controllers.switching import (ControllerInfo, Switch, SwitchRefused, parse_schedule, plan_switch,
+                                        ramp_steps)
+from hawt_core.command_interfaces import parse_interface
+from hawt_core.parameter_table import ParameterError, resolve_values
+from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
+from hawt_plant.plant_setup import make_plant
+from hawt_plant.safety_system import command_rejection
+from hawt_tools.graph_file import Graph, GraphError, NodeSpec
+from hawt_tools.node_parameters import node_parameters
+
+__all__ = ["InProcessRun", "build_run", "RunRecord", "write_run", "run_graph"]
+
+Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
+
+
+@dataclass
+class RunRecord:
+    """What a run published, by topic, one row per step (columns of hawt_bag.column_writing)."""
+
+    rows: Dict[str, List[dict]] = field(default_factory=dict)
+
+    def add(self, topic: str, row: dict) -> None:
+        self.rows.setdefault(topic, []).append(row)
+
+
+@dataclass
+class _Controller:
+    """One controller of the graph and what its node would do around the core."""
+
+    name: str
+    core: Controller
+    publish_until: float = -math.inf
+    last: Tuple[Contribution, ...] = ()
+
+    def info(self) -> ControllerInfo:
+        state = "active" if self.publish_until == math.inf else "inactive"
+        return ControllerInfo(self.name, self.core.TYPE, self.core.claims(), state, self.core.SWITCHABLE,
+                              self.publish_until if math.isfinite(self.publish_until) else 0.0)
+
+
+def _topic(contribution: Contribution) -> str:
+    return parse_interface(contribution.interfaces[0]).topic
+
+
+class InProcessRun:
+    """A graph's cores, ready to step (build one with :func:`build_run`)."""
+
+    def __init__(self, namespace: str, plant_values: Mapping[str, Any], assembler_values: Mapping[str, Any],
+                 controllers: Sequence[Tuple[str, type, Mapping[str, Any]]],
+                 schedule: Sequence[str] = (), ramp_time: float = 0.0) -> None:
+        self.namespace = namespace
+        self.plant_values = dict(plant_values)
+        self.turbine, self.model, self.output = make_plant(plant_values)
+        self.description = self.turbine.description(plant_values["dt"])
+        self.actuator = self.turbine.pitch_actuator
+        from hawt_controllers.mbc_node import pitch_limits
+
+        self.assembler = LoopAssembler(self.description.blades, pitch_limits(assembler_values), self.description.dt)
+        self.controllers: List[_Controller] = []
+        for name, core_class, values in controllers:
+            try:
+                controller = _Controller(name, core_class(values, self.description))
+            except ValueError as error:
+                raise ParameterError(f"{name}: {error}") from None
+            if values.get("active", True):
+                controller.core.on_activate(None, (), None)
+                controller.publish_until = math.inf
+            self.controllers.append(controller)
+        self.schedule = self._planned(schedule, ramp_time)
+        self.step_index = 0
+        self.previous: Optional[np.ndarray] = None
+        self.command = (np.array(self.output.pitch), float(self.output.generator_torque))
+        self.events: List[dict] = []
+
+    def _planned(self, entries: Sequence[str], ramp_time: float) -> List[Switch]:
+        """controller_manager's ``schedule`` entries as switches, checked as the manager checks them (STRICT)."""
+        from hawt_controllers.loop_assembly import assembly_problem
+
+        known = {c.name: c.info() for c in self.controllers}
+        switches = []
+        for entry in parse_schedule([e for e in entries if e.strip()]):
+            incoming, outgoing, _ = plan_switch(known, entry.activate, entry.deactivate, True, entry.step,
+                                                lambda i: assembly_problem(i, self.description.blades))
+            switch = Switch(entry.step, tuple((c.name, c.interfaces) for c in incoming),
+                            tuple((c.name, c.interfaces) for c in outgoing), ramp_time)
+            end = entry.step + ramp_steps(ramp_time, self.description.dt)
+            for c in incoming:
+                known[c.name] = ControllerInfo(c.name, c.type, c.interfaces, "active", c.switchable, math.inf)
+            for c in outgoing:
+                known[c.name] = ControllerInfo(c.name, c.type, c.interfaces, "inactive", c.switchable,
+                                               entry.step if switch.replaces(c.interfaces) else end)
+            switches.append(switch)
+        return switches
+
+    def _apply(self, switch: Switch, step: int) -> None:
+        """What every controller node does with a switch at its step (hawt_controllers.controller_node)."""
+        outgoing_last = {_topic(c): c for ctl in self.controllers if ctl.name in dict(switch.deactivate)
+                         for c in ctl.last}
+        incoming = dict(switch.activate)
+        for controller in self.controllers:
+            claims = controller.core.claims()
+            replaced = switch.replaces(claims)
+            if controller.name in incoming:
+                initial = tuple(c for t, c in outgoing_last.items() if replaced and
+                                any(parse_interface(i).topic == t for i in claims))
+                controller.core.on_activate(0.0 if replaced else switch.ramp_time, initial, self.output)
+                controller.publish_until = math.inf
+            elif controller.name in dict(switch.deactivate):
+                controller.core.on_deactivate(0.0 if replaced else switch.ramp_time)
+                controller.publish_until = switch.step + (0 if replaced else
+                                                          ramp_steps(switch.ramp_time, self.description.dt))
+        self.events.append({"step": step, "source": "in_process", "level": 20, "kind": "switch",
+                            "detail": f"at step {step}: activate {', '.join(incoming) or '-'}; deactivate "
+                                      f"{', '.join(dict(switch.deactivate)) or '-'}; ramp {switch.ramp_time:g} s"})
+
+    def step(self, record: Optional[RunRecord] = None) -> None:
+        """Step k: controllers, assembly, then the plant advances to k + 1."""
+        k, out = self.step_index, self.output
+        if record is not None:
+            record.add("plant/blade_loads", {"step": k, **{name: getattr(out, name) for name in _LOAD_FIELDS}})
+            record.add("plant/state", {"step": k, **{name: getattr(out, name) for name in _STATE_FIELDS}})
+        while self.schedule and self.schedule[0].step <= k:
+            self._apply(self.schedule.pop(0), k)
+        collective: Optional[CollectiveContribution] = None
+        weighted: List[Tuple[Contribution, float]] = []
+        for controller in self.controllers:
+            contributions, _ = update_or_hold(controller.core, k, out, out, controller.last)
+            controller.last = contributions
+            if k >= controller.publish_until:
+                continue
+            for contribution in contributions:
+                if record is not None:
+                    record.add(_topic(contribution), _contribution_row(contribution, k, controller.name))
+                if isinstance(contribution, CollectiveContribution):
+                    collective = contribution
+                else:
+                    weighted.append((contribution, 1.0))
+        if collective is None:
+            raise RuntimeError(f"step {k}: no controller contributes collective_pitch")
+        previous = np.asarray(out.pitch) if self.previous is None else self.previous
+        command = self.assembler.assemble(collective.pitch, weighted, out.azimuth, previous)
+        self.previous = command.pitch
+        if record is not None:
+            record.add("control/pitch_command", {
+                "step": k, "pitch": command.pitch, "generator_torque": collective.generator_torque,
+                "collective": collective.pitch, "individual": command.individual, "flags": int(command.flags)})
+        if command_rejection(command.pitch, collective.generator_torque, self.description.blades,
+                             self.actuator.min_angle, self.actuator.max_angle,
+                             self.turbine.generator.max_torque) is None:
+            self.command = (np.asarray(command.pitch, dtype=float), float(collective.generator_torque))
+        self.output = self.model.step(*self.command)
+        self.step_index += 1
+
+
+_LOAD_FIELDS = ("azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch")
+_STATE_FIELDS = ("generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
+                 "hub_wind_speed", "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp",
+                 "tower_top_ss_disp", "hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment",
+                 "tower_base_ss_moment")
+_TYPES = {"plant/blade_loads": "BladeLoads", "plant/state": "TurbineState", "control/pitch_command": "PitchCommand",
+          "control/collective": "CollectivePitch", "control/blade_pitch": "BladePitch"}
+
+
+def write_run(run: InProcessRun, record: RunRecord, path: Path) -> Dict[str, int]:
+    """Write what a run published into a new MCAP bag, under the plant's namespace, stamped with simulated time.
+
+    Returns topic -> messages written.
+    """
+    from hawt_bag.column_writing import TopicData, write_topics
+    from hawt_bag.plant_run import topic_in
+    from hawt_bag.writer import BagWriter
+
+    dt = run.description.dt
+    topics = []
+    for relative, rows in record.rows.items():
+        columns = {name: np.asarray([row[name] for row in rows]) for name in rows[0]}
+        steps = columns["step"].astype(np.int64)
+        nanoseconds = np.round(steps * dt * 1e9).astype(np.int64)
+        columns["step"] = steps.astype(np.uint64)
+        columns["header.stamp.sec"], columns["header.stamp.nanosec"] = nanoseconds // 10**9, nanoseconds % 10**9
+        kind = _TYPES.get(relative, "HarmonicPitch")
+        topics.append(TopicData(topic_in(run.namespace, relative), f"hawt_msgs/msg/{kind}", columns, nanoseconds))
+    if run.events:
+        rows = run.events
+        steps = np.asarray([e["step"] for e in rows], dtype=np.int64)
+        nanoseconds = np.round(steps * dt * 1e9).astype(np.int64)
+        columns = {"step": steps.astype(np.uint64), "level": np.asarray([e["level"] for e in rows], dtype=np.uint8),
+                   **{k: np.asarray([str(e[k]) for e in rows]) for k in ("source", "kind", "detail")},
+                   "header.stamp.sec": nanoseconds // 10**9, "header.stamp.nanosec": nanoseconds % 10**9}
+        topics.append(TopicData(topic_in(run.namespace, "control/events"), "hawt_msgs/msg/ControlEvent", columns,
+                                nanoseconds))
+    with BagWriter.open(path) as writer:
+        return write_topics(writer, topics)
+
+
+def _contribution_row(contribution: Contribution, step: int, controller: str) -> dict:
+    if isinstance(contribution, CollectiveContribution):
+        return {"step": step, "pitch": contribution.pitch, "generator_torque": contribution.generator_torque,
+                "generator_speed_filtered": contribution.generator_speed_filtered, "region": contribution.region,
+                "wind_speed_estimate": contribution.wind_speed_estimate}
+    if isinstance(contribution, HarmonicContribution):
+        return {"step": step, "harmonic": contribution.harmonic, "cos": contribution.cos, "sin": contribution.sin,
+                "phase_offset": contribution.phase_offset}
+    return {"step": step, "controller": controller, "increment": np.asarray(contribution.increment)}
+
+
+def _node_kind(graph: Graph, spec: NodeSpec) -> Tuple[str, Optional[type]]:
+    """What a node is to the runner: plant, assembler, manager, controller (with its core class) or other."""
+    from hawt_controllers.controller_manager_node import ControllerManagerNode
+    from hawt_controllers.controller_node import ControllerNode
+    from hawt_controllers.mbc_node import MbcNode
+    from hawt_plant.description_node import PlantDescriptionNode
+    from hawt_plant.plant_node import PlantNode
+    from hawt_tools.launcher import node_class
+
+    cls = node_class(graph, spec)
+    for kind, base in (("plant", PlantNode), ("assembler", MbcNode), ("manager", ControllerManagerNode),
+                       ("description", PlantDescriptionNode)):
+        if issubclass(cls, base):
+            return kind, None
+    if issubclass(cls, ControllerNode):
+        return "controller", cls.CONTROLLER
+    raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r} ({spec.package}/{spec.executable}) has no "
+                     "core the in-process runner can step (plant, mbc, controller_manager or a controller)")
+
+
+def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
+    """The cores of ``graph`` with the parameters each node would get.
+
+    Raises
+    ------
+    GraphError
+        A node the runner cannot step, a graph without exactly one plant and one assembler, or a bad
+        parameter (named with the node).
+    """
+    from hawt_controllers.controller_manager_node import PARAMETERS as MANAGER_PARAMETERS
+    from hawt_controllers.mbc_node import PARAMETERS as ASSEMBLER_PARAMETERS
+
+    found: Dict[str, List[Tuple[NodeSpec, Optional[type]]]] = {}
+    for spec in graph.nodes:
+        kind, core = _node_kind(graph, spec)
+        found.setdefault(kind, []).append((spec, core))
+    for kind in ("plant", "assembler"):
+        if len(found.get(kind, ())) != 1:
+            raise GraphError(f"{graph.path}: the in-process runner needs exactly one {kind} node, found "
+                             f"{len(found.get(kind, ()))}")
+
+    def values(spec: NodeSpec, table) -> Dict[str, Any]:
+        try:
+            return resolve_values(table, node_parameters(spec, overrides))
+        except ParameterError as error:
+            raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r}: {error}") from None
+
+    plant_spec, assembler_spec = found["plant"][0][0], found["assembler"][0][0]
+    controllers = [(spec.label, core, values(spec, controller_parameters(core)))
+                   for spec, core in found.get("controller", ())]
+    managers = [values(spec, MANAGER_PARAMETERS) for spec, _ in found.get("manager", ())]
+    schedule, ramp_time = (managers[0]["schedule"], managers[0]["ramp_time"]) if managers else ((), 0.0)
+    try:
+        namespace = "/" + plant_spec.namespace.strip("/") if plant_spec.namespace.strip("/") else ""
+        return InProcessRun(namespace, values(plant_spec, PLANT_PARAMETERS),
+                            values(assembler_spec, ASSEMBLER_PARAMETERS), controllers, schedule, ramp_time)
+    except SwitchRefused as refusal:
+        raise GraphError(f"{graph.path}: controller_manager schedule: {refusal}") from None
+
+
+
+def run_graph(graph: Graph, overrides: Overrides = (), record: Optional[Path] = None,
+              duration: Optional[float] = None, progress=None) -> InProcessRun:
+    """Run a graph in process to the plant's ``duration`` (or ``duration`` [s] simulated), recording it if asked.
+
+    ``progress(line)`` gets a line every 10 % of the run.
+    """
+    import time
+
+    run = build_run(graph, overrides)
+    seconds = duration if duration is not None else run.plant_values["duration"]
+    if not seconds or seconds <= 0:
+        raise GraphError(f"{graph.path}: the run needs a simulated duration (the plant's duration parameter or "
+                         "--duration S)")
+    steps = int(round(seconds / run.description.dt))
+    book = RunRecord() if record is not None else None
+    start, tenth = time.monotonic(), max(1, steps // 10)
+    for k in range(steps):
+        run.step(book)
+        if progress is not None and (k + 1) % tenth == 0:
+            wall = time.monotonic() - start
+            progress(f"t={run.output.time:.1f} s of {seconds:g} s ({run.output.time / wall:.1f}x real time)")
+    run.events.append({"step": steps, "source": "in_process", "level": 20, "kind": "finished",
+                       "detail": f"finished {steps} steps ({seconds:g} s simulated) in "
+                                 f"{time.monotonic() - start:.1f} s wall, in process"})
+    if record is not None:
+        write_run(run, book, Path(record))
+    return run

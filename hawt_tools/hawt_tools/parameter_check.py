@@ -1,0 +1,134 @@
+"""Every node's parameters checked against its table before a graph starts (``hawt launch``, ``hawt run``).
+
+Each node gets exactly the values rcl will give it (hawt_tools.node_parameters: the graph's
+``{name, value}`` entries, ``{from: FILE}`` files with wildcards, ``-p`` overrides), and
+each value is checked against the node's declarative parameter table: its class's
+``PARAMETERS`` (hawt_core.parameter_table rows; a controller node's table comes from its
+controller, hawt_controllers.controller_node), found through the executable's entry point
+(hawt_tools.launcher.node_class). Refused, as one line naming the graph file (or the ``-p``
+option, or the parameter file the value came from), the node and the parameter:
+
+- a name neither the table nor rclpy itself declares (a did-you-mean);
+- a value of another type than the row's (as rcl refuses it), a NaN or infinity, one
+  outside the row's range or choices;
+- values that break a rule across parameters, if the node class offers a cheap
+  ``check_parameters(values)`` (e.g. the plant's ``command_timeout > resend_period``).
+
+Not checked: a node whose class has no ``PARAMETERS`` table, or whose executable is no
+Python entry point with a ``node_class`` (a C++ node, a script) — it gets its values
+unchecked, as before. The launcher's global parameters (``wait_for_recorder``) apply only to
+nodes whose table has them: every node is given them, and rclpy ignores what a node never
+declares. Rules that need the built plant (filter design against dt, the turbine file) are
+left to the nodes themselves.
+"""
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+
+from hawt_core.parameter_table import ParameterError, ParameterSpec
+from hawt_tools.graph_file import Graph, GraphError, NodeSpec, did_you_mean
+from hawt_tools.node_parameters import Origin, node_parameter_sources
+
+__all__ = ["RCLPY_PARAMETERS", "check_graph_parameters", "check_node_parameters", "parameter_table",
+           "takes_parameter"]
+
+RCLPY_PARAMETERS = (
+    ParameterSpec("use_sim_time", False, "follow /clock (rclpy.time_source.USE_SIM_TIME_NAME)"),
+    ParameterSpec("start_type_description_service", True, "start the ~/get_type_description service "
+                  "(rclpy.type_description_service.START_TYPE_DESCRIPTION_SERVICE_PARAM)", read_only=True),
+)
+"""What every rclpy node declares itself (rclpy.node.Node in Kilted: its time source and its type description
+service), with the types rclpy gives them; a value for these is never an unknown name. Spelled out rather than
+imported, so that the check loads no rclpy (tests/hawt_tools/test_parameter_check.py compares them with rclpy's)."""
+
+Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
+
+
+def parameter_table(graph: Graph, spec: NodeSpec) -> Tuple[Optional[type], Optional[Tuple[ParameterSpec, ...]]]:
+    """The node class behind ``spec`` and its parameter table (None, None for a node that cannot be checked)."""
+    from hawt_tools.launcher import node_class
+
+    try:
+        cls = node_class(graph, spec)
+    except GraphError:
+        return None, None  # not a Python node with a node_class: started unchecked (module notes)
+    table = getattr(cls, "PARAMETERS", None)
+    return (cls, tuple(table)) if table is not None else (cls, None)
+
+
+def takes_parameter(graph: Graph, spec: NodeSpec, name: str) -> bool:
+    """True if the node's table has ``name``, or the node has no table (it is given everything, unchecked)."""
+    table = parameter_table(graph, spec)[1]
+    return table is None or any(row.name == name for row in table)
+
+
+def _refusal(graph: Graph, spec: NodeSpec, name: str, origin: Optional[Origin], text: str) -> GraphError:
+    """One line: the ``-p`` option, or the graph file, the node (and the parameter file); then ``text``.
+
+    ``text`` starts with the parameter's name (``NAME: why``), which the ``-p NODE.NAME`` form names already.
+    """
+    if origin is not None and origin.kind == "override":
+        return GraphError(f"-p {spec.name}.{name}: {text[len(name) + 2:] if text.startswith(name + ': ') else text}")
+    place = f"{graph.path}: node {spec.name}"
+    if origin is not None and origin.kind == "file":
+        place += f" (parameter file {origin.path})"
+    return GraphError(f"{place}: {text}")
+
+
+def check_node_parameters(graph: Graph, spec: NodeSpec, overrides: Overrides = (),
+                          global_parameters: Mapping[str, Any] = ()) -> Optional[Dict[str, Any]]:
+    """The values one node will run with, each checked against its table; None if the node has no table.
+
+    Raises
+    ------
+    GraphError
+        One line naming where the first bad value came from, the node and the parameter.
+    """
+    cls, table = parameter_table(graph, spec)
+    if table is None:
+        return None
+    rows = {row.name: row for row in (*RCLPY_PARAMETERS, *table)}
+    sources = node_parameter_sources(spec, overrides, global_parameters)
+    values = {row.name: row.default for row in table}
+    for name, (value, origin) in sources.items():
+        row = rows.get(name)
+        if row is None:
+            if origin.kind == "global":
+                continue  # given to every node; only the nodes that declare it take it
+            raise _refusal(graph, spec, name, origin,
+                           f"{name}: no such parameter" + did_you_mean(name, [r.name for r in table]))
+        try:
+            typed = row.typed(value)
+        except ParameterError as error:
+            raise _refusal(graph, spec, name, origin, str(error)) from None
+        if name in values:
+            values[name] = typed
+    check = getattr(cls, "check_parameters", None)
+    if check is not None:
+        try:
+            check(values)
+        except ValueError as error:
+            name = str(error).split(":", 1)[0]
+            raise _refusal(graph, spec, name, sources.get(name, (None, None))[1], str(error)) from None
+    return values
+
+
+def check_graph_parameters(graph: Graph, overrides: Overrides = (), global_parameters: Mapping[str, Any] = ()) -> \
+        Dict[str, Optional[Dict[str, Any]]]:
+    """Check every node of the graph in file order (:func:`check_node_parameters`); label -> values (None: unchecked).
+
+    Raises GraphError for the first node with a bad value, and for two controllers that would start active on
+    one command interface (ros2_control's one claimant per interface, before anything starts).
+    """
+    checked = {spec.label: check_node_parameters(graph, spec, overrides, global_parameters) for spec in graph.nodes}
+    claimants: Dict[str, NodeSpec] = {}
+    for spec in graph.nodes:
+        values = checked[spec.label]
+        controller = getattr(parameter_table(graph, spec)[0], "CONTROLLER", None)
+        if controller is None or values is None or not values.get("active"):
+            continue
+        for interface in controller.claimed(values):
+            if interface in claimants:
+                raise GraphError(f"{graph.path}: nodes {claimants[interface].name!r} and {spec.name!r} both start "
+                                 f"active and claim {interface}; one controller per interface may be active (start "
+                                 f"one with active: false and swap them with hawt switch)")
+            claimants[interface] = spec
+    return checked

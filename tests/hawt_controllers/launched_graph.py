@@ -1,0 +1,49 @@
+"""A graph started with ``hawt launch`` from a test as a user would start it: its output read as it comes, the
+test waiting on what the plant reports, never on a clock, and nothing left running afterwards."""
+import signal
+import subprocess
+import sys
+import threading
+import time
+from typing import List, Sequence
+
+CLI = [sys.executable, "-m", "hawt_tools.cli"]
+
+
+class LaunchedGraph:
+    """``hawt launch ARGUMENTS`` in a child process, as a context manager that stops it if it is still running
+    (SIGINT, as Ctrl-C would; killed if it has not ended 60 s later)."""
+
+    def __init__(self, arguments: Sequence[str]) -> None:
+        self.process = subprocess.Popen([*CLI, "launch", *arguments], stdout=subprocess.PIPE,
+                                        stderr=subprocess.STDOUT, text=True)
+        self.lines: List[str] = []
+        self._reader = threading.Thread(target=lambda: self.lines.extend(self.process.stdout), daemon=True)
+        self._reader.start()
+
+    def __enter__(self) -> "LaunchedGraph":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGINT)
+            try:
+                self.process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+
+    def wait_for_line(self, text: str, timeout: float = 180.0) -> None:
+        """Return once a line of the output contains ``text``; fail, with the output's tail, after ``timeout`` s."""
+        deadline = time.monotonic() + timeout
+        while not any(text in line for line in list(self.lines)):
+            assert time.monotonic() < deadline, f"the graph did not print {text!r}:\n{self.tail()}"
+            time.sleep(0.2)
+
+    def finish(self, timeout: float = 180.0) -> int:
+        """Wait for the run to end (the plant ends it) and for its output; its exit code."""
+        self.process.wait(timeout=timeout)
+        self._reader.join(timeout=10)
+        return self.process.returncode
+
+    def tail(self, count: int = 40) -> str:
+        return "".join(self.lines[-count:])

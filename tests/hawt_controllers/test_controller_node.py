@@ -1,0 +1,192 @@
+"""The controller base node built in this process: configure from plant/description, refusals, live parameters.
+
+A test node plays the plant: it publishes plant/description (latched) and the measurements of
+each step, and reads what the controller answers; both spin on one executor in this process.
+"""
+import math
+
+import numpy as np
+import pytest
+import rclpy
+from hawt_msgs.msg import BladeLoads, ControlEvent, ControllerSwitch, HarmonicPitch, PlantDescription, TurbineState
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+
+from hawt_controllers.blade_sine_node import BladeSineNode
+from hawt_controllers.ipc_node import IpcNode
+from hawt_core.topics import BLADE_LOADS, EVENTS, PLANT_DESCRIPTION, SWITCHES, TURBINE_STATE, ipc_topic
+from hawt_plant.turbine import nrel_5mw
+from hawt_node.qos import CONTROL_LOOP_HISTORY, EVENTS as EVENTS_QOS, LATCHED
+
+pytestmark = pytest.mark.ros
+
+
+class FakePlant(Node):
+    """Publishes the description and each step's measurements; keeps what comes back."""
+
+    def __init__(self, context, blades: int = 3, dt: float = 0.01) -> None:
+        super().__init__("fake_plant", namespace="cn", context=context)
+        description = nrel_5mw().description(dt)
+        fields = {**description.as_fields(), "blades": blades}
+        self.create_publisher(PlantDescription, PLANT_DESCRIPTION, LATCHED).publish(PlantDescription(**fields))
+        self.loads = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP_HISTORY)
+        self.state = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
+        self.events, self.answers = [], {}
+        self.create_subscription(ControlEvent, EVENTS, self.events.append, EVENTS_QOS)
+        self.create_subscription(HarmonicPitch, ipc_topic(1), lambda m: self.answers.setdefault(m.step, m),
+                                 CONTROL_LOOP_HISTORY)
+
+    def send(self, step: int, oop=(1.2e6, 0.8e6, 1.0e6)) -> None:
+        msg = BladeLoads(step=step, azimuth=0.3, rotor_speed=1.267, root_moment_oop=list(oop),
+                         root_moment_ip=[0.0, 0.0, 0.0], pitch=[0.25, 0.25, 0.25])
+        msg.header.stamp.nanosec = 10_000_000 * step
+        self.loads.publish(msg)
+
+
+@pytest.fixture
+def graph():
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    executor = SingleThreadedExecutor(context=context)
+    nodes = []
+
+    def add(node):
+        nodes.append(node)
+        executor.add_node(node)
+        return node
+
+    def spin_until(condition, what: str, limit: int = 20000):
+        for _ in range(limit):
+            if condition():
+                return
+            executor.spin_once(timeout_sec=0.01)
+        raise AssertionError(f"not reached: {what}")
+
+    yield context, add, spin_until
+    executor.shutdown()
+    for node in nodes:
+        node.destroy_node()
+    rclpy.shutdown(context=context)
+
+
+def _arguments(**parameters) -> list:
+    arguments = ["--ros-args", "-r", "__ns:=/cn"]
+    for name, value in parameters.items():
+        arguments += ["-p", f"{name}:={value}"]
+    return arguments
+
+
+def test_a_blade_count_that_conflicts_with_plant_description_is_refused_at_configure(graph):
+    """blade_sine with two amplitudes on a three-bladed plant stays unconfigured; one event names both values."""
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    sine = add(BladeSineNode(context=context, cli_args=_arguments(amplitudes="[0.01,0.01]")))
+    spin_until(lambda: any(e.kind == "invalid_parameter" for e in plant.events), "the refusal event")
+    refusal = next(e for e in plant.events if e.kind == "invalid_parameter")
+    assert refusal.detail == "/cn/blade_sine: amplitudes: 2 entries conflict with plant/description blades 3"
+    assert sine._state_machine.current_state[1] == "unconfigured"
+
+
+def test_a_harmonic_the_transform_cannot_give_for_two_blades_is_refused(graph):
+    """ipc of harmonic 1 on a two-bladed plant: refused at configure, naming n_blades (DESIGN §3: B = 2 is singular)."""
+    context, add, spin_until = graph
+    plant = add(FakePlant(context, blades=2))
+    ipc = add(IpcNode(context=context, cli_args=_arguments()))
+    spin_until(lambda: any(e.kind == "invalid_parameter" for e in plant.events), "the refusal event")
+    assert "n_blades: the MBC transform is singular for B=2" in plant.events[0].detail
+    assert ipc._state_machine.current_state[1] == "unconfigured"
+
+
+def test_live_parameters_are_checked_by_the_law_and_applied_at_the_next_step(graph):
+    """A valid integral gain is accepted and applied from the next step (parameter_change event names the step);
+    a NaN and max_amplitude = 0 (which the law refuses) are rejected with the reason, the node stays up."""
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    ipc = add(IpcNode(context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
+    spin_until(lambda: ipc._state_machine.current_state[1] == "active", "ipc active")
+    plant.send(0)
+    spin_until(lambda: 0 in plant.answers, "the answer of step 0")
+    result, = ipc.set_parameters([Parameter("integral_gain", value=2e-8)])
+    assert result.successful
+    nan, = ipc.set_parameters([Parameter("integral_gain", value=math.nan)])
+    assert not nan.successful and "integral_gain" in nan.reason
+    zero, = ipc.set_parameters([Parameter("max_amplitude", value=0.0)])
+    assert not zero.successful and "max_amplitude" in zero.reason
+    plant.send(1)
+    spin_until(lambda: 1 in plant.answers, "the answer of step 1")
+    change = [e for e in plant.events if e.kind == "parameter_change"]
+    assert change and change[0].detail == "integral_gain=2e-08 (from step 1)" and change[0].step == 1
+    # the integral doubled its slope: I(1) - I(0) = 2e-8 * e * dt with the same error e as step 0's 1e-8 * e * dt
+    first, second = plant.answers[0], plant.answers[1]
+    assert np.isclose(second.cos - first.cos, 2 * first.cos, rtol=1e-9)
+
+
+def test_a_repeated_step_is_answered_again_without_advancing_the_law(graph):
+    """The plant resends step 0: the same answer again, and step 1 continues from step 0's state."""
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    ipc = add(IpcNode(context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
+    spin_until(lambda: ipc._state_machine.current_state[1] == "active", "ipc active")
+    seen = []
+    plant.create_subscription(HarmonicPitch, ipc_topic(1), seen.append, CONTROL_LOOP_HISTORY)
+    plant.send(0)
+    spin_until(lambda: len(seen) == 1, "one answer")
+    plant.send(0)
+    spin_until(lambda: len(seen) == 2, "the answer again")
+    assert (seen[0].cos, seen[0].sin) == (seen[1].cos, seen[1].sin)
+    plant.send(1)
+    spin_until(lambda: len(seen) == 3, "step 1")
+    assert np.isclose(seen[2].cos, 2 * seen[0].cos, rtol=1e-9)
+
+
+def test_a_replacing_controller_waits_for_the_outgoing_output_of_the_step_before(graph):
+    """ipc_b replaces ipc_a on harmonic/1 at step 3. The loads of step 3 reach ipc_b before ipc_a's output of
+    step 2 (a busy machine may deliver them so): ipc_b answers nothing until that output is there, then starts
+    from it — not from the step 1 output it already had — so the handover is the same on every run."""
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    outgoing = plant.create_publisher(HarmonicPitch, ipc_topic(1), CONTROL_LOOP_HISTORY)
+    switch = ControllerSwitch(step=3, activate=["/cn/ipc_b"], activate_interfaces=["harmonic/1"],
+                              deactivate=["/cn/ipc_a"], deactivate_interfaces=["harmonic/1"], ramp_time=0.0)
+    plant.create_publisher(ControllerSwitch, SWITCHES, LATCHED).publish(switch)
+    incoming = add(IpcNode(context=context, cli_args=_arguments(active=False, lowpass_order=0) + [
+        "-r", "__node:=ipc_b"]))
+    spin_until(lambda: incoming.switches is not None and incoming.switches.pending, "ipc_b configured, switch known")
+    for step, cos in ((0, 0.01), (1, 0.02)):
+        outgoing.publish(HarmonicPitch(step=step, harmonic=1, cos=cos, sin=0.0))
+        plant.send(step)
+        spin_until(lambda: incoming.answer.last is not None and incoming.answer.last.step == step, f"step {step}")
+    plant.send(2)
+    spin_until(lambda: incoming.answer.last.step == 2, "step 2")
+    plant.send(3)
+    spin_until(lambda: incoming.deferred is not None and incoming.deferred.step == 3, "step 3 held for the handover")
+    assert 3 not in plant.answers
+    outgoing.publish(HarmonicPitch(step=2, harmonic=1, cos=0.05, sin=-0.01))
+    spin_until(lambda: 3 in plant.answers, "ipc_b's answer of step 3")
+    assert abs(plant.answers[3].cos - 0.05) < 1e-3 and abs(plant.answers[3].sin + 0.01) < 1e-3
+    assert any(e.kind == "switch" and "from the outgoing controller's last output" in e.detail for e in plant.events)
+
+
+def test_the_schedule_is_published_in_one_message_once_the_controllers_it_names_have_announced(graph):
+    """controller_manager with schedule ['5 +ipc_b']: nothing on controller_manager/schedule while ipc_b is unknown
+    (it cannot be planned); once ipc_b announces itself, one latched message with the switch of step 5."""
+    from hawt_controllers.controller_manager_node import ControllerManagerNode
+    from hawt_msgs.msg import ControllerSchedule
+    from hawt_core.topics import SCHEDULE
+
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    schedules = []
+    plant.create_subscription(ControllerSchedule, SCHEDULE, schedules.append, LATCHED)
+    manager = add(ControllerManagerNode(context=context, cli_args=_arguments(schedule="['5 +ipc_b']")))
+    spin_until(lambda: manager.dt is not None, "the manager has the plant's description")
+    for _ in range(20):
+        manager._run_schedule()  # what its timer does: ipc_b has not announced, so nothing is planned
+    assert schedules == [] and manager.schedule
+    add(IpcNode(context=context, cli_args=_arguments(active=False) + ["-r", "__node:=ipc_b"]))
+    spin_until(lambda: schedules and manager.schedule_timer.is_canceled(), "the schedule, published once")
+    schedule, = schedules
+    switch, = schedule.switches
+    assert (switch.step, list(switch.activate), list(switch.activate_interfaces)) == (5, ["/cn/ipc_b"],
+                                                                                        ["harmonic/1"])

@@ -1,0 +1,79 @@
+"""Every lifecycle transition from a shell reaches the same state as a switch: hawt lifecycle and hawt switch.
+
+A realtime switching graph runs; the test drives it as a user with the two shell commands and
+waits on conditions (the state the node reports, the manager's list), never on a clock.
+"""
+import subprocess
+import time
+
+import pytest
+from launched_graph import CLI, LaunchedGraph
+
+pytestmark = pytest.mark.ros
+
+NS = "lc"
+
+
+def _hawt(*arguments):
+    """A hawt command against this test's graph (its namespace given: nothing to discover first)."""
+    named = [*arguments, "--namespace", NS] if arguments[0] in ("lifecycle", "switch") else list(arguments)
+    return subprocess.run([*CLI, *named], capture_output=True, text=True, timeout=90)
+
+
+def _listed(name: str) -> str:
+    """The state controller_manager lists for ``name`` ('' while discovery has not found it)."""
+    listing = _hawt("list", "--settle", "1").stdout
+    rows = [line.split() for line in listing.splitlines() if line.strip().startswith(f"/{NS}/{name} ")]
+    return rows[0][1] if rows else ""
+
+
+def _until(condition, what: str, timeout: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"not reached within {timeout:g} s: {what}"
+        time.sleep(0.2)
+
+
+@pytest.fixture(scope="module")
+def graph():
+    with LaunchedGraph(["switching", "--mode", "realtime", f"namespace:={NS}", "duration:=600",
+                        "-p", "plant.report_period:=1"]) as launched:
+        launched.wait_for_line("t=1.0 s", 120.0)
+        for name in ("ipc_h1", "ipc_h1_retuned"):  # configured once the plant's description reached them
+            _until(lambda: _hawt("lifecycle", name).stdout.strip() == f"{name}: inactive", f"{name} configured", 120.0)
+        yield launched.lines
+
+
+def test_a_standard_activate_reaches_the_state_of_a_switch_and_deactivate_by_switch_undoes_it(graph):
+    """hawt lifecycle ipc_h1 activate: the node is active and controller_manager lists it active; hawt switch
+    --deactivate ipc_h1 then brings both back to inactive."""
+    result = _hawt("lifecycle", "ipc_h1", "activate")
+    assert result.returncode == 0 and result.stdout.strip() == "ipc_h1: active", result.stderr
+    _until(lambda: _listed("ipc_h1") == "active", "controller_manager lists ipc_h1 active")
+    assert _hawt("switch", "--deactivate", "ipc_h1").returncode == 0
+    _until(lambda: _hawt("lifecycle", "ipc_h1").stdout.strip() == "ipc_h1: inactive", "ipc_h1 inactive")
+    _until(lambda: _listed("ipc_h1") == "inactive", "controller_manager lists ipc_h1 inactive")
+
+
+def test_a_standard_activate_that_the_manager_refuses_goes_back_to_inactive(graph):
+    """With ipc_h1 active (hawt switch), a second claimant of harmonic/1 asked by lifecycle transition is refused by
+    controller_manager and returns to inactive; a lifecycle deactivate of ipc_h1 then reaches the manager too."""
+    assert _hawt("switch", "--activate", "ipc_h1").returncode == 0
+    _until(lambda: _listed("ipc_h1") == "active", "ipc_h1 active")
+    assert _hawt("lifecycle", "ipc_h1_retuned", "activate").returncode == 0
+    _until(lambda: _hawt("lifecycle", "ipc_h1_retuned").stdout.strip() == "ipc_h1_retuned: inactive",
+           "the refused ipc_h1_retuned back to inactive")
+    _until(lambda: _listed("ipc_h1_retuned") == "inactive", "controller_manager lists ipc_h1_retuned inactive")
+    assert _hawt("lifecycle", "ipc_h1", "deactivate").returncode == 0
+    _until(lambda: _listed("ipc_h1") == "inactive", "ipc_h1 deactivated by lifecycle transition")
+
+
+def test_cleanup_and_configure_from_a_shell(graph):
+    """cleanup unconfigures an inactive controller (the manager lists it so); configure brings it back inactive."""
+    cleanup = _hawt("lifecycle", "blade_sine", "cleanup")
+    assert cleanup.stdout.strip() == "blade_sine: unconfigured", cleanup.stderr
+    _until(lambda: _listed("blade_sine") == "unconfigured", "blade_sine unconfigured in the list")
+    assert _hawt("lifecycle", "blade_sine", "configure").stdout.strip() == "blade_sine: inactive"
+    _until(lambda: _listed("blade_sine") == "inactive", "blade_sine inactive in the list")
+    assert _hawt("switch", "--activate", "blade_sine").returncode == 0
+    _until(lambda: _listed("blade_sine") == "active", "blade_sine active after its reconfiguration")
