@@ -8,11 +8,17 @@ transient-local if all are). ``log_time`` is the middleware's receive time,
 ``publish_time`` the message's ``header.stamp`` when its type starts with a
 ``std_msgs/Header`` (DESIGN §7), else the receive time.
 
+Progress: about every ``poll_period`` the recorder publishes ``/recorder/progress``
+(hawt_msgs/RecorderProgress): per stamped topic, the stamp of the latest message written
+and the count. A recorded lockstep plant holds back on it (its ``recorder_window``), so a
+lockstep recording is complete at any machine load; the progress topic is not recorded.
+
 Stopping: SIGINT or SIGTERM ends discovery, the messages already on their way are
 taken until the topics are quiet for 0.1 s (at most 1 s), and the bag is finished
-(summary and statistics). Chunks are closed at least every ``chunk_interval`` so a
-SIGKILL loses at most that much (``hawt bag recover``). A write error (full disk)
-stops the recording with exit code 1 and says how to recover.
+(summary and statistics) and verified: what a realtime recording could not keep up with
+is named in one line (``hawt bag verify``'s verdict), never silently. Chunks are closed at
+least every ``chunk_interval`` so a SIGKILL loses at most that much (``hawt bag recover``).
+A write error (full disk) stops the recording with exit code 1 and says how to recover.
 """
 import argparse
 import re
@@ -29,19 +35,23 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.signals import SignalHandlerOptions
 
 from hawt_core.stop_signals import stop_signals
-from hawt_core.topics import RECORDER_NODE
+from hawt_core.topics import RECORDER_NODE, RECORDER_PROGRESS
+from hawt_msgs.msg import RecorderProgress
 
 from .errors import BagError
 from .interface_files import schema_text
 from .message_types import message_class
 from .msg_definition import parse_msg
 from .qos_profiles import QosOffer
+from .verification import verify_bag
 from .writer import BagWriter
 
 __all__ = ["Recorder", "RecorderOptions", "add_record_arguments", "main", "options_from", "record"]
 
 _QUIET = 0.1
 _DRAIN_LIMIT = 1.0
+_PROGRESS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                           durability=DurabilityPolicy.VOLATILE)
 
 
 @dataclass(frozen=True)
@@ -66,9 +76,9 @@ class RecorderOptions:
         Longest time a chunk stays open [s]; bounds what a SIGKILL loses.
     depth : int
         Subscription queue depth (keep-last): how many messages of a topic the recorder may be behind
-        before the oldest are lost. 10000 covers 100 s of a 100 Hz lockstep plant that outruns the
-        recorder on a quiet machine (1000 lost steps in 60 s runs of the ipc graph); lockstep
-        back-pressure, which would need no bound, is issue 11's and not built.
+        before the oldest are lost. A lockstep plant holds back on the recorder's progress (its
+        ``recorder_window``, 500 steps by default), so this bounds only a realtime recording's backlog:
+        100 s of a 100 Hz plant.
     """
 
     output: str
@@ -102,17 +112,22 @@ class Recorder(Node):
         self.options = options
         self.writer = writer
         self.counts: dict[str, int] = {}
+        self.stamps: dict[str, float] = {}
         self.failure: Optional[str] = None
         self.last_message = time.monotonic()
         self._pattern = re.compile(options.regex) if options.regex else None
         self._wanted = {"/" + t.strip("/") for t in options.topics}
         self._skipped: set[str] = set()
         self._recorded = {}
+        self._progress = self.create_publisher(RecorderProgress, RECORDER_PROGRESS, _PROGRESS_QOS)
         self.create_timer(options.poll_period, self.discover)
+        self.create_timer(options.poll_period, self._publish_progress)
         self.create_timer(options.chunk_interval, self._close_chunk)
         self.discover()
 
     def _selected(self, topic: str) -> bool:
+        if topic == RECORDER_PROGRESS:
+            return False
         if not self._wanted and self._pattern is None:
             return self.options.include_hidden or not any(part.startswith("_") for part in topic.split("/"))
         return topic in self._wanted or bool(self._pattern and self._pattern.search(topic))
@@ -161,11 +176,18 @@ class Recorder(Node):
                 self._fail(f"writing {self.writer.path} failed ({error.strerror})")
                 return
             self.counts[topic] += 1
+            if stamped:
+                self.stamps[topic] = publish * 1e-9
             self.last_message = time.monotonic()
 
         self._recorded[topic] = self.create_subscription(kind, topic, write, qos, raw=True)
         self.get_logger().info(f"recording {topic} [{type_name}] "
                                f"({'reliable' if reliable else 'best effort'}, {len(publishers)} publisher(s))")
+
+    def _publish_progress(self) -> None:
+        topics = sorted(self.stamps)
+        self._progress.publish(RecorderProgress(topics=topics, stamps=[self.stamps[t] for t in topics],
+                                                counts=[self.counts[t] for t in topics]))
 
     def _close_chunk(self) -> None:
         try:
@@ -243,6 +265,9 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
         except OSError as error:
             failure = f"could not finish the bag ({error.strerror})"
     report(f"recorded {sum(counts.values())} messages on {len(counts)} topics into {options.output}")
+    if failure is None:
+        verification = verify_bag(options.output)
+        report(verification.verdict(), **({} if verification.ok else {"file": sys.stderr}))
     if failure is not None:
         report(f"hawt record: {options.output}: {failure}; 'hawt bag recover {options.output}' rescues its "
                "complete chunks", file=sys.stderr)

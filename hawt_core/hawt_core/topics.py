@@ -4,7 +4,7 @@ namespace per turbine."""
 __all__ = [
     "BLADE_LOADS", "TURBINE_STATE", "COLLECTIVE", "PITCH_COMMAND", "EVENTS", "CLOCK",
     "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "SWITCHES", "SCHEDULE", "CONTROLLER_STATES", "PLANT_DESCRIPTION",
-    "mbc_topic", "ipc_topic", "blade_pitch_topic", "RECORDER_NODE",
+    "mbc_topic", "ipc_topic", "blade_pitch_topic", "RECORDER_NODE", "RECORDER_PROGRESS",
 ]
 
 BLADE_LOADS = "plant/blade_loads"
@@ -21,6 +21,8 @@ SCHEDULE = "controller_manager/schedule"
 CONTROLLER_STATES = "controller_manager/controllers"
 RECORDER_NODE = "hawt_recorder"
 """The recorder's node name (``hawt record``, ``hawt launch --record``): what a run waits for before it starts."""
+RECORDER_PROGRESS = "/recorder/progress"
+"""What the recorder has written so far (hawt_msgs/RecorderProgress): a recorded lockstep plant's back-pressure."""
 
 
 def mbc_topic(harmonic: int) -> str:

@@ -3,18 +3,20 @@ from typing import Iterable, List, Optional
 
 from rclpy.node import Node
 
-from hawt_core.topics import RECORDER_NODE
+from hawt_core.topics import RECORDER_NODE, RECORDER_PROGRESS
 
 __all__ = ["unrecorded_topics"]
 
 
 def unrecorded_topics(node: Node, topics: Optional[Iterable[str]] = None, recorder: str = RECORDER_NODE) -> List[str]:
-    """The ``topics`` (default: every topic that has a publisher) the node ``recorder`` does not subscribe to yet.
+    """The ``topics`` (default: every topic that has a publisher but the recorder's own progress) the node
+    ``recorder`` does not subscribe to yet.
 
     Names are as the graph reports them (fully qualified); the answer is what ``node`` has
     discovered so far.
     """
     if topics is None:
-        topics = [name for name, _ in node.get_topic_names_and_types() if node.get_publishers_info_by_topic(name)]
+        topics = [name for name, _ in node.get_topic_names_and_types()
+                  if name != RECORDER_PROGRESS and node.get_publishers_info_by_topic(name)]
     return [topic for topic in topics
             if not any(info.node_name == recorder for info in node.get_subscriptions_info_by_topic(topic))]

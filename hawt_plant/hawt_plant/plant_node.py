@@ -18,6 +18,15 @@ after its resends; before the first command: ``startup_timeout``) it trips, repo
 generator torque off. A lockstep plant then steps on its own, at the pace the run had,
 until ``duration``, so the run completes. The trip latches: commands that come back are not
 applied (one ``command_returned`` event).
+
+Back-pressure to the recorder (lockstep): a recorder that writes this plant's
+``plant/blade_loads`` reports how far it has written on ``/recorder/progress``; the plant
+does not step more than ``recorder_window`` of simulated time ahead of it. A recorder is a
+single-threaded reader that takes one message per topic in turn, so holding the plant's
+own topic bounds its backlog on every topic of the loop, far below its queue depth: a
+recorded lockstep run is complete however busy the machine is. A held plant is not
+waiting on its controllers (the safety system's clock restarts on release); a recorder
+that writes nothing for ``recorder_timeout`` is given up with a ``recorder`` event.
 """
 import math
 import time
@@ -25,7 +34,7 @@ from typing import Optional
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, PlantDescription, TurbineState
+from hawt_msgs.msg import BladeLoads, ControlEvent, PitchCommand, PlantDescription, RecorderProgress, TurbineState
 from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
@@ -39,7 +48,7 @@ from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import declare_parameters
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
 from hawt_node.recording import unrecorded_topics
-from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, TURBINE_STATE
+from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, RECORDER_PROGRESS, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
 
@@ -80,6 +89,13 @@ class PlantNode(Node):
         self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
         self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
         self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
+        self.recorded_until: Optional[float] = None
+        self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
+        self.held = False
+        self._progress_subscription = None
+        if self.lockstep and v["recorder_window"] > 0:
+            self._progress_subscription = self.create_subscription(RecorderProgress, RECORDER_PROGRESS,
+                                                                   self._on_recorder_progress, CONTROL_LOOP)
         self.done = Future()
         self.sent_at = time.monotonic()
         self.latency = LoopLatency()
@@ -115,6 +131,9 @@ class PlantNode(Node):
     def _resend(self) -> None:
         """Send step 0 once enough subscribers are there; send an unanswered step again after resend_period."""
         if self.done.done() or self.safety.tripped:
+            return
+        if self.held:
+            self._give_up_a_stalled_recorder()
             return
         if self.step_index == 0 and not self.started:
             if self._ready_to_start():
@@ -200,7 +219,7 @@ class PlantNode(Node):
                 self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
             self.answered_at = time.monotonic()
             self.safety.command_applied(self.answered_at)
-            self._advance()
+            self._advance_unless_recorder_behind()
             return
         verdict = self.order.admit(msg.step, self.step_index, self.output.time) if reason is None else None
         if verdict == CommandOrder.FUTURE:
@@ -215,6 +234,51 @@ class PlantNode(Node):
             self.latency.answered(msg.step, self.step_index, now)
             self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
             self.safety.command_applied(now)
+
+    def _recorder_behind(self) -> bool:
+        return self.recorded_until is not None and \
+            self.output.time - self.recorded_until > self.values["recorder_window"] + 1e-9
+
+    def _advance_unless_recorder_behind(self) -> None:
+        """Lockstep: the answered step advances now, or once the recorder has caught up (back-pressure)."""
+        if not self._recorder_behind():
+            self._advance()
+            return
+        self.held, self.held_at = True, time.monotonic()
+        if self.held_at - self.hold_reported_at > 5.0:
+            self.hold_reported_at = self.held_at
+            self.get_logger().info(f"t={self.output.time:.2f} s: waiting for the recorder, which has written "
+                                   f"{BLADE_LOADS} up to t={self.recorded_until:.2f} s (recorder_window "
+                                   f"{self.values['recorder_window']:g} s)")
+
+    def _on_recorder_progress(self, msg: RecorderProgress) -> None:
+        topic = self.loads_publisher.topic_name
+        if topic not in msg.topics:
+            return
+        stamp = msg.stamps[msg.topics.index(topic)]
+        if self.recorded_until is None or stamp > self.recorded_until:
+            self.recorded_until, self.recorder_heard_at = stamp, time.monotonic()
+        if self.held and not self._recorder_behind():
+            self._release()
+
+    def _release(self) -> None:
+        """Advance the held step; the wait for the recorder does not count against the controllers."""
+        self.held = False
+        self.safety.command_applied(time.monotonic())
+        self._advance()
+
+    def _give_up_a_stalled_recorder(self) -> None:
+        """A held plant whose recorder has written nothing for recorder_timeout goes on without back-pressure."""
+        timeout = self.values["recorder_timeout"]
+        if time.monotonic() - max(self.recorder_heard_at, self.held_at) < timeout:
+            return
+        self.events(ControlEvent.WARN, "recorder", f"the recorder has written nothing more of {BLADE_LOADS} for "
+                    f"{timeout:g} s (up to t={self.recorded_until:.2f} s, the plant at t={self.output.time:.2f} s): "
+                    "going on without waiting for it; the bag may miss steps (hawt bag verify)",
+                    step=self.step_index, stamp=_stamp(self.output.time))
+        self.destroy_subscription(self._progress_subscription)
+        self.recorded_until = None
+        self._release()
 
     def _refuse(self, msg: PitchCommand, reason: Optional[str]) -> None:
         """Report a command that is not applied for ``reason`` (nothing if None)."""

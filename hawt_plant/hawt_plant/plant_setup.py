@@ -50,6 +50,13 @@ PARAMETERS = (
     ParameterSpec("wait_for_recorder", False, "send the first step only once the node hawt_recorder subscribes "
                   "to every topic that has a publisher (at most 10 s); hawt launch --record sets it",
                   read_only=True),
+    ParameterSpec("recorder_window", 5.0, "lockstep: simulated time the plant may run ahead of what the recorder "
+                  "has written of its plant/blade_loads (/recorder/progress); it holds the next step until the "
+                  "recorder catches up, so a recording is complete at any load (0: never hold)", "s", minimum=0.0,
+                  maximum=600.0, read_only=True),
+    ParameterSpec("recorder_timeout", 10.0, "lockstep: wall time a held plant waits on a recorder that writes "
+                  "nothing more before it goes on without it (a recorder event says so)", "s", minimum=0.1,
+                  maximum=3600.0, read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
     ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
                   "unanswered, resends included; must exceed resend_period) after which the safety system trips "

@@ -14,6 +14,7 @@ from message_samples import MESSAGE_TYPES, filled  # noqa: E402
 
 def main(count: int, subscribers: int) -> None:
     import rclpy
+    import rclpy.duration
     from rclpy.qos import QoSProfile, ReliabilityPolicy
 
     with rclpy.init():
@@ -30,7 +31,8 @@ def main(count: int, subscribers: int) -> None:
             for name, publisher in publishers.items():
                 publisher.publish(filled(getattr(hawt_msgs.msg, name), index))
             time.sleep(0.002)
-        time.sleep(0.5)
+        for publisher in publishers.values():
+            publisher.wait_for_all_acked(rclpy.duration.Duration(seconds=30))
         node.destroy_node()
 
 

@@ -61,6 +61,13 @@ class _Arrivals:
             assert time.monotonic() < deadline, "the probe's subscription was not matched"
             time.sleep(0.02)
 
+    def wait_for(self, count: int, timeout: float = 30.0) -> None:
+        """Return once ``count`` messages have arrived; fail after ``timeout`` s."""
+        deadline = time.monotonic() + timeout
+        while len(self.items) < count:
+            assert time.monotonic() < deadline, f"{len(self.items)} of {count} messages arrived"
+            time.sleep(0.02)
+
 
 def test_replay_at_rate_one_keeps_the_recorded_spacing(processes, probe, tmp_path):
     """Messages recorded 20 ms apart arrive about 20 ms apart (loose bound; figures in bench_bag.py)."""
@@ -150,7 +157,7 @@ def test_paused_replay_plays_one_message_per_play_next_and_resumes_on_the_parame
     assert arrivals.items == []
     for _ in range(3):
         next_publisher.publish(Empty())
-    time.sleep(1.0)
+    arrivals.wait_for(3)
     assert len(arrivals.items) == 3
     client = AsyncParameterClient(probe.node, "hawt_player")
     assert client.wait_for_services(timeout_sec=30)

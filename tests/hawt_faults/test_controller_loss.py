@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from hawt_msgs.msg import ControlEvent, PitchCommand
 
-from hawt_faults.fault_runs import (ACTUATOR, assert_pitch_within_limits, assert_plant_finished,
+from hawt_faults.fault_runs import (ACTUATOR, DT, assert_pitch_within_limits, assert_plant_finished,
                                     assert_plant_published_no_nan, feather_ramp, graph_outliving, read_recording,
                                     rises_at_rate_limit)
 
@@ -41,7 +41,12 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     assert "the trip is latched" in returned["detail"]
     ramp = feather_ramp(recording, watchdog["step"])
     assert rises_at_rate_limit(ramp) is None, rises_at_rate_limit(ramp)
-    assert np.all(ramp[-1] > ACTUATOR.max_angle - math.radians(0.01)), "every blade reached feather"
+    # The cpc is killed when the test sees enough answers; on a busy machine a lockstep plant may be far into the
+    # run by then. Every blade reaches feather, or, if the run ends first, as far as the rate limit allows
+    # (less the second-order actuator's lag, rate x 2 zeta / omega_n).
+    lag = 2 * ACTUATOR.damping_ratio / ACTUATOR.natural_frequency
+    reachable = min(ACTUATOR.max_angle, ramp[0].min() + ACTUATOR.max_rate * (DT * (len(ramp) - 1) - lag))
+    assert np.all(ramp[-1] > reachable - math.radians(0.01)), f"the blades stopped at {np.degrees(ramp[-1])} deg"
     assert recording.state.fields["generator_torque"][-1] == 0.0
     assert_plant_finished(recording, FEATHER_DURATION)
     assert_plant_published_no_nan(recording)

@@ -35,7 +35,8 @@ def test_cpc_and_ipc_publish_nothing_after_the_plant_dies_so_nothing_winds_up(la
     last_step, last_sent = recording.loads.fields["step"].max(), recording.loads.log_time.max()
     for columns in (recording.collective, *recording.ipc.values()):
         steps = columns.fields["step"]
-        assert steps.max() <= last_step, f"{columns.topic} answered a step the plant never sent"
+        # A SIGKILLed plant's last messages may reach the controllers but not the recorder.
+        assert steps.max() <= last_step + IN_FLIGHT, f"{columns.topic} answered a step the plant never sent"
         late = steps[columns.log_time > last_sent]
         assert len(late) <= IN_FLIGHT and np.all(late >= last_step - IN_FLIGHT), \
             f"{columns.topic} published steps {late.tolist()} after the plant's last step {last_step}"

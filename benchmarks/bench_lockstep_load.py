@@ -1,0 +1,99 @@
+"""Lockstep recordings on a busy machine are complete and equal to quiet ones (issue 11).
+
+For the ``ipc`` graph and the ``switching`` graph with a schedule (turbulence, seed 3), one
+``hawt launch … --record`` on the quiet machine and one beside two busy CPU loops
+(``yes > /dev/null``, twice, started here). Prints, per recording, its wall time and
+``hawt bag verify``'s verdict, and per graph whether every field of every stepped topic
+(plant, contributions, command) is equal at every step between the two, bit for bit.
+
+Usage: ./hawt bench lockstep_load [--duration S]
+"""
+import argparse
+import subprocess
+import sys
+import tempfile
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from hawt_bag.reader import BagReader
+from hawt_bag.topic_columns import read_topics_columns
+from hawt_bag.verification import verify_bag
+
+SCHEDULE = "schedule:=['500 +ipc_h1', '1500 +ipc_h4 +blade_sine', '2500 +ipc_h1_retuned -ipc_h1', " \
+           "'4000 -blade_sine -ipc_h4']"
+GRAPHS = {"ipc": [], "switching": [SCHEDULE]}
+
+
+@contextmanager
+def busy_loops(count: int = 2):
+    """``count`` processes that keep a core busy each, for the time of the block."""
+    hogs = [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL) for _ in range(count)]
+    try:
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+
+
+def record(graph: str, duration: float, path: Path) -> float:
+    """Wall time of one recorded lockstep run of ``graph``."""
+    start = time.monotonic()
+    result = subprocess.run([sys.executable, "-m", "hawt_tools.cli", "launch", graph, "wind_type:=turbulent",
+                             f"duration:={duration:g}", "seed:=3", *GRAPHS[graph], "--record", str(path)],
+                            capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"bench lockstep_load: hawt launch {graph} failed:\n{result.stderr[-2000:]}")
+    return time.monotonic() - start
+
+
+def _rows_by_step(columns) -> dict:
+    _, first = np.unique(np.asarray(columns.fields["step"]), return_index=True)  # a resent step is one row
+    return {name: np.asarray(values)[first] for name, values in columns.fields.items()
+            if not name.startswith("header")}
+
+
+def _equal(a: np.ndarray, b: np.ndarray) -> bool:
+    if a.shape != b.shape:
+        return False
+    if a.dtype == object:
+        return all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a, b))
+    return bool(np.array_equal(a, b, equal_nan=a.dtype.kind == "f"))
+
+
+def differences(quiet: Path, busy: Path, topics: list[str]) -> list[str]:
+    """The topics and fields whose values differ at any step between two recordings."""
+    with BagReader(quiet) as a, BagReader(busy) as b:
+        columns_a, columns_b = read_topics_columns(a, topics), read_topics_columns(b, topics)
+    found = []
+    for topic in topics:
+        rows_a, rows_b = _rows_by_step(columns_a[topic]), _rows_by_step(columns_b[topic])
+        found += [f"{topic} {name}" for name in rows_a if not _equal(rows_a[name], rows_b.get(name, np.empty(0)))]
+    return found
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=120.0, help="simulated time per run [s] (default 120)")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        for graph in GRAPHS:
+            paths = {load: Path(folder) / f"{graph}-{load}.mcap" for load in ("quiet", "busy")}
+            walls = {"quiet": record(graph, args.duration, paths["quiet"])}
+            with busy_loops():
+                walls["busy"] = record(graph, args.duration, paths["busy"])
+            checks = {load: verify_bag(path) for load, path in paths.items()}
+            for load in paths:
+                print(f"{graph:9s} {load:5s} {args.duration:g} s simulated in {walls[load]:5.1f} s wall; "
+                      f"{checks[load].verdict()}")
+            topics = [check.coverage.topic for check in checks["quiet"].topics]
+            found = differences(paths["quiet"], paths["busy"], topics)
+            print(f"{graph:9s} quiet = busy, every field of {len(topics)} stepped topics at every step: "
+                  + ("yes" if not found else "NO: " + ", ".join(found)))
+
+
+if __name__ == "__main__":
+    main()
