@@ -16,10 +16,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-import numpy as np
-
-from hawt_bag.reader import BagReader
-from hawt_bag.topic_columns import read_topics_columns
+from hawt_bag.step_comparison import step_differences
 from hawt_bag.verification import verify_bag
 
 SCHEDULE = "schedule:=['500 +ipc_h1', '1500 +ipc_h4 +blade_sine', '2500 +ipc_h1_retuned -ipc_h1', " \
@@ -50,31 +47,6 @@ def record(graph: str, duration: float, path: Path) -> float:
     return time.monotonic() - start
 
 
-def _rows_by_step(columns) -> dict:
-    _, first = np.unique(np.asarray(columns.fields["step"]), return_index=True)  # a resent step is one row
-    return {name: np.asarray(values)[first] for name, values in columns.fields.items()
-            if not name.startswith("header")}
-
-
-def _equal(a: np.ndarray, b: np.ndarray) -> bool:
-    if a.shape != b.shape:
-        return False
-    if a.dtype == object:
-        return all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a, b))
-    return bool(np.array_equal(a, b, equal_nan=a.dtype.kind == "f"))
-
-
-def differences(quiet: Path, busy: Path, topics: list[str]) -> list[str]:
-    """The topics and fields whose values differ at any step between two recordings."""
-    with BagReader(quiet) as a, BagReader(busy) as b:
-        columns_a, columns_b = read_topics_columns(a, topics), read_topics_columns(b, topics)
-    found = []
-    for topic in topics:
-        rows_a, rows_b = _rows_by_step(columns_a[topic]), _rows_by_step(columns_b[topic])
-        found += [f"{topic} {name}" for name in rows_a if not _equal(rows_a[name], rows_b.get(name, np.empty(0)))]
-    return found
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=120.0, help="simulated time per run [s] (default 120)")
@@ -90,7 +62,7 @@ def main() -> None:
                 print(f"{graph:9s} {load:5s} {args.duration:g} s simulated in {walls[load]:5.1f} s wall; "
                       f"{checks[load].verdict()}")
             topics = [check.coverage.topic for check in checks["quiet"].topics]
-            found = differences(paths["quiet"], paths["busy"], topics)
+            found = step_differences(paths["quiet"], paths["busy"], topics)
             print(f"{graph:9s} quiet = busy, every field of {len(topics)} stepped topics at every step: "
                   + ("yes" if not found else "NO: " + ", ".join(found)))
 

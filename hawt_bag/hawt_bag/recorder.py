@@ -13,12 +13,13 @@ Progress: about every ``poll_period`` the recorder publishes ``/recorder/progres
 and the count. A recorded lockstep plant holds back on it (its ``recorder_window``), so a
 lockstep recording is complete at any machine load; the progress topic is not recorded.
 
-Stopping: SIGINT or SIGTERM ends discovery, the messages already on their way are
-taken until the topics are quiet for 0.1 s (at most 1 s), and the bag is finished
-(summary and statistics) and verified: what a realtime recording could not keep up with
-is named in one line (``hawt bag verify``'s verdict), never silently. Chunks are closed at
-least every ``chunk_interval`` so a SIGKILL loses at most that much (``hawt bag recover``).
-A write error (full disk) stops the recording with exit code 1 and says how to recover.
+Stopping: SIGINT or SIGTERM, or the death of the process that started the recorder, ends
+discovery, the messages already on their way are taken until the topics are quiet for 0.1 s
+(at most 1 s), and the bag is finished (summary and statistics) and verified: what a
+realtime recording could not keep up with is named in one line (``hawt bag verify``'s
+verdict), never silently. Chunks are closed at least every ``chunk_interval`` so a SIGKILL
+loses at most that much (``hawt bag recover``). A write error (full disk) stops the
+recording with exit code 1 and says how to recover.
 """
 import argparse
 import re
@@ -34,7 +35,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
-from hawt_core.stop_signals import stop_signals
+from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_core.topics import RECORDER_NODE, RECORDER_PROGRESS
 from hawt_msgs.msg import RecorderProgress
 
@@ -242,6 +243,7 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
     Path(options.output).parent.mkdir(parents=True, exist_ok=True)
     writer = BagWriter(options.output, chunk_size=options.chunk_size)
     stop = []
+    launcher_gone = parent_gone()
     counts, failure = {}, None
     try:
         with stop_signals(lambda *_: stop.append(True)), \
@@ -250,7 +252,7 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
             executor = SingleThreadedExecutor()
             executor.add_node(recorder)
             report(f"recording to {options.output} (Ctrl-C to stop)")
-            while not stop and recorder.failure is None:
+            while not stop and recorder.failure is None and not launcher_gone():
                 executor.spin_once(timeout_sec=0.05)
             drain_end = time.monotonic() + _DRAIN_LIMIT
             while recorder.failure is None and time.monotonic() < drain_end and \

@@ -1,9 +1,11 @@
-"""How every hawt process hears that it should stop: SIGINT and SIGTERM, handled and then given back."""
+"""How every hawt process hears that it should stop: SIGINT and SIGTERM, handled and then given back, and the death
+of the process that started it."""
+import os
 import signal
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-__all__ = ["stop_signals"]
+__all__ = ["parent_gone", "stop_signals"]
 
 
 @contextmanager
@@ -19,3 +21,15 @@ def stop_signals(handler: Callable[..., None]) -> Iterator[None]:
     finally:
         for sig, old in previous.items():
             signal.signal(sig, old)
+
+
+def parent_gone() -> Callable[[], bool]:
+    """A check that turns True once the process that started this one has died (this one is re-parented).
+
+    A node or recorder whose launcher was killed (SIGKILL leaves it no time to stop its
+    children) stops as it would on SIGTERM, finishing its messages or its bag: the watchdog
+    equivalent of ``PR_SET_PDEATHSIG``, which Python can only set in a fork hook that is unsafe
+    beside threads and that fires when the forking *thread* ends.
+    """
+    parent = os.getppid()
+    return lambda: os.getppid() != parent

@@ -16,7 +16,7 @@ control_loop`` measures both). The EventsExecutor never returns from a wait with
 a timeout, neither for a completed future nor for SIGINT, so :func:`spin_nodes`
 waits in slices of ``WAKE_PERIOD``.
 
-Stopping (SIGINT, SIGTERM, or a node done) is not a crash: before the nodes are
+Stopping (SIGINT, SIGTERM, a node done, or the launcher gone) is not a crash: before the nodes are
 destroyed, every publisher waits (together at most ``FLUSH_TIMEOUT``) until its
 reliable readers have acknowledged what it sent, so the recorder of ``hawt launch
 --record`` gets the last steps. rclpy's own signal handler would shut the context
@@ -34,7 +34,7 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
-from hawt_core.stop_signals import stop_signals
+from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_node.scheduling import priority_from_environment
 
 __all__ = ["run_node", "run_nodes", "node_entry_point", "spin_nodes", "first_done", "make_executor",
@@ -68,13 +68,14 @@ def _first_of(futures: Sequence[Future]) -> Optional[Future]:
 
 
 def spin_nodes(executor, nodes: Sequence[Node], until: Optional[Future] = None,
-               timeout: Optional[float] = None) -> None:
-    """Spin the nodes on the executor until ``until`` completes or ``timeout`` seconds pass (both None: forever)."""
+               timeout: Optional[float] = None, stop_when: Callable[[], bool] = lambda: False) -> None:
+    """Spin the nodes on the executor until ``until`` completes, ``timeout`` seconds pass (both None: forever) or
+    ``stop_when()`` holds (checked every ``WAKE_PERIOD``)."""
     for node in nodes:
         executor.add_node(node)
     until = until or Future()
     deadline = None if timeout is None else time.monotonic() + timeout
-    while not until.done() and rclpy.ok():
+    while not until.done() and rclpy.ok() and not stop_when():
         remaining = WAKE_PERIOD if deadline is None else min(WAKE_PERIOD, deadline - time.monotonic())
         if remaining <= 0:
             return
@@ -104,7 +105,8 @@ def _stop_on_signals() -> Iterator[Future]:
 
 def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequence[Node]], Optional[Future]],
               args: Optional[List[str]] = None, timeout: Optional[float] = None) -> None:
-    """Create the nodes and spin them until ``ending(nodes)`` completes, a signal comes or ``timeout`` passes.
+    """Create the nodes and spin them until ``ending(nodes)`` completes, a signal comes, ``timeout`` passes or
+    the process that started this one (the launcher) dies.
 
     Then the published messages are flushed (:func:`wait_for_acknowledgements`) and the
     nodes destroyed. The default context is used, with this module's signal handling. A
@@ -112,11 +114,13 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
     middleware's threads run at it too.
     """
     priority_from_environment()
+    launcher_gone = parent_gone()
     with _stop_on_signals() as stop, rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO):
         nodes = make_nodes()
         executor = make_executor()
         try:
-            spin_nodes(executor, nodes, _first_of([f for f in (stop, ending(nodes)) if f is not None]), timeout)
+            spin_nodes(executor, nodes, _first_of([f for f in (stop, ending(nodes)) if f is not None]), timeout,
+                       launcher_gone)
             wait_for_acknowledgements(nodes)
         finally:
             executor.shutdown()

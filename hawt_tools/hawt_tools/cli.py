@@ -543,6 +543,11 @@ def main(argv: Optional[List[str]] = None) -> int:
     except RuntimeError as error:
         print(f"hawt {args.command}: {error}", file=sys.stderr)
         return 1
+    except BrokenPipeError:
+        # The reader went away (``hawt bag info … | head``): what it wanted it has; end quietly, and keep
+        # Python from failing again when it flushes stdout at exit.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":
