@@ -6,14 +6,14 @@ For the ``ipc`` graph and the ``switching`` graph with a schedule (turbulence, s
 ``hawt bag verify``'s verdict, and per graph whether every field of every stepped topic
 (plant, contributions, command) is equal at every step between the two, bit for bit.
 
-Usage: ./hawt bench lockstep_load [--duration S]
+Usage: ./hawt bench lockstep_load [--duration S] [--keep FOLDER]
 """
 import argparse
 import subprocess
 import sys
 import tempfile
 import time
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 from hawt_bag.step_comparison import step_differences
@@ -50,10 +50,15 @@ def record(graph: str, duration: float, path: Path) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=120.0, help="simulated time per run [s] (default 120)")
+    parser.add_argument("--keep", metavar="FOLDER", help="write the recordings there (default: a temporary folder)")
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as folder:
+    if args.keep:
+        Path(args.keep).mkdir(parents=True, exist_ok=True)
+    with (nullcontext(args.keep) if args.keep else tempfile.TemporaryDirectory()) as folder:
         for graph in GRAPHS:
             paths = {load: Path(folder) / f"{graph}-{load}.mcap" for load in ("quiet", "busy")}
+            for path in paths.values():
+                path.unlink(missing_ok=True)
             walls = {"quiet": record(graph, args.duration, paths["quiet"])}
             with busy_loops():
                 walls["busy"] = record(graph, args.duration, paths["busy"])
