@@ -9,9 +9,11 @@ transient-local if all are). ``log_time`` is the middleware's receive time,
 ``std_msgs/Header`` (DESIGN §7), else the receive time.
 
 Progress: about every ``poll_period`` the recorder publishes ``/recorder/progress``
-(hawt_msgs/RecorderProgress): per stamped topic, the stamp of the latest message written
-and the count. A recorded lockstep plant holds back on it (its ``recorder_window``), so a
-lockstep recording is complete at any machine load; the progress topic is not recorded.
+(hawt_msgs/RecorderProgress): per recorded topic, the publishers its subscription is matched
+with, the stamp of the latest message written and the count. A run waiting for the recorder
+starts once it is matched with every publisher of the graph, and a recorded lockstep plant
+holds back on it (its ``recorder_window``), so a lockstep recording is complete from its
+first step at any machine load. The progress topic is not recorded.
 
 Stopping: SIGINT or SIGTERM, or the death of the process that started the recorder, ends
 discovery, the messages already on their way are taken until the topics are quiet for 0.1 s
@@ -22,6 +24,7 @@ loses at most that much (``hawt bag recover``). A write error (full disk) stops 
 recording with exit code 1 and says how to recover.
 """
 import argparse
+import math
 import re
 import sys
 import time
@@ -186,9 +189,10 @@ class Recorder(Node):
                                f"({'reliable' if reliable else 'best effort'}, {len(publishers)} publisher(s))")
 
     def _publish_progress(self) -> None:
-        topics = sorted(self.stamps)
-        self._progress.publish(RecorderProgress(topics=topics, stamps=[self.stamps[t] for t in topics],
-                                                counts=[self.counts[t] for t in topics]))
+        topics = sorted(self._recorded)
+        self._progress.publish(RecorderProgress(
+            topics=topics, publishers=[self._recorded[t].get_publisher_count() for t in topics],
+            stamps=[self.stamps.get(t, math.nan) for t in topics], counts=[self.counts[t] for t in topics]))
 
     def _close_chunk(self) -> None:
         try:

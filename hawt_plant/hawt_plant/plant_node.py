@@ -47,7 +47,7 @@ from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import declare_parameters
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
-from hawt_node.recording import unrecorded_topics
+from hawt_node.recording import unmatched_topics, unrecorded_topics
 from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, RECORDER_PROGRESS, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
@@ -92,10 +92,9 @@ class PlantNode(Node):
         self.recorded_until: Optional[float] = None
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
         self.held = False
-        self._progress_subscription = None
-        if self.lockstep and v["recorder_window"] > 0:
-            self._progress_subscription = self.create_subscription(RecorderProgress, RECORDER_PROGRESS,
-                                                                   self._on_recorder_progress, CONTROL_LOOP)
+        self.recorder_matched: dict[str, int] = {}
+        self._progress_subscription = self.create_subscription(RecorderProgress, RECORDER_PROGRESS,
+                                                               self._on_recorder_progress, CONTROL_LOOP)
         self.done = Future()
         self.sent_at = time.monotonic()
         self.latency = LoopLatency()
@@ -193,8 +192,9 @@ class PlantNode(Node):
         return True
 
     def _recorder_ready(self) -> bool:
-        """True once hawt_recorder subscribes to every topic with a publisher; after 10 s, True with a warning."""
-        missing = unrecorded_topics(self)
+        """True once hawt_recorder subscribes to every topic with a publisher and, by its /recorder/progress, is
+        matched with every publisher; after 10 s, True with a warning."""
+        missing = unrecorded_topics(self) or unmatched_topics(self, self.recorder_matched)
         if missing and time.monotonic() - self.created > 10.0:
             self.events(ControlEvent.WARN, "recorder", f"starting without the recorder on {', '.join(missing)}")
             return True
@@ -252,10 +252,14 @@ class PlantNode(Node):
                                    f"{self.values['recorder_window']:g} s)")
 
     def _on_recorder_progress(self, msg: RecorderProgress) -> None:
+        if not self.started:
+            self.recorder_matched = dict(zip(msg.topics, msg.publishers))
         topic = self.loads_publisher.topic_name
-        if topic not in msg.topics:
+        if not (self.lockstep and self.values["recorder_window"] > 0) or topic not in msg.topics:
             return
         stamp = msg.stamps[msg.topics.index(topic)]
+        if math.isnan(stamp):
+            return
         if self.recorded_until is None or stamp > self.recorded_until:
             self.recorded_until, self.recorder_heard_at = stamp, time.monotonic()
         if self.held and not self._recorder_behind():
