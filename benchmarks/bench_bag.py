@@ -2,7 +2,8 @@
 
 Run from the repository root:  ./hawt bench bag [--record-seconds S] [--skip-record]
 (a) a publisher process sends BladeLoads at 1 kHz for S seconds (60 by default) while
-    ``hawt record`` records every topic: published and recorded counts, recorder CPU per message;
+    ``hawt record`` records every topic: published and recorded counts, recorder CPU per message,
+    and the recorder's own verdict on its bag (what it lost, if anything);
 (b) ``replay`` of a 100 Hz bag at rate 1: how late each message left the player (its own clock)
     and how far each arrival at a subscriber strays from the recorded spacing (DDS included);
 (c) ``hawt analyze`` on a synthetic 600 s, 100 Hz bag of the full graph's topics (plant, MBC,
@@ -76,12 +77,15 @@ def bench_record(folder: Path, seconds: float) -> None:
         cpu_end = sum(psutil.Process(recorder.pid).cpu_times()[:2])
     finally:
         os.killpg(recorder.pid, signal.SIGINT)
-        recorder.communicate(timeout=60)
+        out, err = recorder.communicate(timeout=60)
     with BagReader(bag) as reader:
         recorded = {t.topic: t.count for t in reader.info().topics}["/bench/loads"]
     print(f"(a) record 1 kHz for {seconds:g} s: published {published} in {float(took):.2f} s, recorded {recorded}"
           f" ({int(published) - recorded} lost); recorder CPU {1e6 * (cpu_end - cpu_start) / recorded:.0f} µs per "
           f"message ({100 * (cpu_end - cpu_start) / float(took):.0f} % of one core)")
+    for line in (out + err).splitlines():
+        if line.startswith(("verify:", "with holes:")):
+            print(f"    the recorder said: {line}")
 
 
 def bench_replay(folder: Path, n: int = 1000, period_ns: int = 10_000_000) -> None:

@@ -273,6 +273,9 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
     report(f"recorded {sum(counts.values())} messages on {len(counts)} topics into {options.output}")
     if failure is None:
         verification = verify_bag(options.output)
+        for topic in verification.topics:  # a topic that may have windows (a contribution) but has any is named too
+            if topic.coverage.gaps and not topic.problems:
+                report(f"with holes: {topic.text()}")
         report(verification.verdict(), **({} if verification.ok else {"file": sys.stderr}))
     if failure is not None:
         report(f"hawt record: {options.output}: {failure}; 'hawt bag recover {options.output}' rescues its "
