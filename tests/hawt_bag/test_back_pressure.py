@@ -32,16 +32,23 @@ def _launch(bag, duration: float, timeout: float) -> LaunchedGraph:
                           "--record", str(bag)])
 
 
-def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_complete(tmp_path):
-    bag = tmp_path / "held.mcap"
-    with _launch(bag, duration=20, timeout=600) as graph:
-        graph.wait_for_line("t=3.0 s (")
+def _run_stopping_the_recorder(bag, duration: float, timeout: float, at: str, until: str) -> tuple[LaunchedGraph, int]:
+    """Run the graph, stop its recorder once the plant prints ``at``, let it go on once the plant prints ``until``;
+    the graph and how many lines it had printed by then."""
+    with _launch(bag, duration, timeout) as graph:
+        graph.wait_for_line(at)
         recorder = _recorder(graph)
         recorder.suspend()
-        graph.wait_for_line("waiting for the recorder")
-        held_lines = len(graph.lines)
+        graph.wait_for_line(until)
+        printed = len(graph.lines)
         recorder.resume()
         assert graph.finish() == 0, graph.tail()
+    return graph, printed
+
+
+def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_complete(tmp_path):
+    bag = tmp_path / "held.mcap"
+    graph, held_lines = _run_stopping_the_recorder(bag, 20, 600, "t=3.0 s (", "waiting for the recorder")
     held_at, written = (float(x) for x in HELD.search("".join(graph.lines)).groups())
     assert 3.0 <= held_at and held_at - written <= WINDOW + 0.02, "held more than one step past the window (and "\
         "the 0.01 s of the printed times)"
@@ -54,14 +61,8 @@ def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_com
 
 
 def test_a_recorder_stopped_for_good_is_given_up_with_an_event_and_the_run_completes(tmp_path):
-    bag = tmp_path / "given_up.mcap"
-    with _launch(bag, duration=8, timeout=2) as graph:
-        graph.wait_for_line("t=2.0 s (")
-        recorder = _recorder(graph)
-        recorder.suspend()
-        graph.wait_for_line("going on without waiting for it")
-        recorder.resume()
-        assert graph.finish() == 0, graph.tail()
+    graph, _ = _run_stopping_the_recorder(tmp_path / "given_up.mcap", 8, 2, "t=2.0 s (",
+                                          "going on without waiting for it")
     # The recorder event is published and logged: the recorder it is about, given up, may never take it.
     output = "".join(graph.lines)
     assert output.count("[WARN]") == 1 and "recorder: the recorder has written nothing more of plant/blade_loads " \
