@@ -44,7 +44,8 @@ def compare_summaries(summaries: Sequence[Mapping], labels: Sequence[str]) -> di
         and power, each number as ``{"value": [per run], "change_percent": [per run]}``
         (change against the first run, 0 for the first; None where the reference is 0);
         harmonic amplitudes and their changes are lists per run of lists per harmonic.
-        ``pitch`` and ``power`` are None unless every run has them.
+        ``pitch`` and ``power`` are None unless every run has them. ``warnings``: one line for runs
+        of different length or sample rate (their DELs and spectra cover different records), else empty.
 
     Raises
     ------
@@ -84,6 +85,7 @@ def compare_summaries(summaries: Sequence[Mapping], labels: Sequence[str]) -> di
     return {
         "labels": list(labels),
         "reference": labels[0],
+        "warnings": _differences(summaries, labels),
         "del": loads,
         "harmonics": harmonics,
         "pitch": pitch,
@@ -93,3 +95,15 @@ def compare_summaries(summaries: Sequence[Mapping], labels: Sequence[str]) -> di
         },
         "power": power,
     }
+
+
+def _differences(summaries: Sequence[Mapping], labels: Sequence[str]) -> list[str]:
+    """Lines naming what makes the runs' figures cover different records: length and sample rate."""
+    found = []
+    for key, name, unit, tolerance in (("duration_s", "length", "s", lambda s: 1.0 / s["sample_rate_hz"]),
+                                       ("sample_rate_hz", "sample rate", "Hz", lambda s: 1e-6 * s["sample_rate_hz"])):
+        values = [summary[key] for summary in summaries]
+        if max(values) - min(values) > tolerance(summaries[0]):
+            listed = ", ".join(f"{label} {value:.6g} {unit}" for label, value in zip(labels, values))
+            found.append(f"the runs differ in {name} ({listed}): their DELs and spectra cover different records")
+    return found

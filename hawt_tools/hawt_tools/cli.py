@@ -221,6 +221,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     analyses, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
     for analysis in analyses:
         _warn("compare", analysis.summary["warnings"])
+    _warn("compare", comparison["warnings"])
     print(json.dumps(comparison) if args.json else comparison_text(comparison))
     if args.report:
         _progress(f"report: {write_comparison_report(comparison, args.report)}")

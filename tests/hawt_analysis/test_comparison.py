@@ -25,7 +25,17 @@ def test_scaling_a_load_by_0_8_shows_as_minus_20_percent_and_the_rest_unchanged(
     assert comparison["del"]["tower_base_fa_moment"]["change_percent"] == pytest.approx([0.0, 0.0])
     assert comparison["harmonics"]["root_moment_oop_1"]["change_percent"][1] == pytest.approx([-20.0] * 6)
     assert comparison["pitch"]["max_rate_rad_s"]["change_percent"] == pytest.approx([0.0, 0.0])
+    assert comparison["warnings"] == []
     json.dumps(comparison, allow_nan=False)
+
+
+def test_runs_of_different_length_are_compared_with_a_warning_naming_both_lengths(runs):
+    """A 60 s run against a 30 s one: figures still compared, one warning line names the runs and their lengths."""
+    shorter = {name: values[: len(values) // 2] for name, values in runs[1].items()}
+    comparison = compare_summaries([summarize(runs[0]), summarize(shorter)], ["long", "short"])
+    (warning,) = comparison["warnings"]
+    assert warning.startswith("the runs differ in length (long 60")
+    assert "short 29.99 s" in warning and "cover different records" in warning
 
 
 def test_change_against_a_zero_reference_is_none():

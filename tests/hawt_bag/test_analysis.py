@@ -93,6 +93,19 @@ def test_compare_gives_each_run_against_the_first(hawt_cli, runs):
     assert entry["change_percent"][1] == pytest.approx(100 * (entry["value"][1] / entry["value"][0] - 1))
     text = _run(hawt_cli, "compare", str(a), str(b)).stdout
     assert "DEL root_moment_oop_1" in text and "%)" in text
+    assert "warning" not in result.stderr
+
+
+def test_compare_warns_in_one_line_when_the_runs_differ_in_length(hawt_cli, runs, tmp_path):
+    """A 30 s run against a 60 s one is compared, and stderr says they cover different records."""
+    short = tmp_path / "short.mcap"
+    with BagWriter(short) as writer:
+        write_topics(writer, plant_topics(synthetic_channels(duration=30.0, sample_rate=100.0, seed=1), ""))
+    result = _run(hawt_cli, "compare", str(runs["a.mcap"][0]), str(short))
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.strip().splitlines()[-1] == ("hawt compare: warning: the runs differ in length (a.mcap "
+                                                      "60 s, short.mcap 30 s): their DELs and spectra cover "
+                                                      "different records")
 
 
 def test_two_turbines_need_a_namespace(runs, tmp_path):
