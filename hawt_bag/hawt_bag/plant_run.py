@@ -174,7 +174,7 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     channels.update({name: state.fields[name][state_rows] for name in _STATE_FIELDS if name in state.fields})
     counts = {loads_topic: len(loads), state_topic: len(state)}
     command, flag_names = _pitch_command(reader, topic_in(namespace, PITCH_COMMAND), counts, progress)
-    events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts)
+    events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts, steps, time)
     return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings)
 
 
@@ -197,7 +197,9 @@ def _pitch_command(reader: BagReader, topic: str, counts: dict, progress) -> tup
     return command, flag_names
 
 
-def _events(reader: BagReader, topic: str, counts: dict) -> list:
+def _events(reader: BagReader, topic: str, counts: dict, steps: np.ndarray, times: np.ndarray) -> list:
+    """The events in step order; one without a header stamp (a node that does not know the plant's time) gets the
+    plant's time of its step, from the plant's steps and times."""
     if topic not in reader.topic_names():
         return []
     columns = read_topic_columns(reader, topic)
@@ -205,6 +207,10 @@ def _events(reader: BagReader, topic: str, counts: dict) -> list:
     if not len(columns):
         return []
     time = columns.stamp()
+    unstamped = time == 0.0
+    if np.any(unstamped) and steps.size > 1:
+        dt = (times[-1] - times[0]) / float(steps[-1] - steps[0])
+        time[unstamped] = times[0] + dt * (columns.fields["step"][unstamped].astype(np.float64) - float(steps[0]))
     order = np.lexsort((np.arange(len(columns)), columns.fields["step"]))
     return [{"time": float(time[i]), "step": int(columns.fields["step"][i]),
              "source": str(columns.fields["source"][i]), "level": int(columns.fields["level"][i]),

@@ -141,3 +141,18 @@ def test_bad_bags_exit_2_with_one_line_naming_the_file(hawt_cli, runs, tmp_path,
         result = _run(hawt_cli, *command)
         assert result.returncode == 2
         assert result.stderr.count("\n") == 1 and f"{path}: " in result.stderr and message in result.stderr
+
+
+def test_an_event_without_a_stamp_gets_the_plant_time_of_its_step(runs, tmp_path):
+    """controller_manager and mbc do not know the plant's time: their events show the time of their step, not 0."""
+    _, channels = runs["a.mcap"]
+    topics = plant_topics(channels, "/wt1", EVENTS)
+    for name in ("header.stamp.sec", "header.stamp.nanosec"):
+        topics[-1].columns[name][:] = 0  # both events unstamped
+    bag = tmp_path / "unstamped.mcap"
+    with BagWriter(bag) as writer:
+        write_topics(writer, topics)
+    with BagReader(bag) as reader:
+        events = load_plant_run(reader).events
+    assert [e["step"] for e in events] == [100, 2500]
+    assert [e["time"] for e in events] == pytest.approx([channels["time"][100], channels["time"][2500]])
