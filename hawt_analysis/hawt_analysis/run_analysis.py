@@ -41,11 +41,14 @@ def _command_summary(run: PlantRun, options: AnalysisOptions) -> Optional[dict]:
         return None
     activity = pitch_activity(command["time"], command["pitch"], rate_threshold=options.pitch_rate_threshold,
                               lowpass_cutoff=options.pitch_lowpass_cutoff)
+    # The commanded rate is what was commanded from one step to the next, not a central difference: a command
+    # held to 8 deg/s per step reads 8 deg/s, where a difference of second order reads more at a reversal.
+    max_rate = np.max(np.abs(np.diff(command["pitch"], axis=0)) / np.diff(command["time"])[:, None], axis=0)
     flags = command["flags"].astype(np.int64)
     return {
         "steps": int(command["time"].size),
         "travel_rad": {"per_blade": activity.travel.tolist(), "total": activity.total_travel},
-        "max_rate_rad_s": {"per_blade": activity.max_rate.tolist(), "max": activity.overall_max_rate},
+        "max_rate_rad_s": {"per_blade": max_rate.tolist(), "max": float(max_rate.max())},
         "duty_cycle": {"per_blade": activity.duty_cycle.tolist(), "mean": activity.mean_duty_cycle},
         "individual_rms_rad": np.sqrt(np.mean(command["individual"] ** 2, axis=0)).tolist()
         if command["individual"].ndim == 2 and command["individual"].shape[1] else None,

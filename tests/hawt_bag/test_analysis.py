@@ -5,6 +5,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from hawt_analysis.run_analysis import analyze_bag
 from hawt_analysis.summary import summarize
 from hawt_analysis.synthetic_run import synthetic_channels
 from hawt_bag.column_writing import plant_topics, write_topics
@@ -156,3 +157,16 @@ def test_an_event_without_a_stamp_gets_the_plant_time_of_its_step(runs, tmp_path
         events = load_plant_run(reader).events
     assert [e["step"] for e in events] == [100, 2500]
     assert [e["time"] for e in events] == pytest.approx([channels["time"][100], channels["time"][2500]])
+
+
+def test_the_commanded_pitch_rate_is_the_largest_change_from_one_step_to_the_next(tmp_path):
+    """A command that moves 0.08 deg a step (8 deg/s) and reverses every step or two reads 8 deg/s, not the
+    16 deg/s that a second-order difference gives at the record's first step."""
+    channels = synthetic_channels(duration=20.0, sample_rate=100.0, seed=2)
+    triangle = np.array([0.0, 1.0, 0.0, -1.0])[np.arange(channels["time"].size) % 4]
+    channels["pitch"] = np.repeat((np.deg2rad(10.0) + np.deg2rad(0.08) * triangle)[:, None], 3, axis=1)
+    bag = tmp_path / "reversing.mcap"
+    with BagWriter(bag) as writer:
+        write_topics(writer, plant_topics(channels, ""))
+    command = analyze_bag(bag).summary["pitch_command"]
+    assert command["max_rate_rad_s"]["max"] == pytest.approx(np.deg2rad(8.0), rel=1e-9)
