@@ -1,5 +1,5 @@
 """hawt launch SIGKILLed mid-run: its node processes and its recorder see their parent gone and stop as on SIGTERM,
-so nothing is left running and the bag is finished, with every step it holds."""
+so nothing is left running and the bag is finished, with every step it holds from step 0 on."""
 import psutil
 import pytest
 from launched_graph import LaunchedGraph
@@ -21,4 +21,6 @@ def test_a_killed_launcher_leaves_no_process_and_a_finished_bag(tmp_path):
     verification = verify_bag(bag)
     assert verification.ok, verification.text()
     loads = next(topic for topic in verification.topics if topic.coverage.topic == "/orphaned/plant/blade_loads")
-    assert loads.coverage.ranges[0][0] == 0 and loads.coverage.ranges[-1][1] >= 500
+    # The recorder may be up to recorder_window (5 s) behind the plant when the launcher dies; what it has is
+    # complete from step 0.
+    assert loads.coverage.ranges[0][0] == 0 and loads.coverage.ranges[-1][1] >= 100
