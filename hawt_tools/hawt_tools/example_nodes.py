@@ -11,7 +11,7 @@ from typing import Dict
 
 from hawt_msgs.msg import BladeLoads
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 
 from hawt_node.node_main import node_entry_point
@@ -19,8 +19,7 @@ from hawt_node.parameters import ParameterSpec, declare_parameters
 
 __all__ = ["PulseSource", "Relay", "CounterSink"]
 
-_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-"""Transient local like the control loop's writers: a reader matched after the first messages still gets them."""
+_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def _blade_loads(step: int, blades: int, rotor_speed: float, dt: float) -> BladeLoads:

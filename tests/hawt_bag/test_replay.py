@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hawt_msgs.msg import BladeLoads
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from hawt_analysis.synthetic_run import synthetic_channels
 from hawt_bag.column_writing import TopicData, write_topics
@@ -44,12 +44,11 @@ def _graph(folder: Path, executable: str, name: str, parameters: dict, remaps: d
 class _Arrivals:
     """Subscribes the probe to a topic and keeps (wall time, serialized message) of each arrival."""
 
-    def __init__(self, probe, topic: str, durability: DurabilityPolicy = DurabilityPolicy.VOLATILE) -> None:
+    def __init__(self, probe, topic: str) -> None:
         self.lock = threading.Lock()
         self.items = []
         self.subscription = probe.node.create_subscription(
-            BladeLoads, topic, self._arrived, QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
-                                                         durability=durability),
+            BladeLoads, topic, self._arrived, QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE),
             raw=True)
 
     def _arrived(self, data: bytes) -> None:
@@ -111,7 +110,7 @@ def test_step_replay_through_the_relay_gives_exactly_the_recorded_relayed_messag
     processes.stop(relay)
 
     relay = processes.hawt("launch", str(relay_graph))
-    arrivals = _Arrivals(probe, "/t/relayed", DurabilityPolicy.TRANSIENT_LOCAL)  # all, even if matched late
+    arrivals = _Arrivals(probe, "/t/relayed")
     arrivals.wait_matched()
     replay = processes.hawt("replay", str(recorded), "--topics", "/t/loads", "--step-trigger", "/t/relayed")
     out, err = replay.communicate(timeout=120)
