@@ -13,15 +13,12 @@ CONTROL_LOOP = QoSProfile(
 
 #: What a control-loop publisher keeps: reliable like CONTROL_LOOP, but a reader that falls
 #: behind (a recorder, a test, a plot) by up to this many samples still gets every one of them.
-#: Transient local, so a recorder whose subscription this writer matches only after its first
-#: messages (discovery is slow on a busy machine) still gets them: one lockstep bag beside four
-#: busy processes lacked a contribution's step 0. Depth and a volatile reader's durability do not
-#: stop matching, so controllers still read with CONTROL_LOOP (latest only, no history).
+#: Depth is not part of QoS matching, so controllers still read with CONTROL_LOOP (latest only).
 CONTROL_LOOP_HISTORY = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=2000,
     reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+    durability=DurabilityPolicy.VOLATILE,
 )
 
 #: Events: the ROS default (reliable, keep last 10), deep enough not to drop bursts.
