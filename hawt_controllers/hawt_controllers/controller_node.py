@@ -49,6 +49,7 @@ from hawt_core.topics import BLADE_LOADS, PLANT_DESCRIPTION, SWITCH_CONTROLLERS,
 from hawt_node.events import EventPublisher
 from hawt_node.parameters import accepted, declare_parameters, rejection
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
+from hawt_node.writer_matching import MatchedWriterGate
 
 __all__ = ["ControllerNode"]
 
@@ -105,7 +106,7 @@ class ControllerNode(LifecycleNode):
         self.publishers_by_topic: Dict[str, Any] = {}
         self.switches: Optional[SwitchListener] = None
         self.internal = False
-        self.answer = StepAnswer(self._publish)
+        self.answer = StepAnswer(MatchedWriterGate(self, self.publishers_by_topic, self._publish, self.events).send)
         self.join = StepJoin(self.CONTROLLER.INPUTS)
         self.manager = self.create_client(SwitchControllers, SWITCH_CONTROLLERS)
         self.create_subscription(PlantDescriptionMessage, PLANT_DESCRIPTION, self._on_description, LATCHED)

@@ -51,6 +51,7 @@ from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import ParameterSpec, accepted, declare_parameters, rejection
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
+from hawt_node.writer_matching import MatchedWriterGate
 
 __all__ = ["MbcNode", "PARAMETERS", "main"]
 
@@ -111,7 +112,8 @@ class MbcNode(Node):
         self.assembler: Optional[LoopAssembler] = None
         self.plant: Optional[PlantDescription] = None
         self.forward = {}
-        self.answer = StepAnswer(self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY).publish)
+        command = self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY)
+        self.answer = StepAnswer(MatchedWriterGate(self, {PITCH_COMMAND: command}, command.publish, self.events).send)
         self.lockstep = self.values["mode"] == "lockstep"
         self.join = StepJoin(())
         self.demands: Dict[str, Any] = {}

@@ -48,6 +48,7 @@ from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import declare_parameters
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
 from hawt_node.recording import unmatched_topics, unrecorded_topics
+from hawt_node.writer_matching import unmatched_writers
 from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, RECORDER_PROGRESS, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
@@ -193,8 +194,10 @@ class PlantNode(Node):
 
     def _recorder_ready(self) -> bool:
         """True once hawt_recorder subscribes to every topic with a publisher and, by its /recorder/progress, is
-        matched with every publisher; after 10 s, True with a warning."""
-        missing = unrecorded_topics(self) or unmatched_topics(self, self.recorder_matched)
+        matched with every publisher, and the plant's own writers are matched with every reader (the recorder's
+        among them); after 10 s, True with a warning."""
+        missing = unrecorded_topics(self) or unmatched_topics(self, self.recorder_matched) or unmatched_writers(
+            self, {BLADE_LOADS: self.loads_publisher, TURBINE_STATE: self.state_publisher})
         if missing and time.monotonic() - self.created > 10.0:
             self.events(ControlEvent.WARN, "recorder", f"starting without the recorder on {', '.join(missing)}")
             return True
