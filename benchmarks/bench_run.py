@@ -5,7 +5,8 @@ In one run, on the same turbulent wind (IEC class B, 18 m/s, seed 1):
 - ``hawt run`` of the ``baseline`` and ``ipc`` graphs (the graph's cores in process);
 - ``hawt launch ipc`` in lockstep, one process per node (shorter: ``--lockstep-duration``).
 Prints each real-time factor and the two ratios issue 10 sets targets for: the in-process
-ipc graph against the plant core (target >= 0.8) and against the lockstep graph (target >= 5).
+ipc graph against the plant core (target >= 0.8) and against the lockstep graph (target >= 5),
+then where a step of the in-process ipc graph goes (a second run with each core timed).
 
 Usage: ./hawt bench run [--duration S] [--lockstep-duration S]
 """
@@ -15,6 +16,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Callable, Dict
 
 from hawt_tools.cli import find_graph
 from hawt_tools.graph_file import load_graph
@@ -49,6 +51,34 @@ def in_process(graph: str, duration: float) -> float:
     return duration / (time.perf_counter() - start)
 
 
+def step_breakdown(graph: str, duration: float) -> Dict[str, float]:
+    """Mean wall time [us] per step of each core of ``hawt run GRAPH`` (the plant in the loop, every controller,
+    the assembly) and of the runner around them; the timing adds about 1 us per timed call."""
+    run = build_run(load_graph(find_graph(graph), _arguments(duration), package_prefix))
+    spent: Dict[str, float] = {}
+
+    def timed(name: str, function: Callable) -> Callable:
+        def call(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spent[name] = spent.get(name, 0.0) + time.perf_counter() - start
+        return call
+
+    run.model.step = timed("plant (in the loop)", run.model.step)
+    for controller in run.controllers:
+        controller.core.update = timed(controller.name.rsplit("/", 1)[-1], controller.core.update)
+    run.assembler.assemble = timed("assembly", run.assembler.assemble)
+    steps = round(duration / run.description.dt)
+    start = time.perf_counter()
+    for _ in range(steps):
+        run.step()
+    total = time.perf_counter() - start
+    spent["runner"] = total - sum(spent.values())
+    return {name: seconds / steps * 1e6 for name, seconds in spent.items()}
+
+
 def lockstep(duration: float) -> float:
     """Real-time factor of the lockstep ipc graph, from the plant's own 'finished ... in W s wall' line."""
     words = [f"{k}:={v}" for k, v in _arguments(duration).items()]
@@ -78,6 +108,9 @@ def main() -> None:
     print(f"hawt launch ipc (lockstep):  {graph:6.1f}x real time")
     print(f"ratio in-process ipc / plant core:     {ipc / core:.2f}  (target >= 0.80)")
     print(f"ratio in-process ipc / lockstep graph: {ipc / graph:.1f}  (target >= 5)")
+    print(f"per step of hawt run ipc ({args.duration:g} s, each core timed):")
+    for name, micros in step_breakdown("ipc", args.duration).items():
+        print(f"  {name:24s} {micros:6.1f} us")
     print("load average (1, 5, 15 min): {:.2f} {:.2f} {:.2f} on {} CPUs".format(*os.getloadavg(), os.cpu_count()))
 
 
