@@ -45,7 +45,7 @@ from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
 from hawt_plant.turbine import Turbine
-from hawt_plant.wind_field import WindField
+from hawt_plant.wind_field import UniformChange, WindField
 
 __all__ = ["ModelConfig", "TurbineModel", "TurbineOutput"]
 
@@ -363,6 +363,65 @@ class TurbineModel:
         self._evaluate_loads(update_induction=True)
         self._output = self._make_output(self._accelerations(self._acting_torque()))
         return self._output
+
+    # ------------------------------------------------------------------ continuous dynamics (linearisation)
+
+    def state_names(self) -> tuple[str, ...]:
+        """Names of the entries of :meth:`state` (blade i as ``_<i>``, i from 1): rotor and generator speed
+        [rad/s], shaft torsion [rad], tower-top fore-aft and side-side displacement [m], flap tip deflection [m],
+        their rates, pitch angle [rad] and pitch rate [rad/s] of every blade. The azimuth is not among them:
+        it is the variable a linear model is periodic in."""
+        blades = range(1, self._b + 1)
+        return ("rotor_speed", "generator_speed", "shaft_torsion", "tower_fa", "tower_ss",
+                *(f"flap_{i}" for i in blades), "tower_fa_rate", "tower_ss_rate",
+                *(f"flap_rate_{i}" for i in blades), *(f"pitch_{i}" for i in blades),
+                *(f"pitch_rate_{i}" for i in blades))
+
+    def state(self) -> np.ndarray:
+        """The model's continuous state now, in the order of :meth:`state_names`."""
+        return np.concatenate(((self._rotor_speed, self._generator_speed, self._torsion), self._displacement,
+                               self._velocity, self._pitch, self._pitch_rate))
+
+    def continuous_dynamics(self, state: np.ndarray, azimuth: float, pitch_command: np.ndarray,
+                            generator_torque: float, wind_change: float = 0.0) -> tuple[np.ndarray, TurbineOutput]:
+        """The state's time derivative and the measurements at ``state`` and ``azimuth`` [rad], in continuous
+        time with quasi-steady aerodynamics: what :meth:`step` integrates, for linearisation.
+
+        The induction is the converged steady BEM solution at this state (the stepping model carries it
+        from step to step instead, so its loads lag by a few steps); the generator torque acts as commanded
+        (no rate limit); the pitch actuators follow ``theta'' = w^2 (theta_c - theta) - 2 zeta w theta'``
+        without their limits; ``wind_change`` [m/s] is added to the longitudinal wind everywhere. The
+        model is left at this state (linearise on a copy).
+        """
+        b = self._b
+        values = np.asarray(state, dtype=float)
+        if values.shape != (len(self.state_names()),):
+            raise ValueError(f"state: expected {len(self.state_names())} values, found shape {values.shape}")
+        self._rotor_speed, self._generator_speed, self._torsion = values[:3].tolist()
+        self._displacement[:] = values[3:5 + b]
+        self._velocity[:] = values[5 + b:7 + 2 * b]
+        self._pitch = values[7 + 2 * b:7 + 3 * b].copy()
+        self._pitch_rate = values[7 + 3 * b:].copy()
+        self._azimuth = float(azimuth)
+        self._generator_torque = float(generator_torque)
+        wind = self._wind
+        if wind_change:
+            self._wind = UniformChange(wind, wind_change)
+        try:
+            self._solve_steady_induction()
+            self._evaluate_loads(update_induction=False)
+        finally:
+            self._wind = wind
+        acting = self._acting_torque()
+        acceleration = self._accelerations(acting)
+        actuator = self._turbine.pitch_actuator
+        w, zeta = actuator.natural_frequency, actuator.damping_ratio
+        pitch_acceleration = w * w * (np.asarray(pitch_command, dtype=float) - self._pitch) \
+            - 2.0 * zeta * w * self._pitch_rate
+        derivative = np.concatenate(((self._rotor_acceleration, self._generator_acceleration(acting),
+                                      self._rotor_speed - self._generator_speed), self._velocity, acceleration,
+                                     self._pitch_rate, pitch_acceleration))
+        return derivative, self._make_output(acceleration)
 
     def _acting_torque(self) -> float:
         """The generator torque acting on the drivetrain: the actuator's plus the periodic disturbance."""

@@ -9,7 +9,7 @@ from typing import Protocol
 
 import numpy as np
 
-__all__ = ["WindField"]
+__all__ = ["UniformChange", "WindField"]
 
 
 class WindField(Protocol):
@@ -33,3 +33,25 @@ class WindField(Protocol):
         along (x, y, z) [m/s]. Frozen turbulence is convected downwind at the
         mean speed, so a point at x sees the field of time ``t - x / mean_speed``.
         """
+
+
+class UniformChange:
+    """A wind field with ``change`` [m/s] added to its longitudinal component everywhere (a wind input of a
+    linear model)."""
+
+    def __init__(self, field: WindField, change: float) -> None:
+        self.field = field
+        self.change = float(change)
+
+    @property
+    def mean_speed(self) -> float:
+        return self.field.mean_speed + self.change
+
+    @property
+    def hub_height(self) -> float:
+        return self.field.hub_height
+
+    def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
+        velocity = np.array(self.field.velocity(t, x, y, z), dtype=float)  # a copy: the field may keep its own
+        velocity[0] += self.change
+        return velocity

@@ -4,6 +4,7 @@ Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input, always with 
 one-line message naming the file, field or parameter at fault.
 """
 import argparse
+import difflib
 import json
 import math
 import os
@@ -13,6 +14,8 @@ import sys
 import time
 from pathlib import Path
 from typing import Dict, List, Optional
+
+import yaml
 
 from hawt_bag.errors import BagError
 
@@ -300,6 +303,60 @@ def _cmd_coupling(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_linearize(args: argparse.Namespace) -> int:
+    """The plant's linear models in the Coleman frame per wind speed, the modes table and the Campbell diagram."""
+    from hawt_controllers.linear_models import campbell_figure, linearize_power_curve, save_models
+
+    for v in args.wind_speeds:
+        if not 3.0 <= v <= 30.0:
+            raise GraphError(f"--wind-speeds: {v:g} m/s is outside the plant's 3..30 m/s")
+    if not 1 <= args.azimuths <= 360:
+        raise GraphError(f"--azimuths: {args.azimuths} is outside 1..360")
+    if not 0.0 <= args.settle <= 3600.0:
+        raise GraphError(f"--settle: {args.settle:g} s is outside 0..3600 s")
+    plant = _plant_overrides(args.arguments)
+    output = Path(args.output)
+    _progress(f"linearizing at {len(args.wind_speeds)} wind speed(s), {args.azimuths} azimuths each, "
+              f"{args.workers} worker(s)")
+    start = time.monotonic()
+
+    def done(model, count: int, total: int) -> None:
+        _progress(f"{model.wind_speed:g} m/s done in {model.seconds:.1f} s ({count}/{total})")
+
+    models = linearize_power_curve(args.wind_speeds, args.azimuths, args.settle, plant, args.workers, done)
+    save_models(output, models)
+    print(f"{len(models)} models ({models[0].loops}; states, inputs and outputs in the Coleman frame, averaged over "
+          f"{args.azimuths} azimuths) written to {output} in {time.monotonic() - start:.1f} s")
+    print("modes: frequency [Hz] / damping ratio, oscillating modes only")
+    for model in models:
+        modes = "  ".join(f"{f:.3f}/{z:.3f}" for f, z in model.model.modes() if 0.0 < z < 1.0)
+        print(f"{model.wind_speed:5.1f} m/s  {model.rotor_speed * 30 / math.pi:5.2f} rpm  pitch "
+              f"{math.degrees(model.pitch):5.2f} deg  {modes}")
+    if args.plot:
+        campbell_figure(models, Path(args.plot))
+        print(f"Campbell diagram: {args.plot}")
+    return 0
+
+
+def _plant_overrides(words: List[str]) -> Dict[str, object]:
+    """NAME:=VALUE words as the plant's parameters, each checked against the plant node's table."""
+    from hawt_core.parameter_table import ParameterError
+    from hawt_plant.plant_setup import PARAMETERS
+
+    table = {spec.name: spec for spec in PARAMETERS}
+    values = {}
+    for name, text in _launch_arguments(words).items():
+        if name not in table:
+            close = difflib.get_close_matches(name, table, n=1)
+            raise GraphError(f"plant parameter {name!r} does not exist" + (f" (did you mean {close[0]!r}?)"
+                                                                            if close else ""))
+        try:
+            values[name] = table[name].typed(yaml.safe_load(text))
+        except ParameterError as error:
+            raise GraphError(f"plant parameter {error}") from None
+    return values
+
+
 def _coupling_identified(args: argparse.Namespace) -> int:
     """``hawt coupling --bag``: the tilt/yaw plant identified from a recorded excitation run."""
     from hawt_analysis.identification import identify_coleman_plant
@@ -471,7 +528,8 @@ def _parser() -> argparse.ArgumentParser:
         description="Ask the graph's controller_manager to switch controllers atomically at one plant step "
                     "(ros2_control semantics; one active claimant per command interface). An outgoing "
                     "contribution ramps out over the ramp time, an incoming one ramps in; a controller that replaces "
-                    "another on its interfaces starts from the other's output. Prints the step the switch takes effect at.")
+                    "another on its interfaces starts from the other's output. Prints the step the switch takes effect "
+                    "at.")
     switch.add_argument("--activate", nargs="+", default=[], metavar="NAME", help="controllers to activate")
     switch.add_argument("--deactivate", nargs="+", default=[], metavar="NAME", help="controllers to deactivate")
     switch.add_argument("--ramp", type=float, metavar="S", help="ramp time (default: the manager's ramp_time)")
@@ -509,6 +567,32 @@ def _parser() -> argparse.ArgumentParser:
     coupling.add_argument("--namespace", help="the turbine (e.g. /wt1) when the bag holds several")
     coupling.add_argument("--json", action="store_true", help="print the rows as JSON")
     coupling.set_defaults(run=_cmd_coupling)
+
+    linearize = commands.add_parser(
+        "linearize", help="the plant's linear models in the Coleman frame per wind speed, its modes and Campbell "
+                          "diagram",
+        description="Linearise the plant (the plant node's defaults, changed by NAME:=VALUE; steady sheared wind) "
+                    "about its periodic steady state with pitch and generator torque held (the collective and "
+                    "torque loops open) at N azimuths per wind speed, by central differences of its "
+                    "continuous-time dynamics with quasi-steady aerodynamics; transform each model to multi-blade "
+                    "coordinates (Bir's MBC3) and average over azimuth. States: rotor and generator speed, shaft "
+                    "torsion, tower-top fore-aft/side-side, blade flap (collective/cos/sin) and their rates, pitch "
+                    "actuators. Inputs: pitch commands (collective/cos/sin), generator torque, uniform wind change. "
+                    "Outputs: blade-root moments (collective/cos/sin), speeds, tower-top motion, hub tilt/yaw, "
+                    "tower-base moments, thrust, aerodynamic torque. Load the file with "
+                    "hawt_controllers.linear_models.load_models, or with numpy: "
+                    "scipy.signal.StateSpace(a[k], b[k], c[k], d[k]) at wind_speeds[k].")
+    linearize.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="plant parameters, e.g. "
+                                                                              "shear_exponent:=0.0")
+    linearize.add_argument("--wind-speeds", type=float, nargs="+", default=[float(v) for v in range(5, 26)],
+                           help="[m/s] (default 5 6 ... 25)")
+    linearize.add_argument("--azimuths", type=int, default=12, help="azimuths per revolution (default 12)")
+    linearize.add_argument("--settle", type=float, default=60.0, metavar="S",
+                           help="simulated seconds to reach the periodic orbit first (default 60)")
+    linearize.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: CPUs)")
+    linearize.add_argument("--output", default="linear_models.npz", help="the models' file (.npz)")
+    linearize.add_argument("--plot", metavar="PNG", help="write the Campbell diagram here")
+    linearize.set_defaults(run=_cmd_linearize)
 
     demo = commands.add_parser(
         "demo", help="run the baseline and IPC graphs on the same turbulent wind and compare their loads",
