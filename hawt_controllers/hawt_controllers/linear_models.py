@@ -10,6 +10,7 @@ to one LTI model. The models go to one ``.npz`` file (:func:`save_models`, :func
 from __future__ import annotations
 
 import math
+import re
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -20,10 +21,11 @@ import numpy as np
 
 from hawt_plant.linearization import PeriodicLinearization, linearize_model
 
+from .coleman_coupling import offset_from_dc_response
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
-__all__ = ["ColemanModel", "blade_groups", "campbell_figure", "coleman_model", "linearize_at",
-           "linearize_power_curve", "load_models", "save_models"]
+__all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "dc_gain", "decoupling_offset",
+           "labelled_modes", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
 
 
 @dataclass(frozen=True)
@@ -92,6 +94,52 @@ def linearize_power_curve(wind_speeds: Sequence[float], azimuths: int = 12, sett
     return sorted(results, key=lambda r: r.wind_speed)
 
 
+@dataclass(frozen=True)
+class Mode:
+    """One oscillating mode of a linear model: frequency [Hz], damping ratio and the state that takes the
+    largest part in it (participation factor |v_i w_i|, Verghese et al. 1982: scale-free)."""
+
+    frequency: float
+    damping: float
+    state: str
+
+
+def labelled_modes(model: LinearModel) -> List[Mode]:
+    """The model's oscillating modes (complex eigenvalue pairs), by frequency, each named by its dominant state.
+
+    A displacement and its rate count as one (``tower_fa_rate`` adds to ``tower_fa``), and so do the cos and
+    sin coordinates of a blade group (``flap_cyclic``: its two modes are the backward and forward whirl, the
+    blade's frequency -/+ the rotor speed).
+    """
+    from scipy.linalg import eig
+
+    values, left, right = eig(model.a, left=True, right=True)
+    modes = []
+    for k in np.flatnonzero(values.imag > 1e-9):
+        participation = np.abs(left[:, k].conj() * right[:, k])
+        names = [re.sub(r"_(cos|sin)$", "_cyclic", name.replace("_rate", "")) for name in model.states]
+        shares: dict = {}
+        for name, share in zip(names, participation):
+            shares[name] = shares.get(name, 0.0) + share
+        magnitude = abs(values[k])
+        modes.append(Mode(magnitude / (2.0 * math.pi), -values[k].real / magnitude, max(shares, key=shares.get)))
+    return sorted(modes, key=lambda mode: mode.frequency)
+
+
+def dc_gain(model: LinearModel, outputs: Sequence[str], inputs: Sequence[str]) -> np.ndarray:
+    """The steady-state gain D - C A^-1 B from ``inputs`` to ``outputs`` (names), shape (outputs, inputs)."""
+    gain = model.d - model.c @ np.linalg.solve(model.a, model.b)
+    return gain[np.ix_([model.outputs.index(n) for n in outputs], [model.inputs.index(n) for n in inputs])]
+
+
+def decoupling_offset(model: LinearModel) -> float:
+    """Disario's 1P offset [rad] from the model: the angle of the DC response of the cos/sin blade-root moments
+    to a cos cyclic pitch, its sign taken out (pitch to feather lowers the moment): atan2(-P21(0), -P11(0)) with
+    ψ = 0 (hawt_controllers.coleman_coupling.offset_from_dc_response)."""
+    p = dc_gain(model, ("root_moment_oop_cos", "root_moment_oop_sin"), ("pitch_command_cos", "pitch_command_sin"))
+    return offset_from_dc_response(-p[0, 0], -p[1, 0])
+
+
 def save_models(path: Path, models: Sequence[ColemanModel]) -> None:
     """Write the models (same channels at every wind speed) to ``path`` (.npz): arrays ``a``, ``b``, ``c``,
     ``d`` stacked over ``wind_speeds``, the channel names ``states``, ``inputs``, ``outputs``, and the
@@ -134,7 +182,7 @@ def campbell_figure(models: Sequence[ColemanModel], path: Path, harmonics: Seque
         axes.annotate(f"{n}P", (speeds[-1], n * models[-1].rotor_speed / (2.0 * math.pi)), fontsize=8)
     axes.set_xlabel("wind speed [m/s]")
     axes.set_ylabel("frequency [Hz]")
-    axes.set_title(f"Campbell diagram, Coleman frame, azimuth-averaged ({models[0].loops})")
+    axes.set_title(f"Campbell diagram: Coleman frame, azimuth average\nloops {models[0].loops}", fontsize=10)
     axes.grid(alpha=0.3)
     figure.tight_layout()
     figure.savefig(path, dpi=120)

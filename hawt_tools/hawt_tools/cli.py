@@ -305,7 +305,8 @@ def _cmd_coupling(args: argparse.Namespace) -> int:
 
 def _cmd_linearize(args: argparse.Namespace) -> int:
     """The plant's linear models in the Coleman frame per wind speed, the modes table and the Campbell diagram."""
-    from hawt_controllers.linear_models import campbell_figure, linearize_power_curve, save_models
+    from hawt_controllers.linear_models import (campbell_figure, dc_gain, decoupling_offset, labelled_modes,
+                                                linearize_power_curve, save_models)
 
     for v in args.wind_speeds:
         if not 3.0 <= v <= 30.0:
@@ -327,11 +328,15 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     save_models(output, models)
     print(f"{len(models)} models ({models[0].loops}; states, inputs and outputs in the Coleman frame, averaged over "
           f"{args.azimuths} azimuths) written to {output} in {time.monotonic() - start:.1f} s")
-    print("modes: frequency [Hz] / damping ratio, oscillating modes only")
+    print("per wind speed: rotor speed, pitch, the 1P decoupling offset and dM_cos/dtheta_cos at DC (Disario: 19 deg "
+          "at 25 m/s for FAST's NREL 5 MW), then each oscillating mode: its dominant state, frequency [Hz]/damping "
+          "ratio")
     for model in models:
-        modes = "  ".join(f"{f:.3f}/{z:.3f}" for f, z in model.model.modes() if 0.0 < z < 1.0)
+        modes = "  ".join(f"{m.state} {m.frequency:.3f}/{m.damping:.3f}" for m in labelled_modes(model.model))
+        gain = dc_gain(model.model, ["root_moment_oop_cos"], ["pitch_command_cos"])[0, 0]
         print(f"{model.wind_speed:5.1f} m/s  {model.rotor_speed * 30 / math.pi:5.2f} rpm  pitch "
-              f"{math.degrees(model.pitch):5.2f} deg  {modes}")
+              f"{math.degrees(model.pitch):5.2f} deg  offset {math.degrees(decoupling_offset(model.model)):5.1f} deg  "
+              f"{gain / 1e6:7.2f} MN*m/rad  {modes}")
     if args.plot:
         campbell_figure(models, Path(args.plot))
         print(f"Campbell diagram: {args.plot}")
