@@ -15,17 +15,19 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, List, Mapping, Optional, Sequence
+from typing import Any, Callable, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
+from scipy.optimize import minimize_scalar
 
 from hawt_plant.linearization import PeriodicLinearization, linearize_model
 
 from .coleman_coupling import offset_from_dc_response
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
-__all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "dc_gain", "decoupling_offset",
-           "labelled_modes", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
+__all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset", "decoupling_offset",
+           "labelled_modes", "tilt_yaw_response", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
 
 
 @dataclass(frozen=True)
@@ -126,18 +128,53 @@ def labelled_modes(model: LinearModel) -> List[Mode]:
     return sorted(modes, key=lambda mode: mode.frequency)
 
 
-def dc_gain(model: LinearModel, outputs: Sequence[str], inputs: Sequence[str]) -> np.ndarray:
-    """The steady-state gain D - C A^-1 B from ``inputs`` to ``outputs`` (names), shape (outputs, inputs)."""
-    gain = model.d - model.c @ np.linalg.solve(model.a, model.b)
-    return gain[np.ix_([model.outputs.index(n) for n in outputs], [model.inputs.index(n) for n in inputs])]
+def tilt_yaw_response(model: LinearModel, omega: ArrayLike, pitch: str = "command") -> np.ndarray:
+    """P(jω): the frequency response [N m/rad] from the cos/sin 1P cyclic pitch to the cos/sin blade-root
+    out-of-plane moments at ``omega`` [rad/s], shape (len(omega), 2, 2) (Disario's tilt/yaw plant with ψ = 0).
+
+    ``pitch`` "command": from the pitch command (the actuator inside: what a controller sets); "angle": from
+    the pitch angle (the actuator's states held as inputs), Disario's input.
+    """
+    moments = [model.outputs.index(n) for n in ("root_moment_oop_cos", "root_moment_oop_sin")]
+    if pitch == "command":
+        inputs = [model.inputs.index(n) for n in ("pitch_command_cos", "pitch_command_sin")]
+        a, b, c, d = model.a, model.b[:, inputs], model.c[moments], model.d[np.ix_(moments, inputs)]
+    elif pitch == "angle":
+        held = [model.states.index(n) for n in ("pitch_cos", "pitch_sin")]
+        rest = [i for i, name in enumerate(model.states) if not name.startswith("pitch_")]
+        a, b = model.a[np.ix_(rest, rest)], model.a[np.ix_(rest, held)]
+        c, d = model.c[np.ix_(moments, rest)], model.c[np.ix_(moments, held)]
+    else:
+        raise ValueError(f"pitch: expected 'command' or 'angle', found {pitch!r}")
+    identity = np.eye(a.shape[0])
+    return np.array([c @ np.linalg.solve(1j * w * identity - a, b) + d for w in np.atleast_1d(omega)])
 
 
-def decoupling_offset(model: LinearModel) -> float:
-    """Disario's 1P offset [rad] from the model: the angle of the DC response of the cos/sin blade-root moments
-    to a cos cyclic pitch, its sign taken out (pitch to feather lowers the moment): atan2(-P21(0), -P11(0)) with
-    ψ = 0 (hawt_controllers.coleman_coupling.offset_from_dc_response)."""
-    p = dc_gain(model, ("root_moment_oop_cos", "root_moment_oop_sin"), ("pitch_command_cos", "pitch_command_sin"))
+def _rotation(offset: float) -> np.ndarray:
+    """The cos/sin pitch of a demand (θ_c, θ_s) with phase offset φ: θ_i = θ_c cos(ψ_i + φ) + θ_s sin(ψ_i + φ)."""
+    c, s = math.cos(offset), math.sin(offset)
+    return np.array([[c, s], [-s, c]])
+
+
+def decoupling_offset(model: LinearModel, pitch: str = "command") -> float:
+    """Disario's DC-decoupling 1P offset [rad]: atan2(-P21(0), -P11(0)), the sign of the response taken out
+    (pitch to feather lowers the moment; hawt_controllers.coleman_coupling.offset_from_dc_response)."""
+    p = tilt_yaw_response(model, [0.0], pitch)[0].real
     return offset_from_dc_response(-p[0, 0], -p[1, 0])
+
+
+def band_offset(model: LinearModel, pitch: str = "angle", band: Tuple[float, float] = (0.1, 1.0)) -> float:
+    """The offset in [0, 90°] [rad] that minimises η(ψ), the mean |P12(jω)| with the offset over ``band``
+    [rad/s] (Disario eq. 4-4, §4-4-4: 19° at 25 m/s for FAST's NREL 5 MW, from the pitch angle)."""
+    response = tilt_yaw_response(model, np.linspace(band[0], band[1], 200), pitch)
+
+    def eta(offset: float) -> float:
+        return float(np.mean(np.abs((response @ _rotation(offset))[:, 0, 1])))
+
+    grid = np.radians(np.arange(0.0, 90.5, 1.0))
+    start = float(grid[int(np.argmin([eta(psi) for psi in grid]))])
+    return float(minimize_scalar(eta, bounds=(max(start - math.radians(1.0), 0.0), start + math.radians(1.0)),
+                                 method="bounded", options={"xatol": 1e-6}).x)
 
 
 def save_models(path: Path, models: Sequence[ColemanModel]) -> None:
@@ -173,13 +210,23 @@ def campbell_figure(models: Sequence[ColemanModel], path: Path, harmonics: Seque
 
     figure, axes = plt.subplots(figsize=(8, 5))
     speeds = np.array([m.wind_speed for m in models])
-    points = [(m.wind_speed, f, z) for m in models for f, z in m.model.modes() if 0.0 < z < 1.0]
+    points = [(m.wind_speed, mode.frequency, mode.damping) for m in models for mode in labelled_modes(m.model)]
     x, frequency, damping = np.array(points).T if points else ([], [], [])
+    labels: List[list] = []  # [frequency, names]: modes closer than 0.03 Hz share one label
+    for mode in labelled_modes(models[0].model):
+        if labels and mode.frequency - labels[-1][0] < 0.03:
+            labels[-1][1].append(mode.state)
+        else:
+            labels.append([mode.frequency, [mode.state]])
+    for label_frequency, names in labels:
+        axes.annotate(", ".join(names), (speeds[0], label_frequency), xytext=(-6, 0), textcoords="offset points",
+                      ha="right", va="center", fontsize=7)
     shown = axes.scatter(x, frequency, c=damping, cmap="viridis_r", vmin=0.0, vmax=1.0, s=18)
     figure.colorbar(shown, ax=axes, label="damping ratio")
     for n in harmonics:
         axes.plot(speeds, [n * m.rotor_speed / (2.0 * math.pi) for m in models], "--", color="grey", lw=0.8)
         axes.annotate(f"{n}P", (speeds[-1], n * models[-1].rotor_speed / (2.0 * math.pi)), fontsize=8)
+    axes.set_xlim(speeds[0] - 0.25 * (speeds[-1] - speeds[0]) - 1.0, speeds[-1] + 1.0)
     axes.set_xlabel("wind speed [m/s]")
     axes.set_ylabel("frequency [Hz]")
     axes.set_title(f"Campbell diagram: Coleman frame, azimuth average\nloops {models[0].loops}", fontsize=10)

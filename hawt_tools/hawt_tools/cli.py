@@ -305,8 +305,8 @@ def _cmd_coupling(args: argparse.Namespace) -> int:
 
 def _cmd_linearize(args: argparse.Namespace) -> int:
     """The plant's linear models in the Coleman frame per wind speed, the modes table and the Campbell diagram."""
-    from hawt_controllers.linear_models import (campbell_figure, dc_gain, decoupling_offset, labelled_modes,
-                                                linearize_power_curve, save_models)
+    from hawt_controllers.linear_models import (band_offset, campbell_figure, decoupling_offset, labelled_modes,
+                                                linearize_power_curve, save_models, tilt_yaw_response)
 
     for v in args.wind_speeds:
         if not 3.0 <= v <= 30.0:
@@ -328,15 +328,18 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     save_models(output, models)
     print(f"{len(models)} models ({models[0].loops}; states, inputs and outputs in the Coleman frame, averaged over "
           f"{args.azimuths} azimuths) written to {output} in {time.monotonic() - start:.1f} s")
-    print("per wind speed: rotor speed, pitch, the 1P decoupling offset and dM_cos/dtheta_cos at DC (Disario: 19 deg "
-          "at 25 m/s for FAST's NREL 5 MW), then each oscillating mode: its dominant state, frequency [Hz]/damping "
-          "ratio")
+    print("per wind speed: rotor speed, pitch, dM_cos/dtheta_cos at DC, Disario's 1P offsets: decoupling at DC from "
+          "the pitch command (the IPC design's) and from the pitch angle, and minimising the mean |P12| over "
+          "0.1-1 rad/s from the angle (Disario: 19 deg at 25 m/s for FAST's NREL 5 MW); then each oscillating "
+          "mode: its dominant state, frequency [Hz]/damping ratio")
     for model in models:
         modes = "  ".join(f"{m.state} {m.frequency:.3f}/{m.damping:.3f}" for m in labelled_modes(model.model))
-        gain = dc_gain(model.model, ["root_moment_oop_cos"], ["pitch_command_cos"])[0, 0]
+        gain = tilt_yaw_response(model.model, [0.0])[0, 0, 0].real
+        offsets = [math.degrees(decoupling_offset(model.model, "command")),
+                   math.degrees(decoupling_offset(model.model, "angle")), math.degrees(band_offset(model.model))]
         print(f"{model.wind_speed:5.1f} m/s  {model.rotor_speed * 30 / math.pi:5.2f} rpm  pitch "
-              f"{math.degrees(model.pitch):5.2f} deg  offset {math.degrees(decoupling_offset(model.model)):5.1f} deg  "
-              f"{gain / 1e6:7.2f} MN*m/rad  {modes}")
+              f"{math.degrees(model.pitch):5.2f} deg  {gain / 1e6:7.2f} MN*m/rad  offsets {offsets[0]:4.1f} "
+              f"{offsets[1]:4.1f} {offsets[2]:4.1f} deg  {modes}")
     if args.plot:
         campbell_figure(models, Path(args.plot))
         print(f"Campbell diagram: {args.plot}")

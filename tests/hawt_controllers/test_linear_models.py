@@ -115,3 +115,15 @@ def test_bad_input_is_one_line_and_exit_2(words, message, capsys, tmp_path):
     error = capsys.readouterr().err.strip()
     assert message in error and "\n" not in error
     assert not (tmp_path / "x.npz").exists()
+
+
+@pytest.mark.parametrize("wind_speed", WIND_SPEEDS)
+def test_the_offset_from_the_pitch_command_exceeds_the_one_from_the_angle_by_the_actuator_s_lag_at_1p(
+        models, wind_speed):
+    """Disario's offset is from the pitch angle; a controller sets the command, which the second-order actuator
+    (11.11 rad/s, damping 0.6) delays by atan2(2 zeta w Omega, w^2 - Omega^2) at 1P in the rotating frame."""
+    model = models[wind_speed]
+    w, zeta = 11.11, 0.6
+    lag = math.atan2(2 * zeta * w * model.rotor_speed, w * w - model.rotor_speed ** 2)
+    difference = decoupling_offset(model.model, "command") - decoupling_offset(model.model, "angle")
+    assert math.degrees(difference) == pytest.approx(math.degrees(lag), abs=1.0)
