@@ -316,6 +316,9 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     if not 0.0 <= args.settle <= 3600.0:
         raise GraphError(f"--settle: {args.settle:g} s is outside 0..3600 s")
     plant = _plant_overrides(args.arguments)
+    if plant.get("dynamic_inflow"):
+        raise GraphError("dynamic_inflow:=true: the linear models have quasi-steady aerodynamics (no inflow states "
+                         "yet); linearise without it")
     output = Path(args.output)
     _progress(f"linearizing at {len(args.wind_speeds)} wind speed(s), {args.azimuths} azimuths each, "
               f"{args.workers} worker(s)")
