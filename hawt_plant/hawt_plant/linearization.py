@@ -66,8 +66,8 @@ class PeriodicLinearization:
     """The plant's linear models at the azimuths of one revolution of its periodic orbit.
 
     ``a`` (N, n, n), ``b`` (N, n, m), ``c`` (N, p, n), ``d`` (N, p, m) at ``azimuths`` (N,) [rad] of
-    blade 1; ``states``, ``inputs``, ``outputs`` name the rows and columns; ``operating_point`` holds
-    the held commands and the orbit's means (rotor speed [rad/s], pitch [rad], generator torque [N m]).
+    blade 1; ``states``, ``inputs``, ``outputs`` name the rows and columns; ``rotor_speed`` [rad/s] is the
+    orbit's mean, ``pitch`` [rad] and ``generator_torque`` [N m] the held commands, ``loops`` says so.
     """
 
     wind_speed: float
