@@ -3,7 +3,7 @@
 Per wind speed: the plant (the plant node's defaults and overrides, steady sheared wind) is
 linearised about its open-loop periodic orbit at N azimuths (hawt_plant.linearization), each
 model is written in multi-blade coordinates (Bir 2008, hawt_controllers.mbc3: flap, flap rate,
-pitch and pitch rate of the blades; pitch commands; root moments) and the N models are averaged
+pitch and pitch rate of the blades; pitch commands and blade-effective winds; root moments) and the N models are averaged
 to one LTI model. The models go to one ``.npz`` file (:func:`save_models`, :func:`load_models`);
 ``scipy.signal.StateSpace(a[k], b[k], c[k], d[k])`` is the model at ``wind_speeds[k]``.
 """
@@ -51,7 +51,7 @@ def blade_groups(periodic: PeriodicLinearization, blades: int) -> BladeGroups:
     """The blade-wise channels of the plant's linear model (hawt_plant.linearization's names)."""
     states = tuple(_group(periodic.states, base, blades) for base in ("flap", "flap_rate", "pitch", "pitch_rate"))
     return BladeGroups(states=states, rates=((1, 0), (3, 2)),
-                       inputs=(_group(periodic.inputs, "pitch_command", blades),),
+                       inputs=tuple(_group(periodic.inputs, base, blades) for base in ("pitch_command", "wind")),
                        outputs=tuple(_group(periodic.outputs, base, blades)
                                      for base in ("root_moment_oop", "root_moment_ip")))
 

@@ -26,7 +26,7 @@ __all__ = ["CHANNELS", "StepComparison", "compare_step"]
 CHANNELS = {
     "pitch": ("pitch_command_collective", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp",
                                            "rotor_thrust", "aero_torque")),
-    "wind": ("wind", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp", "rotor_thrust",
+    "wind": ("wind_collective", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp", "rotor_thrust",
                       "aero_torque")),
     "tilt": ("pitch_command_cos", ("root_moment_oop_cos", "root_moment_oop_sin", "hub_tilt_moment",
                                    "hub_yaw_moment")),

@@ -8,7 +8,7 @@ the continuous-time dynamics of :meth:`hawt_plant.model.TurbineModel.continuous_
     dx/dt = A(psi) dx + B(psi) du,    dy = C(psi) dx + D(psi) du
 
 with the states of ``state_names`` (azimuth excluded), the inputs pitch command of every blade,
-generator torque and a uniform change of the longitudinal wind, and the outputs of
+generator torque and a change of the longitudinal wind along every blade, and the outputs of
 :data:`OUTPUTS`. The result is periodic in psi; Bir's multi-blade coordinate transformation and the
 azimuth average (hawt_controllers.mbc3) make it an LTI model in the Coleman frame.
 """
@@ -45,8 +45,9 @@ def output_names(blades: int) -> Tuple[str, ...]:
 
 def input_names(blades: int) -> Tuple[str, ...]:
     """The inputs of a linear model: pitch command of every blade [rad], generator torque [N m, high-speed
-    shaft] and a uniform change of the longitudinal wind [m/s]."""
-    return (*(f"pitch_command_{i}" for i in range(1, blades + 1)), "generator_torque", "wind")
+    shaft] and a change of the longitudinal wind along every blade [m/s] (blade-effective wind)."""
+    blade = range(1, blades + 1)
+    return (*(f"pitch_command_{i}" for i in blade), "generator_torque", *(f"wind_{i}" for i in blade))
 
 
 def _output_vector(output: TurbineOutput) -> np.ndarray:
@@ -137,7 +138,7 @@ def linearize_model(model: TurbineModel, azimuth_count: int = 36, settle_time: f
         orbit, 2.0 * math.pi * np.arange(azimuth_count) / azimuth_count, settle_time, pitch, torque)
     blades = model.number_of_blades
     names, inputs, outputs = orbit.state_names(), input_names(blades), output_names(blades)
-    u0 = np.concatenate((pitch, (torque, 0.0)))
+    u0 = np.concatenate((pitch, (torque,), np.zeros(blades)))
     state_steps = np.array([_step_of(name, _STATE_STEPS) for name in names])
     input_steps = np.array([_step_of(name, _INPUT_STEPS) for name in inputs])
     n, m, p = len(names), len(inputs), len(outputs)
@@ -145,7 +146,7 @@ def linearize_model(model: TurbineModel, azimuth_count: int = 36, settle_time: f
     c, d = np.empty((azimuth_count, p, n)), np.empty((azimuth_count, p, m))
 
     def evaluate(x: np.ndarray, azimuth: float, u: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-        derivative, output = orbit.continuous_dynamics(x, azimuth, u[:blades], u[blades], u[blades + 1])
+        derivative, output = orbit.continuous_dynamics(x, azimuth, u[:blades], u[blades], u[blades + 1:])
         return derivative, _output_vector(output)
 
     for k, (azimuth, x0) in enumerate(zip(azimuths, states)):

@@ -45,7 +45,7 @@ from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
 from hawt_plant.turbine import Turbine
-from hawt_plant.wind_field import UniformChange, WindField
+from hawt_plant.wind_field import WindChange, WindField
 
 __all__ = ["ModelConfig", "TurbineModel", "TurbineOutput"]
 
@@ -383,15 +383,15 @@ class TurbineModel:
                                self._velocity, self._pitch, self._pitch_rate))
 
     def continuous_dynamics(self, state: np.ndarray, azimuth: float, pitch_command: np.ndarray,
-                            generator_torque: float, wind_change: float = 0.0) -> tuple[np.ndarray, TurbineOutput]:
+                            generator_torque: float, wind_change=0.0) -> tuple[np.ndarray, TurbineOutput]:
         """The state's time derivative and the measurements at ``state`` and ``azimuth`` [rad], in continuous
         time with quasi-steady aerodynamics: what :meth:`step` integrates, for linearisation.
 
         The induction is the converged steady BEM solution at this state (the stepping model carries it
         from step to step instead, so its loads lag by a few steps); the generator torque acts as commanded
         (no rate limit); the pitch actuators follow ``theta'' = w^2 (theta_c - theta) - 2 zeta w theta'``
-        without their limits; ``wind_change`` [m/s] is added to the longitudinal wind everywhere. The
-        model is left at this state (linearise on a copy).
+        without their limits; ``wind_change`` [m/s] is added to the longitudinal wind, everywhere (a float) or
+        along each blade (B values: the blade-effective wind). The model is left at this state.
         """
         b = self._b
         values = np.asarray(state, dtype=float)
@@ -405,8 +405,8 @@ class TurbineModel:
         self._azimuth = float(azimuth)
         self._generator_torque = float(generator_torque)
         wind = self._wind
-        if wind_change:
-            self._wind = UniformChange(wind, wind_change)
+        if np.any(wind_change):
+            self._wind = WindChange(wind, wind_change)
         try:
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)

@@ -9,7 +9,7 @@ from typing import Protocol
 
 import numpy as np
 
-__all__ = ["UniformChange", "WindField"]
+__all__ = ["WindChange", "WindField"]
 
 
 class WindField(Protocol):
@@ -35,17 +35,18 @@ class WindField(Protocol):
         """
 
 
-class UniformChange:
-    """A wind field with ``change`` [m/s] added to its longitudinal component everywhere (a wind input of a
-    linear model)."""
+class WindChange:
+    """A wind field with ``change`` [m/s] added to its longitudinal component: one value everywhere, or one per
+    blade when the points are sampled one blade per row (as the rotor model samples them) — the wind inputs of
+    a linear model."""
 
-    def __init__(self, field: WindField, change: float) -> None:
+    def __init__(self, field: WindField, change) -> None:
         self.field = field
-        self.change = float(change)
+        self.change = np.asarray(change, dtype=float)
 
     @property
     def mean_speed(self) -> float:
-        return self.field.mean_speed + self.change
+        return self.field.mean_speed + float(np.mean(self.change))
 
     @property
     def hub_height(self) -> float:
@@ -53,5 +54,5 @@ class UniformChange:
 
     def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
         velocity = np.array(self.field.velocity(t, x, y, z), dtype=float)  # a copy: the field may keep its own
-        velocity[0] += self.change
+        velocity[0] += self.change if self.change.ndim == 0 else self.change.reshape((-1,) + (1,) * (x.ndim - 1))
         return velocity
