@@ -1,0 +1,103 @@
+"""LQG individual pitch control with wind-estimate feedforward, per step, and its closed loop (Selvam et al. 2009).
+
+:class:`LqgIpc` runs a :class:`hawt_controllers.lqg_design.LqgDesign` one step at a time (Selvam §3,
+Fig. 4): the Kalman filter predicts the turbine state x̂ and the cos/sin blade-effective wind û from
+the 1P cos/sin blade-root moments, the LQR feeds back -K x̂, and the feedforward adds -G_inv(H û).
+:func:`closed_loop_response` gives the frequency responses Selvam compares (§4, Figs 6-7): from the
+cos/sin wind to the cos/sin moments, with no IPC, with the conventional integrator IPC and with FB-FF.
+"""
+from __future__ import annotations
+
+import math
+from typing import Tuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .lqg_design import LqgDesign
+
+__all__ = ["LqgIpc", "closed_loop_response", "integrator_ipc"]
+
+_MOMENT_UNIT = 1e6
+_PITCH_UNIT = math.pi / 180.0
+
+
+class LqgIpc:
+    """The FB-FF law of one design, stepped at the design's dt (estimates start at zero: the operating point)."""
+
+    def __init__(self, design: LqgDesign) -> None:
+        self.design = design
+        self.estimate = np.zeros(design.a_est.shape[0])
+        self.feedforward = np.zeros(design.ff_a.shape[0])
+
+    @property
+    def wind(self) -> Tuple[float, float]:
+        """The estimated cos/sin blade-effective wind [m/s] (Selvam's û_23^cm)."""
+        u = self.estimate[self.design.states:]
+        return float(u[0]), float(u[1])
+
+    def step(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
+        """The cos/sin 1P pitch demand [rad] for this step's cos/sin root moments [N m] (deviations from the
+        operating point)."""
+        d = self.design
+        y = np.array((moment_cos, moment_sin)) / _MOMENT_UNIT
+        x_hat, u_hat = self.estimate[:d.states], self.estimate[d.states:]
+        theta = -d.k_lqr @ x_hat + d.ff_c @ self.feedforward + d.ff_d @ u_hat
+        self.feedforward = d.ff_a @ self.feedforward + d.ff_b @ u_hat
+        self.estimate = d.a_est @ self.estimate + d.b_est @ theta + d.k_est @ (y - d.c_est @ self.estimate)
+        return float(theta[0]) * _PITCH_UNIT, float(theta[1]) * _PITCH_UNIT
+
+
+def integrator_ipc(integral_gain: float, phase_offset: float, dt: float) -> Tuple[np.ndarray, ...]:
+    """The conventional IPC as a discrete system from (M_cos, M_sin) [MN m] to (θ_cos, θ_sin) [deg]: two
+    integrators θ = k_i ∫ M (forward Euler, ``integral_gain`` [rad/(N m s)]: a positive moment pitches to
+    feather, as hawt_controllers.ipc) through the inverse transform's phase offset φ (θ_i = θ_c cos(ψ_i + φ)
+    + θ_s sin(ψ_i + φ)); the law's low-pass and notch are left out."""
+    c, s = math.cos(phase_offset), math.sin(phase_offset)
+    rotation = np.array([[c, s], [-s, c]])
+    gain = integral_gain * _MOMENT_UNIT / _PITCH_UNIT * dt
+    return np.eye(2), gain * np.eye(2), rotation, np.zeros((2, 2))
+
+
+def _feedback(design: LqgDesign, controller: Tuple[np.ndarray, ...]) -> Tuple[np.ndarray, ...]:
+    """The plant's wind -> moments in closed loop with ``controller`` (a, b, c, d) from y to θ."""
+    p = design.plant
+    ak, bk, ck, dk = controller
+    n, q = p.a.shape[0], ak.shape[0]
+    if np.any(dk) and np.any(p.d_theta):
+        raise ValueError("an algebraic loop: both the plant and the controller have feedthrough")
+    a = np.block([[p.a + p.b_theta @ dk @ p.c, p.b_theta @ ck], [bk @ p.c, ak]])
+    b = np.vstack((p.b_u + p.b_theta @ dk @ p.d_u, bk @ p.d_u))
+    c = np.hstack((p.c, np.zeros((p.c.shape[0], q))))
+    return a, b, c, p.d_u
+
+
+def _lqg_controller(design: LqgDesign) -> Tuple[np.ndarray, ...]:
+    """FB-FF as one discrete system from y to θ: states [z; ξ] (estimate, feedforward)."""
+    d = design
+    n_z, n_f = d.a_est.shape[0], d.ff_a.shape[0]
+    theta_z = np.hstack((-d.k_lqr, d.ff_d))  # θ from z = [x̂; û]
+    select_u = np.hstack((np.zeros((d.ff_b.shape[1], d.states)), np.eye(n_z - d.states)))
+    a = np.block([[d.a_est - d.k_est @ d.c_est + d.b_est @ theta_z, d.b_est @ d.ff_c],
+                  [d.ff_b @ select_u, d.ff_a]])
+    b = np.vstack((d.k_est, np.zeros((n_f, d.k_est.shape[1]))))
+    c = np.hstack((theta_z, d.ff_c))
+    return a, b, c, np.zeros((c.shape[0], b.shape[1]))
+
+
+def closed_loop_response(design: LqgDesign, omega: ArrayLike, controller: str = "lqg",
+                         integral_gain: float = 0.0, phase_offset: float = 0.0) -> np.ndarray:
+    """Frequency response [MN m per m/s] from (u_cos, u_sin) to (M_cos, M_sin) at ``omega`` [rad/s], shape
+    (len(omega), 2, 2): ``controller`` "none" (open loop), "integrator" (:func:`integrator_ipc`) or "lqg"."""
+    p = design.plant
+    if controller == "none":
+        a, b, c, d = p.a, p.b_u, p.c, p.d_u
+    elif controller == "integrator":
+        a, b, c, d = _feedback(design, integrator_ipc(integral_gain, phase_offset, p.dt))
+    elif controller == "lqg":
+        a, b, c, d = _feedback(design, _lqg_controller(design))
+    else:
+        raise ValueError(f"controller: expected none, integrator or lqg, found {controller!r}")
+    identity = np.eye(a.shape[0])
+    return np.array([c @ np.linalg.solve(np.exp(1j * w * p.dt) * identity - a, b) + d
+                     for w in np.atleast_1d(omega)])

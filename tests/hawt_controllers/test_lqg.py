@@ -1,0 +1,110 @@
+"""LQG IPC with wind-estimate feedforward (Selvam et al. 2009): the notes' acceptance checks 16-19 on this plant's
+Coleman-frame linear model at 18 m/s."""
+import math
+
+import numpy as np
+import pytest
+
+from hawt_controllers.exceptions import ConfigurationError
+from hawt_controllers.linear_models import linearize_at
+from hawt_controllers.lqg_design import LqgWeights, controllability_rank, design_lqg, observability_rank
+from hawt_controllers.lqg_ipc import LqgIpc, closed_loop_response
+
+DT = 0.01
+IPC_H1 = (1.1793209854830301e-08, 0.42587361125278206)  # ipc_h1 of config/ipc_nrel5mw.yaml: k_i, phi_1
+
+
+@pytest.fixture(scope="module")
+def model():
+    return linearize_at(18.0)
+
+
+@pytest.fixture(scope="module")
+def design(model):
+    return design_lqg(model.model, DT)
+
+
+def test_check_16_the_augmented_model_is_observable_and_the_plant_controllable(design):
+    n = design.states
+    assert observability_rank(design.a_est, design.c_est) == n + 2  # turbine states and the two wind states
+    assert observability_rank(design.plant.a, design.plant.c) == n
+    assert controllability_rank(design.plant.a, design.plant.b_theta) == n
+    assert controllability_rank(design.a_est, design.b_est) == n  # the wind states are not controllable
+    assert np.min(np.abs(np.linalg.eigvals(design.plant.a) - 1.0)) > 1e-3  # no pole at z = 1
+
+
+def _simulate(design, weights_design, wind, steps):
+    """The design plant driven by the cos/sin wind ``wind`` (steps x 2) in closed loop with the FB-FF law."""
+    p, law = design.plant, LqgIpc(weights_design)
+    x, estimates = np.zeros(design.states), []
+    theta = np.zeros(2)
+    for k in range(steps):
+        y = (p.c @ x + p.d_theta @ theta + p.d_u @ wind[k]) * 1e6
+        theta = np.degrees(law.step(*y))
+        x = p.a @ x + p.b_theta @ theta + p.b_u @ wind[k]
+        estimates.append(law.wind)
+    return np.array(estimates)
+
+
+def test_check_17_the_wind_estimate_follows_a_step_with_no_steady_state_error(design, model):
+    steps = 3000
+    wind = np.zeros((steps, 2))
+    wind[100:, 0] = 1.0
+    estimate = _simulate(design, design, wind, steps)
+    assert estimate[-1, 0] == pytest.approx(1.0, abs=1e-3)
+    assert estimate[-1, 1] == pytest.approx(0.0, abs=1e-3)
+    faster = design_lqg(model.model, DT, LqgWeights(wind_walk=10 * design.weights.wind_walk))
+    quick = _simulate(design, faster, wind, steps)
+
+    def rise(series):
+        return int(np.argmax(series[:, 0] >= 0.9))
+
+    assert rise(quick) < rise(estimate)  # a larger Q_w tracks faster
+
+
+def test_check_18_the_sdmi_inverse_is_stable_and_inverts_g_at_low_frequency(design):
+    a, b, c, d = design.inverse
+    assert np.max(np.abs(np.linalg.eigvals(a))) < 1.0
+    p = design.plant
+    z = np.exp(1j * 0.01 * DT)
+    g = p.c @ np.linalg.solve(z * np.eye(p.a.shape[0]) - p.a, p.b_theta) + p.d_theta
+    g_inv = c @ np.linalg.solve(z * np.eye(a.shape[0]) - a, b) + d
+    assert np.allclose(g_inv @ g, np.eye(2), atol=0.02)
+
+
+def test_check_19_the_closed_loop_from_the_wind_to_the_moments_has_selvam_s_shape(design, model):
+    """Figs 6-7 in shape: FB-FF below no IPC at 3P; the integrator IPC lower at very low frequency and not
+    below no IPC from 1P on."""
+    rotor = model.rotor_speed
+    omega = np.array([0.01, rotor, 2 * rotor, 3 * rotor])
+    none = np.abs(closed_loop_response(design, omega, "none"))
+    integrator = np.abs(closed_loop_response(design, omega, "integrator", *IPC_H1))
+    lqg = np.abs(closed_loop_response(design, omega, "lqg"))
+    for axis in (0, 1):
+        assert lqg[3, axis, axis] < none[3, axis, axis]
+        assert integrator[0, axis, axis] < lqg[0, axis, axis]
+        assert np.all(integrator[1:, axis, axis] >= none[1:, axis, axis])
+
+
+def test_the_law_stepped_equals_the_controller_of_the_closed_loop(design):
+    """LqgIpc.step and closed_loop_response's controller are the same system: a response to random moments."""
+    from hawt_controllers.lqg_ipc import _lqg_controller
+
+    rng = np.random.default_rng(1)
+    moments = rng.normal(scale=1e5, size=(200, 2))
+    law = LqgIpc(design)
+    stepped = np.array([law.step(*m) for m in moments])
+    a, b, c, d = _lqg_controller(design)
+    state, expected = np.zeros(a.shape[0]), []
+    for m in moments / 1e6:
+        expected.append(c @ state + d @ m)
+        state = a @ state + b @ m
+    assert np.allclose(stepped, np.radians(expected), rtol=1e-9, atol=1e-15)
+
+
+@pytest.mark.parametrize("field", ["measurement_noise", "wind_walk", "input_weight", "inversion_walk"])
+def test_a_weight_that_is_not_positive_is_refused_by_name(field):
+    with pytest.raises(ConfigurationError, match=field):
+        LqgWeights(**{field: 0.0})
+    with pytest.raises(ConfigurationError, match=field):
+        LqgWeights(**{field: math.nan})
