@@ -63,7 +63,7 @@ def _feedback(design: LqgDesign, controller: Tuple[np.ndarray, ...]) -> Tuple[np
     """The plant's wind -> moments in closed loop with ``controller`` (a, b, c, d) from y to θ."""
     p = design.plant
     ak, bk, ck, dk = controller
-    n, q = p.a.shape[0], ak.shape[0]
+    q = ak.shape[0]
     if np.any(dk) and np.any(p.d_theta):
         raise ValueError("an algebraic loop: both the plant and the controller have feedthrough")
     a = np.block([[p.a + p.b_theta @ dk @ p.c, p.b_theta @ ck], [bk @ p.c, ak]])
