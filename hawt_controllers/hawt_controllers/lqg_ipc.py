@@ -29,6 +29,7 @@ class LqgIpc:
         self.design = design
         self.estimate = np.zeros(design.a_est.shape[0])
         self.feedforward = np.zeros(design.ff_a.shape[0])
+        self._measured = np.zeros(2)
 
     @property
     def wind(self) -> Tuple[float, float]:
@@ -36,16 +37,28 @@ class LqgIpc:
         u = self.estimate[self.design.states:]
         return float(u[0]), float(u[1])
 
-    def step(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
-        """The cos/sin 1P pitch demand [rad] for this step's cos/sin root moments [N m] (deviations from the
-        operating point)."""
+    def demand(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
+        """The cos/sin 1P pitch demand [rad] for this step's cos/sin root moments [N m]; then :meth:`advance`
+        with what was applied."""
         d = self.design
-        y = np.array((moment_cos, moment_sin)) / _MOMENT_UNIT
+        self._measured = np.array((moment_cos, moment_sin)) / _MOMENT_UNIT
         x_hat, u_hat = self.estimate[:d.states], self.estimate[d.states:]
         theta = -d.k_lqr @ x_hat + d.ff_c @ self.feedforward + d.ff_d @ u_hat
         self.feedforward = d.ff_a @ self.feedforward + d.ff_b @ u_hat
-        self.estimate = d.a_est @ self.estimate + d.b_est @ theta + d.k_est @ (y - d.c_est @ self.estimate)
         return float(theta[0]) * _PITCH_UNIT, float(theta[1]) * _PITCH_UNIT
+
+    def advance(self, applied: Tuple[float, float]) -> None:
+        """The estimator's update with the measurement of :meth:`demand` and the cos/sin pitch ``applied`` [rad]
+        this step (Selvam: the applied, not the demanded)."""
+        d = self.design
+        theta = np.array(applied) / _PITCH_UNIT
+        self.estimate = d.a_est @ self.estimate + d.b_est @ theta + d.k_est @ (self._measured - d.c_est @ self.estimate)
+
+    def step(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
+        """:meth:`demand`, then :meth:`advance` with it: the law alone in the loop."""
+        theta = self.demand(moment_cos, moment_sin)
+        self.advance(theta)
+        return theta
 
 
 def integrator_ipc(integral_gain: float, phase_offset: float, dt: float) -> Tuple[np.ndarray, ...]:

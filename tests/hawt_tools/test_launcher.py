@@ -39,6 +39,7 @@ launch:
     exec: counter_sink
     name: sink
     namespace: t
+    on_exit: shutdown
     param:
     - {{name: record_file, value: $(var record_file)}}
     remap:
@@ -178,10 +179,11 @@ def test_parameters_from_a_file_wildcards_and_overrides_reach_the_node(hawt_cli,
                                          "/**/relay:\n  ros__parameters:\n    gain: 3.0\n")
     graph = _graph(tmp_path, relay_extra="    - {from: relay.yaml}\n")
     record = tmp_path / "received.json"
-    result = _launch(hawt_cli, graph, record, "--duration", "3")
+    # The run ends when the sink has 5 messages (on_exit: shutdown), not after a wall-clock time.
+    result = _launch(hawt_cli, graph, record, "-p", "sink.expect:=5")
     assert result.returncode == 0
     assert "gain=3.0 label='wildcard'" in result.stdout
-    result = _launch(hawt_cli, graph, record, "--duration", "3", "-p", "relay.gain:=4.0")
+    result = _launch(hawt_cli, graph, record, "-p", "sink.expect:=5", "-p", "relay.gain:=4.0")
     assert "gain=4.0 label='wildcard'" in result.stdout
     step, values = next(iter(_received(record).items()))
     assert values[0] == pytest.approx(4.0 * _source_moment(step, 0))
