@@ -41,7 +41,8 @@ class LqgIpcController(Controller):
                       "NREL 5 MW's)", read_only=True),
         ParameterSpec("measurement_noise", _DEFAULT.measurement_noise, "Q_v of the moments", "(MN*m)^2",
                       minimum=1e-9, read_only=True),
-        ParameterSpec("wind_walk", _DEFAULT.wind_walk, "Q_w of the wind's random walk per step", "(m/s)^2",
+        ParameterSpec("wind_walk", _DEFAULT.wind_walk, "intensity of the wind's random walk (Q_w per step: this "
+                      "times dt)", "(m/s)^2/s",
                       minimum=1e-9, read_only=True),
         ParameterSpec("input_weight", _DEFAULT.input_weight, "R of the LQR", "deg^2", minimum=1e-9,
                       read_only=True),
