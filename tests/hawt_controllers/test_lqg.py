@@ -112,3 +112,58 @@ def test_a_weight_that_is_not_positive_is_refused_by_name(field):
         LqgWeights(**{field: 0.0})
     with pytest.raises(ConfigurationError, match=field):
         LqgWeights(**{field: math.nan})
+
+
+def test_the_shipped_linear_models_are_what_hawt_linearize_gives(model):
+    """config/linear_nrel5mw.npz is written by `hawt linearize`, not edited: its 18 m/s model is today's."""
+    from hawt_controllers.linear_models import load_models
+    from hawt_controllers.lqg_controller import DEFAULT_MODELS
+
+    shipped = {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}[18.0]
+    assert shipped.model.states == model.model.states and shipped.model.inputs == model.model.inputs
+    for name in ("a", "b", "c", "d"):
+        assert np.allclose(getattr(shipped.model, name), getattr(model.model, name), rtol=1e-9, atol=1e-12), name
+
+
+def _lqg_run(arguments, steps):
+    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import load_graph
+    from hawt_tools.in_process import RunRecord, build_run
+    from hawt_tools.launcher import package_prefix
+
+    run = build_run(load_graph(find_graph("lqg"), arguments, package_prefix))
+    record = RunRecord()
+    for _ in range(steps):
+        run.step(record)
+    return run, record
+
+
+def _one_p(record, last):
+    from hawt_controllers.mbc import mbc_forward_sample
+
+    rows = record.rows["plant/blade_loads"][-last:]
+    harmonics = [mbc_forward_sample(r["root_moment_oop"], r["azimuth"], 1) for r in rows]
+    return float(np.hypot(np.mean([h.cos for h in harmonics]), np.mean([h.sin for h in harmonics])))
+
+
+def test_the_lqg_graph_removes_the_1p_blade_load_of_the_shear_within_the_actuator_s_rate_limit():
+    """hawt run lqg, steady sheared 18 m/s: the lqg_ipc plug-in takes the mean 1P blade-root moment (the shear's)
+    down by more than 90 % against the graph with it inactive, and the commanded pitch never moves faster
+    than the 8 deg/s limit (the defaults respect it)."""
+    steps = 3000
+    _, with_lqg = _lqg_run({"duration": "30"}, steps)
+    _, without = _lqg_run({"duration": "30", "lqg_ipc": "false"}, steps)
+    assert _one_p(with_lqg, 500) < 0.1 * _one_p(without, 500)
+    pitch = np.array([r["pitch"] for r in with_lqg.rows["control/pitch_command"]])
+    assert np.all(np.isfinite(pitch))
+    assert np.abs(np.diff(pitch, axis=0)).max() <= math.radians(8.0) * DT * (1 + 1e-9)
+    assert not any(r["flags"] & 2 for r in with_lqg.rows["control/pitch_command"][1:])  # FLAG_RATE_SATURATED
+
+
+def test_lqg_ipc_and_the_integrator_ipc_swap_on_harmonic_1_at_a_step():
+    run, record = _lqg_run({"duration": "30", "schedule": "['1500 +ipc_h1 -lqg_ipc']"}, 2000)
+    assert [e["step"] for e in run.events if e["kind"] == "switch"] == [1500]
+    pitch = np.array([r["pitch"] for r in record.rows["control/pitch_command"]])
+    assert np.abs(np.diff(pitch, axis=0)).max() <= math.radians(8.0) * DT * (1 + 1e-9)
+    harmonic = record.rows["control/ipc/h1"]
+    assert {r["step"] for r in harmonic} >= set(range(1500, 2000))  # ipc_h1 answers from the switch on
