@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 
 from .lqg_design import LqgDesign
 
-__all__ = ["LqgIpc", "closed_loop_response", "integrator_ipc"]
+__all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integrator_ipc"]
 
 _MOMENT_UNIT = 1e6
 _PITCH_UNIT = math.pi / 180.0
@@ -114,3 +114,38 @@ def closed_loop_response(design: LqgDesign, omega: ArrayLike, controller: str = 
     identity = np.eye(a.shape[0])
     return np.array([c @ np.linalg.solve(np.exp(1j * w * p.dt) * identity - a, b) + d
                      for w in np.atleast_1d(omega)])
+
+
+def frequency_response_figure(design: LqgDesign, path, rotor_speed: float, integral_gain: float,
+                              phase_offset: float) -> None:
+    """Selvam's Figs 6-7 in shape: |u_cos, u_sin -> M_cos, M_sin| for no IPC, the integrator IPC and FB-FF, the
+    four channels, with the rotor harmonics 1P and 3P marked."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    omega = np.logspace(-2, math.log10(math.pi / design.plant.dt), 400)
+    responses = {"no IPC": closed_loop_response(design, omega, "none"),
+                 "integrator IPC": closed_loop_response(design, omega, "integrator", integral_gain, phase_offset),
+                 "FB-FF (LQG)": closed_loop_response(design, omega, "lqg")}
+    figure, axes = plt.subplots(2, 2, figsize=(9, 6), sharex=True, sharey=True)
+    for (row, col), axis in np.ndenumerate(axes):
+        for (label, response), style in zip(responses.items(), ("-", "-.", "--")):
+            axis.loglog(omega / (2 * math.pi), np.abs(response[:, row, col]), style, label=label)
+        for n in (1, 3):
+            axis.axvline(n * rotor_speed / (2 * math.pi), color="grey", lw=0.6)
+            axis.annotate(f"{n}P", (n * rotor_speed / (2 * math.pi), 1.0), fontsize=7,
+                          xycoords=("data", "axes fraction"), va="top")
+        axis.set_title(f"u_{('cos', 'sin')[col]} -> M_{('cos', 'sin')[row]}", fontsize=9)
+        axis.grid(alpha=0.3, which="both")
+    for axis in axes[1]:
+        axis.set_xlabel("frequency [Hz]")
+    for axis in axes[:, 0]:
+        axis.set_ylabel("[MN m per m/s]")
+    axes[0, 0].legend(fontsize=8)
+    figure.suptitle("Closed loop from the cos/sin blade-effective wind to the cos/sin root moments (Coleman frame)",
+                    fontsize=10)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)

@@ -349,6 +349,57 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_design_lqg(args: argparse.Namespace) -> int:
+    """Selvam's FB-FF IPC designed on the plant's linear model at one wind speed: checks and closed-loop shape."""
+    import numpy as np
+    import yaml as yaml_reader
+
+    from hawt_controllers.exceptions import ConfigurationError
+    from hawt_controllers.ipc_design import DEFAULT_FILE
+    from hawt_controllers.linear_models import load_models
+    from hawt_controllers.lqg_controller import DEFAULT_MODELS
+    from hawt_controllers.lqg_design import LqgWeights, controllability_rank, design_lqg, observability_rank
+    from hawt_controllers.lqg_ipc import closed_loop_response, frequency_response_figure
+
+    path = Path(args.linear_models) if args.linear_models else DEFAULT_MODELS
+    if not path.is_file():
+        raise GraphError(f"--linear-models: {path}: no such file (write one with hawt linearize)")
+    models = {m.wind_speed: m for m in load_models(path)}
+    if args.wind_speed not in models:
+        raise GraphError(f"--wind-speed: {args.wind_speed:g} m/s is not in {path} (it has "
+                         f"{', '.join(f'{v:g}' for v in sorted(models))})")
+    model = models[args.wind_speed]
+    try:
+        weights = LqgWeights(**{name: getattr(args, name) for name in
+                                ("measurement_noise", "wind_walk", "input_weight", "inversion_walk")
+                                if getattr(args, name) is not None})
+        design = design_lqg(model.model, args.dt, weights)
+    except ConfigurationError as error:
+        raise GraphError(str(error)) from None
+    n = design.states
+    print(f"LQG FB-FF IPC (Selvam 2009) at {args.wind_speed:g} m/s from {path}, dt {args.dt:g} s, loops "
+          f"{model.loops}; weights {weights}")
+    print(f"observability of the augmented model (with the wind states): rank "
+          f"{observability_rank(design.a_est, design.c_est)} of {n + 2}; controllability of the turbine states: "
+          f"rank {controllability_rank(design.plant.a, design.plant.b_theta)} of {n}")
+    radius = float(np.max(np.abs(np.linalg.eigvals(design.inverse[0]))))
+    print(f"SDMI inverse: spectral radius {radius:.6f} (stable below 1)")
+    ipc_h1 = yaml_reader.safe_load(DEFAULT_FILE.read_text())["/**/ipc_h1"]["ros__parameters"]
+    gains = (ipc_h1["integral_gain"], ipc_h1["phase_offset"])
+    one_p = model.rotor_speed
+    frequencies = {"0.01 rad/s": 0.01, "1P": one_p, "2P": 2 * one_p, "3P": 3 * one_p}
+    print("closed loop |u_cos -> M_cos| / |u_sin -> M_sin| [MN*m per m/s]:")
+    print(f"{'':16s}" + "".join(f"{name:>20s}" for name in frequencies))
+    for label, kind in (("no IPC", "none"), ("integrator IPC", "integrator"), ("FB-FF (LQG)", "lqg")):
+        response = np.abs(closed_loop_response(design, list(frequencies.values()), kind, *gains))
+        print(f"{label:16s}" + "".join(f"{response[k, 0, 0]:10.3f}/{response[k, 1, 1]:<9.3f}"
+                                         for k in range(len(frequencies))))
+    if args.plot:
+        frequency_response_figure(design, Path(args.plot), one_p, *gains)
+        print(f"frequency responses: {args.plot}")
+    return 0
+
+
 def _plant_overrides(words: List[str]) -> Dict[str, object]:
     """NAME:=VALUE words as the plant's parameters, each checked against the plant node's table."""
     from hawt_core.parameter_table import ParameterError
@@ -605,6 +656,24 @@ def _parser() -> argparse.ArgumentParser:
     linearize.add_argument("--output", default="linear_models.npz", help="the models' file (.npz)")
     linearize.add_argument("--plot", metavar="PNG", help="write the Campbell diagram here")
     linearize.set_defaults(run=_cmd_linearize)
+
+    design = commands.add_parser("design", help="design a controller on the plant's linear models (lqg)")
+    design_commands = design.add_subparsers(dest="design", required=True, metavar="CONTROLLER")
+    lqg = design_commands.add_parser(
+        "lqg", help="Selvam's LQG IPC with wind-estimate feedforward: checks and closed-loop frequency responses",
+        description="Design the lqg_ipc law at one wind speed on the plant's Coleman-frame linear model (the file of "
+                    "hawt linearize; default the NREL 5 MW's shipped with hawt_controllers) as the node does at "
+                    "start, print the observability, controllability and SDMI stability checks and the closed-loop "
+                    "response from the cos/sin blade-effective wind to the cos/sin root moments for no IPC, the "
+                    "integrator IPC (ipc_h1's tuning) and FB-FF, and plot them (Selvam's Figs 6-7).")
+    lqg.add_argument("--wind-speed", type=float, default=18.0, help="[m/s], one of the file's (default 18)")
+    lqg.add_argument("--linear-models", help="the .npz of hawt linearize")
+    lqg.add_argument("--dt", type=float, default=0.01, help="controller step [s] (default 0.01)")
+    for option, text in (("--measurement-noise", "Q_v [(MN*m)^2]"), ("--wind-walk", "Q_w intensity [(m/s)^2/s]"),
+                         ("--input-weight", "R [deg^2]"), ("--inversion-walk", "Q_eta of the SDMI")):
+        lqg.add_argument(option, type=float, help=f"{text} (default: lqg_ipc's)")
+    lqg.add_argument("--plot", metavar="PNG", help="write the frequency responses here")
+    lqg.set_defaults(run=_cmd_design_lqg)
 
     demo = commands.add_parser(
         "demo", help="run the baseline and IPC graphs on the same turbulent wind and compare their loads",

@@ -167,3 +167,26 @@ def test_lqg_ipc_and_the_integrator_ipc_swap_on_harmonic_1_at_a_step():
     assert np.abs(np.diff(pitch, axis=0)).max() <= math.radians(8.0) * DT * (1 + 1e-9)
     harmonic = record.rows["control/ipc/h1"]
     assert {r["step"] for r in harmonic} >= set(range(1500, 2000))  # ipc_h1 answers from the switch on
+
+
+@pytest.mark.parametrize("words, message", [
+    (["--wind-speed", "18.5"], "18.5 m/s is not in"),
+    (["--input-weight", "-1"], "input_weight: expected a finite value > 0"),
+    (["--linear-models", "/nonexistent.npz"], "no such file"),
+])
+def test_design_lqg_bad_input_is_one_line_and_exit_2(words, message, capsys):
+    from hawt_tools import cli
+
+    assert cli.main(["design", "lqg", *words]) == 2
+    error = capsys.readouterr().err.strip()
+    assert message in error and "\n" not in error
+
+
+def test_design_lqg_prints_the_checks_and_the_closed_loop(capsys, tmp_path):
+    from hawt_tools import cli
+
+    plot = tmp_path / "lqg.png"
+    assert cli.main(["design", "lqg", "--plot", str(plot)]) == 0
+    out = capsys.readouterr().out
+    assert "rank 14 of 14" in out and "rank 12 of 12" in out and "FB-FF (LQG)" in out
+    assert plot.stat().st_size > 10_000
