@@ -3,8 +3,8 @@
 Per wind speed: the plant (the plant node's defaults and overrides, steady sheared wind) is
 linearised about its open-loop periodic orbit at N azimuths (hawt_plant.linearization), each
 model is written in multi-blade coordinates (Bir 2008, hawt_controllers.mbc3: flap, flap rate,
-pitch and pitch rate of the blades; pitch commands and blade-effective winds; root moments) and the N models are averaged
-to one LTI model. The models go to one ``.npz`` file (:func:`save_models`, :func:`load_models`);
+pitch and pitch rate of the blades; pitch commands and blade-effective winds; root moments) and
+the N models are averaged to one LTI model. The models go to one ``.npz`` file (:func:`save_models`, :func:`load_models`);
 ``scipy.signal.StateSpace(a[k], b[k], c[k], d[k])`` is the model at ``wind_speeds[k]``.
 """
 from __future__ import annotations
@@ -26,7 +26,8 @@ from hawt_plant.linearization import PeriodicLinearization, linearize_model
 from .coleman_coupling import offset_from_dc_response
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
-__all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset", "decoupling_offset",
+__all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
+           "decoupling_offset",
            "labelled_modes", "tilt_yaw_response", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
 
 

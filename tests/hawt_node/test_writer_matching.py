@@ -1,4 +1,5 @@
-"""MatchedWriterGate: a node's first messages reach every reader the graph lists, in order, or a warning says why not."""
+"""MatchedWriterGate: a node's first messages reach every reader the graph lists, in order, or a warning says
+why not."""
 from typing import List
 
 import pytest
