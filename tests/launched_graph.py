@@ -32,10 +32,11 @@ class LaunchedGraph:
             except subprocess.TimeoutExpired:
                 self.process.kill()
 
-    def wait_for_line(self, text: str, timeout: float = 180.0) -> None:
-        """Return once a line of the output contains ``text``; fail, with the output's tail, after ``timeout`` s."""
+    def wait_for_line(self, text: str, timeout: float = 180.0, after: int = 0) -> None:
+        """Return once a line of the output (from line ``after`` on) contains ``text``; fail, with the output's
+        tail, after ``timeout`` s."""
         deadline = time.monotonic() + timeout
-        while not any(text in line for line in list(self.lines)):
+        while not any(text in line for line in list(self.lines)[after:]):
             assert time.monotonic() < deadline, f"the graph did not print {text!r}:\n{self.tail()}"
             time.sleep(0.2)
 

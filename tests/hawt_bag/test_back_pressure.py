@@ -32,26 +32,30 @@ def _launch(bag, duration: float, timeout: float) -> LaunchedGraph:
                           "--record", str(bag)])
 
 
-def _run_stopping_the_recorder(bag, duration: float, timeout: float, at: str, until: str) -> tuple[LaunchedGraph, int]:
+def _run_stopping_the_recorder(bag, duration: float, timeout: float, at: str,
+                               until: str) -> tuple[LaunchedGraph, int, int]:
     """Run the graph, stop its recorder once the plant prints ``at``, let it go on once the plant prints ``until``;
-    the graph and how many lines it had printed by then."""
+    the graph and how many lines it had printed when the recorder was stopped and when it went on."""
     with _launch(bag, duration, timeout) as graph:
         graph.wait_for_line(at)
         recorder = _recorder(graph)
         recorder.suspend()
-        graph.wait_for_line(until)
+        stopped = len(graph.lines)
+        graph.wait_for_line(until, after=stopped)  # not a hold of a busy recorder before the stop
         printed = len(graph.lines)
         recorder.resume()
         assert graph.finish() == 0, graph.tail()
-    return graph, printed
+    return graph, stopped, printed
 
 
 def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_complete(tmp_path):
     bag = tmp_path / "held.mcap"
-    graph, held_lines = _run_stopping_the_recorder(bag, 20, 600, "t=3.0 s (", "waiting for the recorder")
-    held_at, written = (float(x) for x in HELD.search("".join(graph.lines)).groups())
-    assert 3.0 <= held_at and held_at - written <= WINDOW + 0.02, "held more than one step past the window (and "\
-        "the 0.01 s of the printed times)"
+    graph, stopped, held_lines = _run_stopping_the_recorder(bag, 20, 600, "t=3.0 s (", "waiting for the recorder")
+    # On a busy machine the recorder can fall behind by the window before it is stopped: every hold keeps to it.
+    holds = [(float(a), float(b)) for a, b in HELD.findall("".join(graph.lines))]
+    assert all(held - written <= WINDOW + 0.02 for held, written in holds), \
+        f"held more than one step past the window (and the 0.01 s of the printed times): {holds}"
+    held_at = float(HELD.search("".join(graph.lines[stopped:held_lines])).group(1))  # the stopped recorder's hold
     while_held = [float(m.group(1)) for line in graph.lines[:held_lines] if (m := PROGRESS.search(line))]
     assert max(while_held) <= held_at, "the plant stepped past the step it held"
     verification = verify_bag(bag)
@@ -61,7 +65,7 @@ def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_com
 
 
 def test_a_recorder_stopped_for_good_is_given_up_with_an_event_and_the_run_completes(tmp_path):
-    graph, _ = _run_stopping_the_recorder(tmp_path / "given_up.mcap", 8, 2, "t=2.0 s (",
+    graph, _, _ = _run_stopping_the_recorder(tmp_path / "given_up.mcap", 8, 2, "t=2.0 s (",
                                           "going on without waiting for it")
     # The recorder event is published and logged: the recorder it is about, given up, may never take it.
     output = "".join(graph.lines)
