@@ -1,5 +1,4 @@
 """The cpc lost mid-run: the plant's safety system trips, feathers at the rate limit, latches, and the run completes."""
-import math
 
 import numpy as np
 import pytest
@@ -43,10 +42,11 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     assert rises_at_rate_limit(ramp) is None, rises_at_rate_limit(ramp)
     # The cpc is killed when the test sees enough answers; on a busy machine a lockstep plant may be far into the
     # run by then. Every blade reaches feather, or, if the run ends first, as far as the rate limit allows
-    # (less the second-order actuator's lag, rate x 2 zeta / omega_n).
-    lag = 2 * ACTUATOR.damping_ratio / ACTUATOR.natural_frequency
+    # (less the second-order actuator's lag, rate x 2 zeta / omega_n at the end of a long ramp; on the way the
+    # underdamped actuator lags up to 16 % more (zeta 0.6), and the trip acts from the next step).
+    lag = 1.2 * 2 * ACTUATOR.damping_ratio / ACTUATOR.natural_frequency
     reachable = min(ACTUATOR.max_angle, ramp[0].min() + ACTUATOR.max_rate * (DT * (len(ramp) - 1) - lag))
-    assert np.all(ramp[-1] > reachable - math.radians(0.01)), f"the blades stopped at {np.degrees(ramp[-1])} deg"
+    assert np.all(ramp[-1] > reachable - ACTUATOR.max_rate * DT), f"the blades stopped at {np.degrees(ramp[-1])} deg"
     assert recording.state.fields["generator_torque"][-1] == 0.0
     assert_plant_finished(recording, FEATHER_DURATION)
     assert_plant_published_no_nan(recording)

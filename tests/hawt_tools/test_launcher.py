@@ -8,6 +8,7 @@ from pathlib import Path
 
 import psutil
 import pytest
+from launched_graph import LaunchedGraph
 
 pytestmark = pytest.mark.ros
 
@@ -114,15 +115,15 @@ def test_composed_run_gives_the_same_messages(hawt_cli, tmp_path):
     assert [a[s] for s in common] == [b[s] for s in common]
 
 
-def test_sigint_stops_every_node_and_leaves_no_process(hawt_cli, tmp_path):
-    """Ctrl-C on the launcher stops all three node processes and it exits 0."""
+def test_sigint_stops_every_node_and_leaves_no_process(tmp_path):
+    """Ctrl-C on the launcher, once the sink has messages, stops all three node processes and it exits 0."""
     record = tmp_path / "received.json"
-    launcher = _start(hawt_cli, _graph(tmp_path), record)
-    children = _wait_for_children(launcher, 3)
-    time.sleep(2.0)
-    launcher.send_signal(signal.SIGINT)
-    out, err = launcher.communicate(timeout=30)
-    assert launcher.returncode == 0, err
+    with LaunchedGraph([str(_graph(tmp_path)), f"record_file:={record}"]) as graph:
+        graph.wait_for_line("received ")  # the sink's report of what it has, once it has something
+        children = psutil.Process(graph.process.pid).children(recursive=True)
+        graph.process.send_signal(signal.SIGINT)
+        assert graph.finish(timeout=30) == 0, graph.tail()
+    assert len(children) == 3
     assert not [c.pid for c in children if c.is_running() and c.status() != psutil.STATUS_ZOMBIE]
     assert _received(record), "the sink wrote what it received on its way out"
 
