@@ -40,6 +40,15 @@ class LaunchedGraph:
             assert time.monotonic() < deadline, f"the graph did not print {text!r}:\n{self.tail()}"
             time.sleep(0.2)
 
+    def wait_until(self, condition, what: str, timeout: float = 180.0) -> None:
+        """Return once ``condition()`` holds (checked as the output comes); fail, with the output's tail, after
+        ``timeout`` s."""
+        deadline = time.monotonic() + timeout
+        while not condition():
+            assert self.process.poll() is None, f"the graph ended before {what}:\n{self.tail()}"
+            assert time.monotonic() < deadline, f"no {what} within {timeout:g} s:\n{self.tail()}"
+            time.sleep(0.2)
+
     def finish(self, timeout: float = 180.0) -> int:
         """Wait for the run to end (the plant ends it) and for its output; its exit code."""
         self.process.wait(timeout=timeout)

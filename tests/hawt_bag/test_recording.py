@@ -2,7 +2,6 @@
 import re
 import signal
 import sys
-import time
 from pathlib import Path
 
 import hawt_msgs.msg
@@ -107,7 +106,9 @@ def test_sigkill_loses_at_most_the_open_chunk_and_sigterm_finishes_the_bag(proce
     source = processes.hawt("launch", str(graph))
     for name in ("rec_kill", "rec_term"):
         probe.wait_subscribed("/t/loads", name)
-    time.sleep(2.5)
+    seen = []  # the probe counts what the recorders are sent: a condition, not a clock
+    probe.node.create_subscription(hawt_msgs.msg.BladeLoads, "/t/loads", seen.append, 1000)
+    probe.wait_until(lambda: len(seen) >= 500, "500 messages on /t/loads")
     processes.stop(recorders[killed], signal.SIGKILL)
     code, _, err = processes.stop(recorders[terminated], signal.SIGTERM)
     processes.stop(source)

@@ -1,6 +1,7 @@
 """hawt launch runs real node graphs: separate processes that talk, composed runs, clean stops and failures."""
 import json
 import math
+import re
 import signal
 import subprocess
 import time
@@ -197,24 +198,35 @@ def test_an_override_of_a_node_not_in_the_graph_is_refused(hawt_cli, tmp_path):
     assert "no node named 'rellay' in the graph (nodes: /t/source, /t/relay, /t/sink)" in result.stderr
 
 
-def test_a_respawned_node_comes_back(hawt_cli, tmp_path):
+def test_a_respawned_node_comes_back(tmp_path):
     """respawn: true brings a killed relay back and the sink keeps receiving."""
     record = tmp_path / "received.json"
-    launcher = _start(hawt_cli, _graph(tmp_path, relay_extra=""), record, "--duration", "9")
-    graph = (tmp_path / "graph.yaml")
+    graph = _graph(tmp_path)
     graph.write_text(graph.read_text().replace("    name: relay\n", "    name: relay\n    respawn: true\n"))
-    launcher.kill()
-    launcher.wait()
-    launcher = _start(hawt_cli, graph, record, "--duration", "10")
-    children = _wait_for_children(launcher, 3)
-    time.sleep(2.0)
-    next(c for c in children if "__node:=relay" in " ".join(c.cmdline())).kill()
-    out, err = launcher.communicate(timeout=60)
-    assert launcher.returncode == 0, err
-    assert "/t/relay ended (killed by SIGKILL); respawning in 0 s (respawn 1)" in out
-    assert out.count("[/t/relay]") >= 2 and out.count("gain=2.0") == 2
-    steps = sorted(_received(record))
-    assert steps[-1] > 700, "the sink received messages after the relay came back"
+    with LaunchedGraph([str(graph), f"record_file:={record}"]) as launched:
+        launched.wait_for_line("received ")  # the sink has messages through the first relay
+        relay = next(c for c in psutil.Process(launched.process.pid).children(recursive=True)
+                     if "__node:=relay" in " ".join(c.cmdline()))
+        relay.kill()
+        launched.wait_for_line("respawning in 0 s (respawn 1)")
+        respawned = len(launched.lines)
+        launched.wait_for_line("gain=2.0", after=respawned)  # the new relay is up
+        up = len(launched.lines)
+        launched.wait_for_line("received ", after=up)
+        killed_at = max(_steps_reported(launched.lines[:respawned]))
+        launched.wait_until(lambda: max(_steps_reported(launched.lines[up:]), default=0) > killed_at + 100,
+                            "the sink receiving after the relay came back")
+        launched.process.send_signal(signal.SIGINT)
+        assert launched.finish(timeout=30) == 0, launched.tail()
+    output = "".join(launched.lines)
+    assert "/t/relay ended (killed by SIGKILL); respawning in 0 s (respawn 1)" in output
+    assert output.count("gain=2.0") == 2
+    assert max(_received(record)) > killed_at + 100, "the sink received messages after the relay came back"
+
+
+def _steps_reported(lines) -> list:
+    """The last step of each of the sink's 'received N messages, steps A..B' reports."""
+    return [int(m.group(1)) for line in lines if (m := re.search(r"received \d+ messages, steps \d+\.\.(\d+)", line))]
 
 
 def test_hawt_list_shows_the_running_nodes_and_topics_with_types(hawt_cli, tmp_path):
