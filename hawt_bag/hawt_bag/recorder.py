@@ -4,9 +4,12 @@ Like ``ros2 bag record``: topics are found by polling the graph (every 0.1 s), s
 topics that appear later are picked up; each is subscribed with ``raw=True`` (the
 serialized bytes are written, never deserialized) and a QoS adapted to its publishers
 (rosbag2 ``Rosbag2QoS::adapt_request_to_offers``: reliable if all publishers are,
-transient-local if all are). ``log_time`` is the middleware's receive time,
-``publish_time`` the message's ``header.stamp`` when its type starts with a
-``std_msgs/Header`` (DESIGN §7), else the receive time.
+transient-local if all are). ``log_time`` is the middleware's receive time, held from going back
+within a topic: a reliable reader delivers in order, but a sample lost on the way and repaired
+(NACK, resend) carries its late receive time, and was once written after four later steps, so a
+bag read in log-time order had the commands of steps 1936-1949 after 1953 (a busy machine, the
+switching graph). ``publish_time`` is the message's ``header.stamp`` when its type starts with a
+``std_msgs/Header`` (DESIGN §7), else the log time.
 
 Progress: about every ``poll_period`` the recorder publishes ``/recorder/progress``
 (hawt_msgs/RecorderProgress): per recorded topic, the publishers its subscription is matched
@@ -117,6 +120,7 @@ class Recorder(Node):
         self.writer = writer
         self.counts: dict[str, int] = {}
         self.stamps: dict[str, float] = {}
+        self._log_times: dict[str, int] = {}  # the latest log time written per topic [ns]
         self.failure: Optional[str] = None
         self.last_message = time.monotonic()
         self._pattern = re.compile(options.regex) if options.regex else None
@@ -167,9 +171,11 @@ class Recorder(Node):
         channel = self.writer.add_topic(topic, type_name, offers)
         stamped = _has_header(type_name)
         self.counts[topic] = 0
+        self._log_times[topic] = 0
 
         def write(data: bytes, info) -> None:
-            received = info["received_timestamp"]
+            received = max(info["received_timestamp"], self._log_times.get(topic, 0))  # delivery order kept
+            self._log_times[topic] = received
             publish = received
             if stamped and len(data) >= 12:
                 sec = int.from_bytes(data[4:8], "little", signed=True)
