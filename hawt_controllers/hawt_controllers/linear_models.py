@@ -117,10 +117,10 @@ def labelled_modes(model: LinearModel) -> List[Mode]:
     from scipy.linalg import eig
 
     values, left, right = eig(model.a, left=True, right=True)
+    names = [re.sub(r"_(cos|sin)$", "_cyclic", name.replace("_rate", "")) for name in model.states]
     modes = []
     for k in np.flatnonzero(values.imag > 1e-9):
         participation = np.abs(left[:, k].conj() * right[:, k])
-        names = [re.sub(r"_(cos|sin)$", "_cyclic", name.replace("_rate", "")) for name in model.states]
         shares: dict = {}
         for name, share in zip(names, participation):
             shares[name] = shares.get(name, 0.0) + share

@@ -26,8 +26,8 @@ __all__ = ["CHANNELS", "StepComparison", "compare_step"]
 CHANNELS = {
     "pitch": ("pitch_command_collective", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp",
                                            "rotor_thrust", "aero_torque")),
-    "wind": ("wind_collective", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp", "rotor_thrust",
-                      "aero_torque")),
+    "wind": ("wind_collective", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp",
+                                 "rotor_thrust", "aero_torque")),
     "tilt": ("pitch_command_cos", ("root_moment_oop_cos", "root_moment_oop_sin", "hub_tilt_moment",
                                    "hub_yaw_moment")),
     "yaw": ("pitch_command_sin", ("root_moment_oop_cos", "root_moment_oop_sin", "hub_tilt_moment",
@@ -102,14 +102,15 @@ def compare_step(model: ColemanModel, kind: str, size: float, step_time: float =
     if kind not in CHANNELS:
         raise ValueError(f"kind: expected one of {', '.join(CHANNELS)}, found {kind!r}")
     base = resolve_values(PARAMETERS, {**(plant or {}), "wind_type": "steady", "wind_speed": model.wind_speed})
-    blades = make_plant(base)[1].number_of_blades
+    turbine, plant_model, _ = make_plant(base)
+    blades = plant_model.number_of_blades
     dt = base["dt"]
     step_index, steps = round(step_time / dt), round((step_time + duration) / dt)
     undisturbed = _nonlinear_run(base, round(1.2 * steps), step_index, _unchanged)  # ahead of a faster rotor
     if kind == "wind":
         # The plant's step wind is convected downwind: it reaches the rotor apex, overhang * cos(tilt) upwind of
         # the tower, that much earlier than x = 0.
-        rotor = make_plant(base)[0].rotor
+        rotor = turbine.rotor
         arrival = rotor.overhang * math.cos(rotor.shaft_tilt) / model.wind_speed
         stepped = _nonlinear_run({**base, "wind_type": "step", "step_speed": model.wind_speed + size,
                                   "step_time": step_time + arrival}, steps, step_index, _unchanged)

@@ -14,12 +14,9 @@ from typing import Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .lqg_design import LqgDesign
+from .lqg_design import _MOMENT_UNIT, _PITCH_UNIT, LqgDesign
 
 __all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integrator_ipc"]
-
-_MOMENT_UNIT = 1e6
-_PITCH_UNIT = math.pi / 180.0
 
 
 class LqgIpc:

@@ -352,7 +352,6 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
 def _cmd_design_lqg(args: argparse.Namespace) -> int:
     """Selvam's FB-FF IPC designed on the plant's linear model at one wind speed: checks and closed-loop shape."""
     import numpy as np
-    import yaml as yaml_reader
 
     from hawt_controllers.exceptions import ConfigurationError
     from hawt_controllers.ipc_design import DEFAULT_FILE
@@ -384,7 +383,7 @@ def _cmd_design_lqg(args: argparse.Namespace) -> int:
           f"rank {controllability_rank(design.plant.a, design.plant.b_theta)} of {n}")
     radius = float(np.max(np.abs(np.linalg.eigvals(design.inverse[0]))))
     print(f"SDMI inverse: spectral radius {radius:.6f} (stable below 1)")
-    ipc_h1 = yaml_reader.safe_load(DEFAULT_FILE.read_text())["/**/ipc_h1"]["ros__parameters"]
+    ipc_h1 = yaml.safe_load(DEFAULT_FILE.read_text())["/**/ipc_h1"]["ros__parameters"]
     gains = (ipc_h1["integral_gain"], ipc_h1["phase_offset"])
     one_p = model.rotor_speed
     frequencies = {"0.01 rad/s": 0.01, "1P": one_p, "2P": 2 * one_p, "3P": 3 * one_p}
