@@ -24,9 +24,12 @@ Back-pressure to the recorder (lockstep): a recorder that writes this plant's
 does not step more than ``recorder_window`` of simulated time ahead of it. A recorder is a
 single-threaded reader that takes one message per topic in turn, so holding the plant's
 own topic bounds its backlog on every topic of the loop, far below its queue depth: a
-recorded lockstep run is complete however busy the machine is. A held plant is not
-waiting on its controllers (the safety system's clock restarts on release); a recorder
-that writes nothing for ``recorder_timeout`` is given up with a ``recorder`` event.
+recorded lockstep run is complete however busy the machine is. At ``duration`` the plant
+finishes only once the recorder has written its last step, so stopping the graph loses
+nothing of the backlog. A hold that lasts a second is logged, and again every 5 s while
+it lasts. A held plant is not waiting on its controllers (the safety system's clock
+restarts on release); a recorder that writes nothing for ``recorder_timeout`` is given up
+with a ``recorder`` event.
 """
 import math
 import time
@@ -92,7 +95,7 @@ class PlantNode(Node):
         self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
         self.recorded_until: Optional[float] = None
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
-        self.held = False
+        self.held = self.finishing = False
         self.recorder_matched: dict[str, int] = {}
         self._progress_subscription = self.create_subscription(RecorderProgress, RECORDER_PROGRESS,
                                                                self._on_recorder_progress, CONTROL_LOOP)
@@ -130,10 +133,13 @@ class PlantNode(Node):
 
     def _resend(self) -> None:
         """Send step 0 once enough subscribers are there; send an unanswered step again after resend_period."""
-        if self.done.done() or self.safety.tripped:
+        if self.done.done():
             return
         if self.held:
+            self._report_the_hold()
             self._give_up_a_stalled_recorder()
+            return
+        if self.safety.tripped:
             return
         if self.step_index == 0 and not self.started:
             if self._ready_to_start():
@@ -222,7 +228,8 @@ class PlantNode(Node):
                 self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
             self.answered_at = time.monotonic()
             self.safety.command_applied(self.answered_at)
-            self._advance_unless_recorder_behind()
+            if not self._held_for_the_recorder():
+                self._advance()
             return
         verdict = self.order.admit(msg.step, self.step_index, self.output.time) if reason is None else None
         if verdict == CommandOrder.FUTURE:
@@ -239,20 +246,30 @@ class PlantNode(Node):
             self.safety.command_applied(now)
 
     def _recorder_behind(self) -> bool:
-        return self.recorded_until is not None and \
-            self.output.time - self.recorded_until > self.values["recorder_window"] + 1e-9
+        """Lockstep with a recorder: the plant is more than recorder_window ahead of what it has written or, at the
+        end, the recorder has not written the last step sent (``self.output``, one step past it, is never sent)."""
+        if self.recorded_until is None:
+            return False
+        if self.finishing:
+            return self.output.time - self.values["dt"] - self.recorded_until > 1e-9
+        return self.output.time - self.recorded_until > self.values["recorder_window"] + 1e-9
 
-    def _advance_unless_recorder_behind(self) -> None:
-        """Lockstep: the answered step advances now, or once the recorder has caught up (back-pressure)."""
+    def _held_for_the_recorder(self) -> bool:
+        """Lockstep back-pressure: hold (True) while the recorder is behind; its progress releases the plant."""
         if not self._recorder_behind():
-            self._advance()
+            return False
+        self.held, self.held_at, self.hold_reported_at = True, time.monotonic(), -math.inf
+        return True
+
+    def _report_the_hold(self) -> None:
+        """Log a hold once it has lasted a second, and again every 5 s while it lasts."""
+        now = time.monotonic()
+        if now - self.held_at < 1.0 or now - self.hold_reported_at < 5.0:
             return
-        self.held, self.held_at = True, time.monotonic()
-        if self.held_at - self.hold_reported_at > 5.0:
-            self.hold_reported_at = self.held_at
-            self.get_logger().info(f"t={self.output.time:.2f} s: waiting for the recorder, which has written "
-                                   f"{BLADE_LOADS} up to t={self.recorded_until:.2f} s (recorder_window "
-                                   f"{self.values['recorder_window']:g} s)")
+        self.hold_reported_at = now
+        what = "the last step" if self.finishing else f"t={self.output.time:.2f} s"
+        self.get_logger().info(f"{what}: waiting for the recorder, which has written {BLADE_LOADS} up to "
+                               f"t={self.recorded_until:.2f} s (recorder_window {self.values['recorder_window']:g} s)")
 
     def _on_recorder_progress(self, msg: RecorderProgress) -> None:
         if not self.started:
@@ -269,10 +286,13 @@ class PlantNode(Node):
             self._release()
 
     def _release(self) -> None:
-        """Advance the held step; the wait for the recorder does not count against the controllers."""
+        """Advance the held step (or finish); the wait for the recorder does not count against the controllers."""
         self.held = False
         self.safety.command_applied(time.monotonic())
-        self._advance()
+        if self.finishing:
+            self._finish()
+        else:
+            self._advance()
 
     def _give_up_a_stalled_recorder(self) -> None:
         """A held plant whose recorder has written nothing for recorder_timeout goes on without back-pressure."""
@@ -294,7 +314,7 @@ class PlantNode(Node):
                         f"({reason}); last valid command held", step=self.step_index, stamp=_stamp(self.output.time))
 
     def _tick(self) -> None:
-        if self.done.done():
+        if self.done.done() or self.finishing:
             return
         if not self.lockstep:
             self._watch()
@@ -320,6 +340,10 @@ class PlantNode(Node):
             f"{out.electrical_power / 1e6:.3f} MW, pitch {math.degrees(float(np.mean(out.pitch))):.2f} deg")
 
     def _finish(self) -> None:
+        """End the run, once the recorder (lockstep, if any) has written the last step sent."""
+        self.finishing = True
+        if self._held_for_the_recorder():
+            return
         wall = time.monotonic() - self.wall_start
         summary = f"finished {self.step_index} steps ({self.output.time:.2f} s simulated) in {wall:.1f} s wall"
         latency = "" if self.lockstep else self.latency.summary()

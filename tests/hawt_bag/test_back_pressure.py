@@ -26,33 +26,36 @@ def _recorder(graph: LaunchedGraph) -> psutil.Process:
     return next(child for child in children if any(part.endswith("hawt_bag/record") for part in child.cmdline()))
 
 
-def _launch(bag, duration: float, timeout: float) -> LaunchedGraph:
+def _launch(bag, duration: float, timeout: float, window: float) -> LaunchedGraph:
     return LaunchedGraph(["ipc", "namespace:=bp", f"duration:={duration:g}", "-p", "plant.report_period:=0.1",
-                          "-p", f"plant.recorder_window:={WINDOW:g}", "-p", f"plant.recorder_timeout:={timeout:g}",
+                          "-p", f"plant.recorder_window:={window:g}", "-p", f"plant.recorder_timeout:={timeout:g}",
                           "--record", str(bag)])
 
 
-def _run_stopping_the_recorder(bag, duration: float, timeout: float, at: str, until: str) -> tuple[LaunchedGraph, int]:
-    """Run the graph, stop its recorder once the plant prints ``at``, let it go on once the plant prints ``until``;
-    the graph and how many lines it had printed by then."""
-    with _launch(bag, duration, timeout) as graph:
+def _run_stopping_the_recorder(bag, duration: float, timeout: float, at: str, until: str,
+                               window: float = WINDOW) -> tuple[list, list, list]:
+    """Run the graph, stop its recorder once the plant prints ``at``, let it go on once the plant prints ``until``
+    (a line after the stop: a busy machine's recorder may have held the plant before); the lines printed up to the
+    stop, those printed while the recorder was stopped, and all."""
+    with _launch(bag, duration, timeout, window) as graph:
         graph.wait_for_line(at)
         recorder = _recorder(graph)
         recorder.suspend()
-        graph.wait_for_line(until)
+        stopped = len(graph.lines)
+        graph.wait_for_line(until, after=stopped)
         printed = len(graph.lines)
         recorder.resume()
         assert graph.finish() == 0, graph.tail()
-    return graph, printed
+    return graph.lines[:stopped], graph.lines[stopped:printed], graph.lines
 
 
 def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_complete(tmp_path):
     bag = tmp_path / "held.mcap"
-    graph, held_lines = _run_stopping_the_recorder(bag, 20, 600, "t=3.0 s (", "waiting for the recorder")
-    held_at, written = (float(x) for x in HELD.search("".join(graph.lines)).groups())
+    before, stopped, _ = _run_stopping_the_recorder(bag, 20, 600, "t=3.0 s (", "waiting for the recorder")
+    held_at, written = (float(x) for x in HELD.search("".join(stopped)).groups())
     assert 3.0 <= held_at and held_at - written <= WINDOW + 0.02, "held more than one step past the window (and "\
         "the 0.01 s of the printed times)"
-    while_held = [float(m.group(1)) for line in graph.lines[:held_lines] if (m := PROGRESS.search(line))]
+    while_held = [float(m.group(1)) for line in before + stopped if (m := PROGRESS.search(line))]
     assert max(while_held) <= held_at, "the plant stepped past the step it held"
     verification = verify_bag(bag)
     assert verification.ok, verification.text()
@@ -60,11 +63,23 @@ def test_a_stopped_recorder_holds_the_plant_within_its_window_and_the_bag_is_com
     assert loads.coverage.ranges == ((0, 1999),)
 
 
+def test_the_plant_finishes_only_once_the_recorder_has_written_its_last_step(tmp_path):
+    """A window longer than the run never holds it, but the end waits: stopping the graph loses no backlog."""
+    bag = tmp_path / "end.mcap"
+    _, stopped, _ = _run_stopping_the_recorder(bag, 5, 600, "t=1.0 s (", "the last step: waiting for the recorder",
+                                               window=10)
+    assert any("t=5.0 s (" in line for line in stopped), "the plant ran to its end while the recorder was stopped"
+    verification = verify_bag(bag)
+    assert verification.ok, verification.text()
+    ranges = {topic.coverage.topic: topic.coverage.ranges for topic in verification.topics}
+    assert ranges["/bp/plant/blade_loads"] == ranges["/bp/control/pitch_command"] == ((0, 499),), verification.text()
+
+
 def test_a_recorder_stopped_for_good_is_given_up_with_an_event_and_the_run_completes(tmp_path):
-    graph, _ = _run_stopping_the_recorder(tmp_path / "given_up.mcap", 8, 2, "t=2.0 s (",
-                                          "going on without waiting for it")
+    *_, lines = _run_stopping_the_recorder(tmp_path / "given_up.mcap", 8, 2, "t=2.0 s (",
+                                           "going on without waiting for it")
     # The recorder event is published and logged: the recorder it is about, given up, may never take it.
-    output = "".join(graph.lines)
+    output = "".join(lines)
     assert output.count("[WARN]") == 1 and "recorder: the recorder has written nothing more of plant/blade_loads " \
         "for 2 s" in output
     assert "finished 800 steps" in output
