@@ -45,11 +45,11 @@ from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, ParameterSpec, check_values
 from hawt_core.plant_description import PlantDescription
 from hawt_core.step_sync import StepAnswer, StepJoin
-from hawt_core.topics import BLADE_LOADS, PLANT_DESCRIPTION, SWITCH_CONTROLLERS, TURBINE_STATE
+from hawt_core.topics import BLADE_LOADS, PLANT_DESCRIPTION, RECORDER_NODE, SWITCH_CONTROLLERS, TURBINE_STATE
 from hawt_node.events import EventPublisher
 from hawt_node.parameters import accepted, declare_parameters, rejection
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
-from hawt_node.writer_matching import MatchedWriterGate
+from hawt_node.writer_matching import WAIT_FOR_RECORDER, MatchedWriterGate
 
 __all__ = ["ControllerNode"]
 
@@ -77,12 +77,13 @@ class ControllerNode(LifecycleNode):
     """Lifecycle node around one controller core (module notes); subclasses set ``CONTROLLER``."""
 
     CONTROLLER: ClassVar[type] = Controller
-    PARAMETERS: ClassVar[Tuple[ParameterSpec, ...]] = controller_parameters(Controller)
-    """The node's parameter table, the controller's own rows and ``active`` (set for each subclass from CONTROLLER)."""
+    PARAMETERS: ClassVar[Tuple[ParameterSpec, ...]] = (*controller_parameters(Controller), WAIT_FOR_RECORDER)
+    """The node's parameter table, the controller's own rows, ``active`` and ``wait_for_recorder`` (set for each
+    subclass from CONTROLLER)."""
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
-        cls.PARAMETERS = controller_parameters(cls.CONTROLLER)
+        cls.PARAMETERS = (*controller_parameters(cls.CONTROLLER), WAIT_FOR_RECORDER)
 
     @classmethod
     def check_parameters(cls, values) -> None:
@@ -106,7 +107,9 @@ class ControllerNode(LifecycleNode):
         self.publishers_by_topic: Dict[str, Any] = {}
         self.switches: Optional[SwitchListener] = None
         self.internal = False
-        self.answer = StepAnswer(MatchedWriterGate(self, self.publishers_by_topic, self._publish, self.events).send)
+        recorder = RECORDER_NODE if self.values["wait_for_recorder"] else None
+        self.answer = StepAnswer(MatchedWriterGate(self, self.publishers_by_topic, self._publish, self.events,
+                                                   recorder=recorder).send)
         self.join = StepJoin(self.CONTROLLER.INPUTS)
         self.manager = self.create_client(SwitchControllers, SWITCH_CONTROLLERS)
         self.create_subscription(PlantDescriptionMessage, PLANT_DESCRIPTION, self._on_description, LATCHED)

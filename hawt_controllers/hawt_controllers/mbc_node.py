@@ -46,12 +46,13 @@ from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, check_values
 from hawt_core.plant_description import PlantDescription
 from hawt_core.step_sync import StepAnswer, StepJoin
-from hawt_core.topics import BLADE_LOADS, COLLECTIVE, CONTROLLER_STATES, PITCH_COMMAND, PLANT_DESCRIPTION, mbc_topic
+from hawt_core.topics import (BLADE_LOADS, COLLECTIVE, CONTROLLER_STATES, PITCH_COMMAND, PLANT_DESCRIPTION,
+                              RECORDER_NODE, mbc_topic)
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import ParameterSpec, accepted, declare_parameters, rejection
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
-from hawt_node.writer_matching import MatchedWriterGate
+from hawt_node.writer_matching import WAIT_FOR_RECORDER, MatchedWriterGate
 
 __all__ = ["MbcNode", "PARAMETERS", "main"]
 
@@ -67,6 +68,7 @@ PARAMETERS = (
                   "its schedule (lockstep with a schedule: every scheduled switch is then known before its step)",
                   read_only=True),
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
+    WAIT_FOR_RECORDER,
     ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("max_pitch", _LIMITS.max_angle, "highest pitch command", "rad", minimum=-0.5, maximum=1.6),
     ParameterSpec("max_pitch_rate", _LIMITS.max_rate, "largest pitch rate", "rad/s", minimum=1e-3, maximum=1.0),
@@ -113,7 +115,9 @@ class MbcNode(Node):
         self.plant: Optional[PlantDescription] = None
         self.forward = {}
         command = self.create_publisher(PitchCommand, PITCH_COMMAND, CONTROL_LOOP_HISTORY)
-        self.answer = StepAnswer(MatchedWriterGate(self, {PITCH_COMMAND: command}, command.publish, self.events).send)
+        recorder = RECORDER_NODE if self.values["wait_for_recorder"] else None
+        self.answer = StepAnswer(MatchedWriterGate(self, {PITCH_COMMAND: command}, command.publish, self.events,
+                                                   recorder=recorder).send)
         self.lockstep = self.values["mode"] == "lockstep"
         self.join = StepJoin(())
         self.demands: Dict[str, Any] = {}

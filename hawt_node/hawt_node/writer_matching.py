@@ -7,6 +7,11 @@ recorder, and those contributions were missing from the bag. The gate keeps a no
 each writer's matched count (``Publisher.get_subscription_count``: the middleware's matches) covers
 every QoS-compatible subscription the graph lists on its topic, then publishes them in order. Once open
 it stays open: it costs one graph query per message only until then.
+
+A node of a recorded graph (``wait_for_recorder``, which ``hawt launch --record`` gives every node) also
+waits until its graph lists the recorder's subscription on each of its topics: the plant starts once *it*
+sees the recorder everywhere, and a node that answered step 0 before it had discovered the recorder's
+subscription counted no reader to wait for (a stress run lost step 0 of ``control/pitch_command``).
 """
 import time
 from typing import Any, Callable, List, Mapping, Optional
@@ -15,13 +20,21 @@ from hawt_msgs.msg import ControlEvent
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from hawt_core.topics import RECORDER_NODE
 from hawt_node.events import EventPublisher
+from hawt_node.parameters import ParameterSpec
+from hawt_node.recording import unrecorded_topics
 
-__all__ = ["MatchedWriterGate", "can_match", "unmatched_writers", "HOLD_LIMIT"]
+__all__ = ["MatchedWriterGate", "can_match", "unmatched_writers", "HOLD_LIMIT", "WAIT_FOR_RECORDER"]
 
 HOLD_LIMIT = 2.0
 """Wall time [s] a gate holds messages at most; then it publishes them and says which readers it missed
 (a reader the graph still lists after its process died never matches)."""
+
+WAIT_FOR_RECORDER = ParameterSpec(
+    "wait_for_recorder", False, f"hold the first messages until the node {RECORDER_NODE} subscribes to this node's "
+    f"topics and is matched (at most {HOLD_LIMIT:g} s); hawt launch --record sets it", read_only=True)
+"""The parameter of every node that answers the plant's steps (the plant has its own, with its start rule)."""
 
 POLL_PERIOD = 0.005
 """Wall time [s] between two looks at the matches while messages are held."""
@@ -53,13 +66,15 @@ class MatchedWriterGate:
 
     ``send(message)`` publishes at once when the gate is open, else keeps the message; a timer of the
     node publishes what is kept, in order, when the writers match or after ``hold_limit`` seconds, then
-    reports the topics whose readers were still unmatched as an ``unmatched_reader`` warning.
+    reports the topics whose readers were still unmatched as an ``unmatched_reader`` warning. With
+    ``recorder`` (a node name), a topic the graph does not yet list that node's subscription on is unmatched.
     """
 
     def __init__(self, node: Node, publishers: Mapping[str, Any], publish: Callable[[Any], None],
-                 events: EventPublisher, hold_limit: float = HOLD_LIMIT) -> None:
+                 events: EventPublisher, hold_limit: float = HOLD_LIMIT, recorder: Optional[str] = None) -> None:
         self.node = node
         self.publishers = publishers
+        self.recorder = recorder
         self.publish = publish
         self.events = events
         self.hold_limit = hold_limit
@@ -82,8 +97,15 @@ class MatchedWriterGate:
             self.since = time.monotonic()
             self.timer = self.node.create_timer(POLL_PERIOD, self._poll)
 
+    def _unmatched(self) -> List[str]:
+        unmatched = unmatched_writers(self.node, self.publishers)
+        if self.recorder is not None:
+            unmatched += [topic for topic in unrecorded_topics(self.node, self.publishers, self.recorder)
+                          if topic not in unmatched]
+        return unmatched
+
     def _try_open(self) -> bool:
-        self.open = not unmatched_writers(self.node, self.publishers)
+        self.open = not self._unmatched()
         return self.open
 
     def _poll(self) -> None:
@@ -91,7 +113,7 @@ class MatchedWriterGate:
             self._release([])
         elif time.monotonic() - self.since >= self.hold_limit:
             self.open = True
-            self._release(unmatched_writers(self.node, self.publishers))
+            self._release(self._unmatched())
 
     def _release(self, missing: List[str]) -> None:
         if self.timer is not None:

@@ -83,3 +83,26 @@ def test_a_reader_counts_only_if_dds_can_match_it_by_reliability_and_durability(
     assert not can_match(best_effort, reliable_volatile)
     assert not can_match(reliable_volatile, transient_local)
     assert can_match(transient_local, reliable_volatile)
+
+
+def test_a_recorded_node_holds_its_messages_until_the_recorder_subscribes_to_its_topic():
+    """No reader the graph lists is enough while the recorder has not subscribed yet (wait_for_recorder)."""
+    writer = ProbeNode("gate_writer")
+    recorder = None
+    received: List[int] = []
+    try:
+        publisher = writer.node.create_publisher(Int32, TOPIC, CONTROL_LOOP_HISTORY)
+        gate = MatchedWriterGate(writer.node, {TOPIC: publisher}, publisher.publish, EventPublisher(writer.node),
+                                 hold_limit=600.0, recorder="gate_recorder")
+        for k in range(3):
+            gate.send(Int32(data=k))
+        writer.spin(0.2)
+        assert not gate.open and len(gate.held) == 3
+        recorder = ProbeNode("gate_recorder", background=True)
+        recorder.node.create_subscription(Int32, TOPIC, lambda m: received.append(m.data), CONTROL_LOOP_HISTORY)
+        writer.wait_until(lambda: len(received) == 3, "the held messages at the recorder")
+        assert received == [0, 1, 2] and gate.open
+    finally:
+        for probe in (writer, recorder):
+            if probe is not None:
+                probe.close()

@@ -98,19 +98,20 @@ def test_a_bad_value_in_a_wildcard_parameter_file_names_that_file(capsys, tmp_pa
 
 
 def test_mode_option_and_global_parameters_are_not_refused_by_nodes_without_them(capsys):
-    """--mode reaches only nodes with 'mode' and wait_for_recorder only the plant: the bad value is still the one named."""
+    """--mode and wait_for_recorder reach only nodes that have them: the bad value is still the one named."""
     assert _refused(capsys, ["launch", "ipc", "--mode", "realtime", "--record", "never.mcap",
                              "-p", "plant.wind_speed:=-5"]) == (
         "hawt launch: -p plant.wind_speed: -5.0 is below its minimum 3.0 m/s")
 
 
 def test_rclpy_own_parameters_and_the_launcher_globals_pass_the_check():
-    """use_sim_time (declared by rclpy itself) and wait_for_recorder (only the plant has it) are accepted."""
+    """use_sim_time (declared by rclpy itself) and wait_for_recorder (the plant and every node answering its steps
+    have it, controller_manager has not) are accepted."""
     graph = load_graph(find_graph("ipc"), {}, package_prefix)
     overrides = parse_overrides(graph, ["cpc.use_sim_time:=true", "plant.start_type_description_service:=false"])
     values = check_graph_parameters(graph, overrides, {"wait_for_recorder": True})
-    assert values["/wt1/plant"]["wait_for_recorder"] is True
-    assert "wait_for_recorder" not in values["/wt1/cpc"]
+    assert all(values[f"/wt1/{name}"]["wait_for_recorder"] is True for name in ("plant", "cpc", "mbc", "ipc_h1"))
+    assert "wait_for_recorder" not in values["/wt1/controller_manager"]
 
 
 def test_the_parameters_rclpy_declares_itself_are_the_ones_the_check_knows():
