@@ -39,6 +39,17 @@ install_python_packages() {
   echo "$want" > "$VENV/.hawt-requirements"
 }
 
+install_nodeps_packages() {
+  local want have=""
+  want="$(digest requirements-nodeps.txt)"
+  [ -f "$VENV/.hawt-nodeps" ] && have="$(cat "$VENV/.hawt-nodeps")"
+  [ "$want" = "$have" ] && return 0
+  say "installing requirements-nodeps.txt without dependencies (the rosco controller library)"
+  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps -r "$ROOT/requirements-nodeps.txt" \
+      2> >(grep -v "is ignored: it is neither" >&2) || fail "pip could not install requirements-nodeps.txt (see the pip error above)"
+  echo "$want" > "$VENV/.hawt-nodeps"
+}
+
 # The wheels' CMake export files name the wheel builder's include dirs (DESIGN.md §2);
 # point them at this interpreter's Python and numpy headers so rosidl's Python generator builds.
 rewrite_wheel_cmake_paths() {
@@ -82,4 +93,5 @@ mkdir -p "$WS"
 # Every top-level folder with a package.xml is a package of the workspace.
 mapfile -t PACKAGES < <(cd "$ROOT" && ls -d */package.xml | xargs -n1 dirname)
 install_python_packages
+install_nodeps_packages
 build_workspace
