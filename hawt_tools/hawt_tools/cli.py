@@ -436,6 +436,37 @@ def _coupling_identified(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_campaign(args: argparse.Namespace) -> int:
+    """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder."""
+    from hawt_analysis.campaign_report import lifetime_text, write_campaign_report
+    from hawt_tools.campaign import lifetime_table, run_campaign, write_tables
+    from hawt_tools.campaign_file import load_campaign
+
+    if args.workers is not None and args.workers < 1:
+        raise GraphError(f"--workers {args.workers}: expected 1 or more")
+    campaign = load_campaign(Path(args.campaign))
+    output = Path(args.output or Path(args.campaign).stem)
+    done = run_campaign(campaign, output, args.workers, args.scheduler, args.bags,
+                        report=lambda line: print(line, flush=True))
+    if done.rows:
+        tables = write_tables(campaign, done.rows, output)
+        lifetime = lifetime_table(campaign, done.rows)
+        print(f"lifetime DEL (Miner, m per channel, site mean {campaign.site.mean:g} m/s, Weibull k "
+              f"{campaign.site.shape:g}) and AEP, over the bins run:")
+        print(lifetime_text(lifetime))
+        page = write_campaign_report(f"hawt campaign: {campaign.path.name}", done.rows, lifetime, output, tables)
+        print(f"tables: {', '.join(str(path) for path in tables.values())}\nreport: {page}")
+    if done.interrupted:
+        print(f"hawt campaign: interrupted; {len(done.rows)} finished case(s) kept in {output}: run the same command "
+              "again to resume", file=sys.stderr)
+        return 130
+    if done.failed:
+        for line in done.failed.values():
+            print(f"hawt campaign: failed: {line}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     """Baseline and IPC graphs on the same turbulent wind, each recorded; their loads compared."""
     from hawt_analysis.analysis_report import comparison_text, write_comparison_report
@@ -674,6 +705,19 @@ def _parser() -> argparse.ArgumentParser:
         lqg.add_argument(option, type=float, help=f"{text} (default: lqg_ipc's)")
     lqg.add_argument("--plot", metavar="PNG", help="write the frequency responses here")
     lqg.set_defaults(run=_cmd_design_lqg)
+
+    campaign = commands.add_parser(
+        "campaign", help="a design-load-case campaign (speeds x seeds x controllers) on Dask workers, lifetime loads",
+        description="Run every case of CAMPAIGN.yaml (wind-speed bins x seeds x controller configurations) on the "
+                    "in-process engine, on a local Dask cluster or an existing one; store each case's numbers, skip "
+                    "those already stored (rerun to resume), and write cases.parquet/.csv, lifetime.csv (Miner-"
+                    "consistent lifetime DELs over the site's wind distribution, AEP) and report.html.")
+    campaign.add_argument("campaign", metavar="CAMPAIGN.yaml", help="the campaign file")
+    campaign.add_argument("-o", "--output", metavar="DIR", help="results folder (default: the file's name)")
+    campaign.add_argument("--workers", type=int, help="local worker processes (default: the CPU count)")
+    campaign.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="run on this Dask scheduler's workers")
+    campaign.add_argument("--bags", action="store_true", help="also record every case to DIR/bags/*.mcap")
+    campaign.set_defaults(run=_cmd_campaign)
 
     demo = commands.add_parser(
         "demo", help="run the baseline and IPC graphs on the same turbulent wind and compare their loads",

@@ -40,6 +40,7 @@ __all__ = [
     "load_graph",
     "check_parameter_file",
     "did_you_mean",
+    "load_marked_yaml",
 ]
 
 NODE_KEYS = (
@@ -141,8 +142,9 @@ def _construct_mapping(loader: _LineLoader, node: yaml.MappingNode) -> _Map:
 _LineLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
 
 
-def _load_yaml(path: Path) -> Any:
-    """Parse a YAML file, turning syntax errors into one-line GraphErrors with the position."""
+def load_marked_yaml(path: Path) -> Any:
+    """Parse a YAML file whose mappings remember the line of each key (``.line``, ``.key_lines``), refusing
+    duplicate keys; syntax errors become one-line GraphErrors with the position."""
     try:
         text = path.read_text()
     except OSError as error:
@@ -248,7 +250,7 @@ def check_parameter_file(path: Path) -> None:
 
     Raises :class:`GraphError` naming the file, line and key of the first problem.
     """
-    data = _load_yaml(path)
+    data = load_marked_yaml(path)
     if not isinstance(data, _Map) or not data:
         raise GraphError(f"{path}: a parameter file must be a mapping of node names to "
                          "'ros__parameters' (e.g. 'relay: {ros__parameters: {gain: 2.0}}')")
@@ -412,7 +414,7 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
     """
     path = Path(path).resolve()
     given = dict(arguments or {})
-    data = _load_yaml(path)
+    data = load_marked_yaml(path)
     if not isinstance(data, _Map) or list(data) != ["launch"]:
         found = list(data) if isinstance(data, dict) else type(data).__name__
         raise GraphError(f"{path}:1: a graph file has exactly one root key 'launch', found {found}")

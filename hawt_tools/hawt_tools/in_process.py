@@ -34,7 +34,7 @@ from hawt_plant.safety_system import command_rejection
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
 
-__all__ = ["InProcessRun", "build_run", "RunRecord", "write_run", "run_graph"]
+__all__ = ["InProcessRun", "build_run", "plant_parameters", "RunRecord", "write_run", "run_graph"]
 
 Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
 
@@ -248,6 +248,17 @@ def _node_kind(graph: Graph, spec: NodeSpec) -> Tuple[str, Optional[type]]:
         return "controller", cls.CONTROLLER
     raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r} ({spec.package}/{spec.executable}) has no "
                      "core the in-process runner can step (plant, mbc, controller_manager or a controller)")
+
+
+def plant_parameters(graph: Graph, overrides: Overrides = ()) -> Dict[str, Any]:
+    """The parameters the graph's plant node gets (what a campaign's wind preparation builds the plant from)."""
+    plants = [spec for spec in graph.nodes if _node_kind(graph, spec)[0] == "plant"]
+    if len(plants) != 1:
+        raise GraphError(f"{graph.path}: expected exactly one plant node, found {len(plants)}")
+    try:
+        return resolve_values(PLANT_PARAMETERS, node_parameters(plants[0], overrides))
+    except ParameterError as error:
+        raise GraphError(f"{graph.path}:{plants[0].line}: node {plants[0].name!r}: {error}") from None
 
 
 def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:

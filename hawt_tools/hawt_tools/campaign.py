@@ -1,0 +1,337 @@
+"""Load campaigns (``hawt campaign``): every case of a campaign file on the in-process engine, on Dask workers.
+
+A case is one controller configuration at one wind-speed bin and seed. Cases run as Dask tasks,
+on a local cluster of worker processes (``distributed.LocalCluster``, one thread each) or on an
+existing scheduler, each with ``hawt run``'s engine (:mod:`hawt_tools.in_process`), so a case is
+the lockstep ROS graph's run bit for bit. The turbulent field of each (speed, seed) is generated
+once, by a task every controller's case of that bin and seed waits for (pyconturb, cached on disk by
+:func:`hawt_plant.turbulence.cached_turbulence`; workers on other machines without the shared cache
+generate the same field again).
+
+Results are stored per case, ``OUTPUT/cases/KEY.json``, written by this (client) process when the
+case's task completes, so a case rerun by Dask after a worker died is written once. ``KEY`` hashes
+everything that defines the case: the campaign's wind and times, the turbine file, the graph and
+parameter files and the arguments, and the code (:func:`code_version`). A rerun of the same
+campaign skips the cases already stored (after a Ctrl-C, a failure or a change to one controller).
+A case that fails is reported with its error, stored under ``OUTPUT/failed/`` and the others go on.
+
+The per-case numbers are those of ``hawt analyze`` (:func:`hawt_analysis.summary.summarize`) on the
+analysed part of the run (after ``transient``): DEL per load channel at 1 Hz equivalent frequency,
+extremes, rotor speed, power and pitch activity. Lifetime loads: :mod:`hawt_analysis.lifetime`.
+"""
+import hashlib
+import json
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence
+
+import numpy as np
+
+from hawt_analysis.record import PER_BLADE_CHANNELS, SCALAR_CHANNELS
+from hawt_analysis.summary import summarize
+from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides
+from hawt_tools.graph_file import Graph, GraphError, load_graph
+
+__all__ = ["Case", "CampaignRun", "code_version", "plan_cases", "prepare_wind", "run_case", "run_campaign"]
+
+_PACKAGES = ("hawt_core", "hawt_plant", "hawt_controllers", "hawt_analysis", "hawt_tools", "hawt_bag", "hawt_node")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One run of a campaign: a controller configuration at a wind speed [m/s] and seed, with its key."""
+
+    controller: ControllerConfig
+    speed: float
+    seed: int
+    key: str
+
+    @property
+    def label(self) -> str:
+        return f"{self.controller.name} at {self.speed:g} m/s, seed {self.seed}"
+
+    @property
+    def file_stem(self) -> str:
+        return f"{self.controller.name}_{self.speed:g}ms_seed{self.seed}"
+
+
+def code_version() -> str:
+    """Hash of the hawt sources that decide a run's numbers (Python, graph, parameter and model files)."""
+    import importlib
+
+    digest = hashlib.sha256()
+    for name in _PACKAGES:
+        root = Path(importlib.import_module(name).__file__).resolve().parent.parent
+        for path in sorted(p for p in root.rglob("*") if p.suffix in (".py", ".yaml", ".npz", ".msg")
+                           and "test" not in p.parts):
+            digest.update(str(path.relative_to(root)).encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def _graph(config: ControllerConfig) -> Graph:
+    from hawt_tools.cli import find_graph
+    from hawt_tools.launcher import package_prefix
+
+    return load_graph(find_graph(config.graph), dict(config.arguments), package_prefix)
+
+
+def _overrides(graph: Graph, config: ControllerConfig, campaign: Campaign, speed: float, seed: int):
+    from hawt_tools.launcher import parse_overrides
+
+    return parse_overrides(graph, case_overrides(campaign, speed, seed) + list(config.parameters))
+
+
+def _files_digest(graph: Graph) -> str:
+    """Hash of the graph file and of every parameter file its nodes read."""
+    digest = hashlib.sha256(Path(graph.path).read_bytes())
+    for spec in graph.nodes:
+        for parameters in spec.parameters:
+            path = getattr(parameters, "path", None)
+            if path is not None:
+                digest.update(Path(path).read_bytes())
+    return digest.hexdigest()
+
+
+def plan_cases(campaign: Campaign) -> List[Case]:
+    """Every case of the campaign, controllers outermost, each graph and its parameters checked for every speed.
+
+    Raises
+    ------
+    CampaignError
+        A graph that cannot be loaded or a parameter it refuses, named with the campaign file, line and controller.
+    """
+    from hawt_tools.parameter_check import check_graph_parameters
+
+    code = code_version()
+    turbine = hashlib.sha256(Path(campaign.turbine).read_bytes()).hexdigest() if campaign.turbine else ""
+    cases = []
+    for config in campaign.controllers:
+        where = f"{campaign.path}:{config.line}: controllers.{config.name}"
+        try:
+            graph = _graph(config)
+            for speed in campaign.speeds:
+                check_graph_parameters(graph, _overrides(graph, config, campaign, speed, campaign.seeds[0]), {})
+            files = _files_digest(graph)
+        except GraphError as error:
+            raise CampaignError(f"{where}: {error}") from None
+        for speed in campaign.speeds:
+            for seed in campaign.seeds:
+                identity = {"speed": speed, "seed": seed, "duration": campaign.duration,
+                            "transient": campaign.transient, "turbulence_class": campaign.turbulence_class,
+                            "shear_exponent": campaign.shear_exponent, "turbine": turbine, "graph": files,
+                            "arguments": config.arguments, "parameters": config.parameters, "code": code}
+                key = hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:20]
+                cases.append(Case(config, speed, seed, key))
+    return cases
+
+
+def prepare_wind(config: ControllerConfig, campaign: Campaign, speed: float, seed: int) -> str:
+    """Generate (or find in the cache) the turbulent field of (speed, seed) on a worker; its plant's description."""
+    from hawt_plant.plant_setup import make_plant
+    from hawt_tools.in_process import plant_parameters
+
+    graph = _graph(config)
+    turbine, _, _ = make_plant(plant_parameters(graph, _overrides(graph, config, campaign, speed, seed)))
+    return f"{speed:g} m/s seed {seed}: field ready for {turbine.name}"
+
+
+def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: Any = None) -> Dict[str, Any]:
+    """Run one case in process (on a worker); its row of numbers (module notes). ``wind`` is the `prepare_wind`
+    task it waits for. With ``bag``, the whole run (transient included) is written there as `hawt run` would."""
+    from hawt_tools.in_process import RunRecord, build_run, write_run
+
+    start = time.monotonic()
+    graph = _graph(case.controller)
+    run = build_run(graph, _overrides(graph, case.controller, campaign, case.speed, case.seed))
+    dt = run.description.dt
+    skipped, kept = round(campaign.transient / dt), round(campaign.duration / dt)
+    book = RunRecord() if bag else None
+    for _ in range(skipped):
+        run.step(book)
+    first = run.output
+    channels = {"time": np.empty(kept)}
+    channels.update({name: np.empty(kept) for name in SCALAR_CHANNELS if hasattr(first, name)})
+    channels.update({name: np.empty((kept, len(first.pitch))) for name in PER_BLADE_CHANNELS})
+    command = np.empty((kept, len(first.pitch)))
+    for k in range(kept):
+        run.step(book)
+        out = run.output
+        for name, values in channels.items():
+            values[k] = getattr(out, name)
+        command[k] = run.command[0]
+    if bag:
+        write_run(run, book, Path(bag))
+    return case_row(case, channels, command, dt, time.monotonic() - start)
+
+
+def case_row(case: Case, channels: Dict[str, np.ndarray], command: np.ndarray, dt: float,
+             wall: float) -> Dict[str, Any]:
+    """The numbers of one case: identity, DEL (N·m, 1 Hz) and extremes of every load channel, operation, pitch."""
+    summary = summarize(channels)
+    row: Dict[str, Any] = {"controller": case.controller.name, "wind_speed": case.speed, "seed": case.seed,
+                           "key": case.key, "wall_s": wall}
+    for name, entry in summary["del"].items():
+        row[f"del.{name}"] = entry["value"]
+    for name in summary["del"]:
+        base, _, blade = name.rpartition("_")
+        values = channels[base][:, int(blade) - 1] if base in PER_BLADE_CHANNELS else channels[name]
+        row[f"max.{name}"], row[f"min.{name}"] = float(values.max()), float(values.min())
+    speed = channels["rotor_speed"]
+    row.update({"rotor_speed.mean": float(speed.mean()), "rotor_speed.std": float(speed.std()),
+                "rotor_speed.max": float(speed.max()),
+                "power.mean": float(channels["electrical_power"].mean()),
+                "power.std": float(channels["electrical_power"].std()),
+                "pitch.travel": summary["pitch"]["travel_rad"]["total"],
+                "pitch.duty_cycle": summary["pitch"]["duty_cycle"]["mean"],
+                "pitch.max_command_rate": float(np.abs(np.diff(command, axis=0)).max() / dt)})
+    row["wohler"] = {name: entry["m"] for name, entry in summary["del"].items()}
+    return row
+
+
+@dataclass
+class CampaignRun:
+    """What ``run_campaign`` did: the rows of every case done (this run or before) and what failed."""
+
+    rows: List[Dict[str, Any]]
+    failed: Dict[str, str]
+    skipped: int
+    interrupted: bool = False
+
+
+def _write_json(path: Path, data: Any) -> None:
+    """Write atomically: a reader (or a rerun after a crash) never sees half a file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = path.with_name(path.name + ".partial")
+    partial.write_text(json.dumps(data, indent=1))
+    os.replace(partial, path)
+
+
+def _duration_text(seconds: float) -> str:
+    minutes, seconds = divmod(int(round(seconds)), 60)
+    return f"{minutes // 60}:{minutes % 60:02d}:{seconds:02d}"
+
+
+def _client(workers: Optional[int], scheduler: Optional[str]):
+    """A Dask client: of ``scheduler`` if given, else of a local cluster of ``workers`` processes."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            return Client(scheduler, timeout=30), None
+        except (OSError, TimeoutError) as error:
+            raise CampaignError(f"--scheduler {scheduler}: cannot connect ({error})") from None
+    cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                           dashboard_address=None, silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None, scheduler: Optional[str] = None,
+                 bags: bool = False, report: Callable[[str], None] = print) -> CampaignRun:
+    """Run every case not yet stored under ``output`` (module notes) and return all the rows of the campaign.
+
+    ``report`` gets one line per finished or failed case (progress, elapsed time, estimate of what is left).
+    A KeyboardInterrupt stops the campaign; what finished is kept (``interrupted`` is set).
+    """
+    from distributed import as_completed
+
+    cases = plan_cases(campaign)
+    output = Path(output)
+    stored = {case.key: output / "cases" / f"{case.key}.json" for case in cases}
+    todo = [case for case in cases if not stored[case.key].exists()]
+    failed: Dict[str, str] = {}
+    interrupted = False
+    report(f"{len(cases)} cases ({len(campaign.controllers)} controllers x {len(campaign.speeds)} speeds x "
+           f"{len(campaign.seeds)} seeds, {campaign.transient + campaign.duration:g} s each); "
+           f"{len(cases) - len(todo)} already done in {output}")
+    if todo:
+        client, cluster = _client(workers, scheduler)
+        try:
+            report(f"running {len(todo)} on {len(client.scheduler_info()['workers'])} Dask worker(s) "
+                   f"({scheduler or 'local cluster'})")
+            winds = {}
+            for case in todo:
+                if (case.speed, case.seed) not in winds:
+                    winds[(case.speed, case.seed)] = client.submit(
+                        prepare_wind, case.controller, campaign, case.speed, case.seed, pure=False,
+                        key=f"wind-{case.speed:g}-{case.seed}-{case.key}")
+            futures = {client.submit(run_case, case, campaign,
+                                     str(output / "bags" / f"{case.file_stem}.mcap") if bags else None,
+                                     winds[(case.speed, case.seed)], key=f"case-{case.key}", pure=False): case
+                       for case in todo}
+            if bags:
+                (output / "bags").mkdir(parents=True, exist_ok=True)
+            start, done = time.monotonic(), 0
+            for future in as_completed(futures):
+                case = futures[future]
+                done += 1
+                elapsed = time.monotonic() - start
+                left = elapsed / done * (len(todo) - done)
+                if future.status == "finished":
+                    row = future.result()
+                    _write_json(stored[case.key], row)
+                    what = f"done in {row['wall_s']:.0f} s " \
+                           f"({(campaign.transient + campaign.duration) / row['wall_s']:.1f}x real time)"
+                else:
+                    error = future.exception()
+                    failed[case.key] = f"{case.label}: {type(error).__name__}: {error}"
+                    _write_json(output / "failed" / f"{case.key}.json", {"case": case.label, "error": str(error)})
+                    what = f"FAILED ({type(error).__name__}: {error})"
+                report(f"[{done}/{len(todo)}] {case.label}: {what}; elapsed {_duration_text(elapsed)}, about "
+                       f"{_duration_text(left)} left")
+        except KeyboardInterrupt:
+            interrupted = True
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    rows = [json.loads(stored[case.key].read_text()) for case in cases if stored[case.key].exists()]
+    return CampaignRun(rows, failed, len(cases) - len(todo), interrupted)
+
+
+def lifetime_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[Dict[str, Any]]:
+    """Per controller and load channel: the lifetime DEL over the campaign's bins and site (hawt_analysis.lifetime),
+    and per controller the AEP [J]. A controller missing a whole bin gets none (NaN)."""
+    from hawt_analysis.lifetime import annual_energy, bin_probabilities, lifetime_del
+
+    probabilities = bin_probabilities(campaign.speeds, campaign.site)
+    table = []
+    for config in campaign.controllers:
+        mine = [row for row in rows if row["controller"] == config.name]
+        if not mine:
+            continue
+        complete = all(any(row["wind_speed"] == speed for row in mine) for speed in campaign.speeds)
+
+        def per_bin(column: str) -> np.ndarray:
+            grid = np.full((len(campaign.speeds), len(campaign.seeds)), np.nan)
+            for row in mine:
+                grid[campaign.speeds.index(row["wind_speed"]), campaign.seeds.index(row["seed"])] = row[column]
+            return grid
+
+        for channel, m in mine[0]["wohler"].items():
+            value = lifetime_del(per_bin(f"del.{channel}"), probabilities, m) if complete else math.nan
+            table.append({"controller": config.name, "quantity": f"lifetime DEL {channel}", "m": m, "value": value})
+        energy = annual_energy(np.nanmean(per_bin("power.mean"), axis=1), probabilities) if complete else math.nan
+        table.append({"controller": config.name, "quantity": "AEP [J]", "m": math.nan, "value": energy})
+    return table
+
+
+def write_tables(campaign: Campaign, rows: Iterable[Dict[str, Any]], output: Path) -> Dict[str, Path]:
+    """``cases.parquet`` and ``cases.csv`` (one row per case), ``lifetime.csv``; their paths by name."""
+    import pandas
+
+    rows = list(rows)
+    frame = pandas.DataFrame([{k: v for k, v in row.items() if k != "wohler"} for row in rows])
+    frame = frame.sort_values(["controller", "wind_speed", "seed"], kind="stable") if len(frame) else frame
+    paths = {"cases.parquet": output / "cases.parquet", "cases.csv": output / "cases.csv",
+             "lifetime.csv": output / "lifetime.csv"}
+    output.mkdir(parents=True, exist_ok=True)
+    frame.to_parquet(paths["cases.parquet"], index=False)
+    frame.to_csv(paths["cases.csv"], index=False)
+    pandas.DataFrame(lifetime_table(campaign, rows)).to_csv(paths["lifetime.csv"], index=False)
+    return paths

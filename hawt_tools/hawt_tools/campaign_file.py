@@ -1,0 +1,205 @@
+"""Campaign files (``hawt campaign CAMPAIGN.yaml``): what a design-load-case sweep runs, read and checked.
+
+A campaign file is YAML::
+
+    turbine: ""                       # turbine definition ('' = the packaged NREL 5 MW)
+    wind:
+      speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing
+      seeds: 3                        # seeds 1..3 per bin, or a list [4, 7]
+      turbulence_class: B             # IEC A, B or C
+      shear_exponent: 0.2
+    site: {wind_class: I}             # Rayleigh at the IEC class mean; or {mean: 8.5, shape: 2.2} (Weibull)
+    duration: 600                     # analysed simulated time per case [s]
+    transient: 60                     # simulated time discarded before it [s]
+    controllers:
+      baseline: {graph: baseline}
+      ipc_1p: {graph: ipc, arguments: {ipc_h2: "false", ipc_h3: "false"}}
+      lqg: {graph: lqg, parameters: ["lqg_ipc.wind_noise:=0.001"]}
+
+Every case is a run of a controller's graph (its launch ``arguments`` and ``-p``-style
+``parameters``) with the plant's wind set by the campaign. Everything is checked before a case
+runs, each graph with the plant parameters of every case: an error is a :class:`CampaignError`
+whose one line names the file, the line and the key at fault.
+"""
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, List, Mapping, Tuple
+
+from hawt_analysis.lifetime import IEC_CLASS_MEAN_SPEED, WindDistribution
+from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml
+
+__all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "TURBULENCE_CLASSES"]
+
+TURBULENCE_CLASSES = ("A", "B", "C")
+_KEYS = {"": ("turbine", "wind", "site", "duration", "transient", "controllers"),
+         "wind": ("speeds", "seeds", "turbulence_class", "shear_exponent"),
+         "site": ("wind_class", "mean", "shape"),
+         "controller": ("graph", "arguments", "parameters")}
+_REQUIRED = {"": ("wind", "duration", "controllers"), "wind": ("speeds",), "controller": ("graph",)}
+
+
+class CampaignError(GraphError):
+    """A campaign file that cannot run: one line naming the file, the line and the key."""
+
+
+@dataclass(frozen=True)
+class ControllerConfig:
+    """One controller configuration: a graph with its launch arguments and parameter overrides."""
+
+    name: str
+    graph: str
+    arguments: Tuple[Tuple[str, str], ...] = ()
+    parameters: Tuple[str, ...] = ()
+    line: int = 0
+
+
+@dataclass(frozen=True)
+class Campaign:
+    """A checked campaign file (module notes); speeds [m/s], times [s] simulated."""
+
+    path: Path
+    speeds: Tuple[float, ...]
+    seeds: Tuple[int, ...]
+    controllers: Tuple[ControllerConfig, ...]
+    duration: float
+    transient: float = 60.0
+    turbulence_class: str = "B"
+    shear_exponent: float = 0.2
+    site: WindDistribution = WindDistribution(IEC_CLASS_MEAN_SPEED["I"])
+    turbine: str = ""
+
+
+class _Reader:
+    """Checks of one campaign file's values, each error naming the file and line of the key."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def fail(self, line: int, message: str) -> None:
+        raise CampaignError(f"{self.path}:{line}: {message}")
+
+    def mapping(self, value: Any, line: int, where: str, keys: str) -> Mapping:
+        if not isinstance(value, dict):
+            self.fail(line, f"{where or 'the file'}: expected a mapping of keys, found {value!r}")
+        for key in value:
+            if key not in _KEYS[keys]:
+                self.fail(_line(value, key), f"{_join(where, key)}: unknown key" + did_you_mean(key, _KEYS[keys]))
+        for key in _REQUIRED.get(keys, ()):
+            if key not in value:
+                self.fail(getattr(value, "line", line), f"{where or 'the file'}: missing key {key!r}")
+        return value
+
+    def number(self, value: Any, line: int, what: str, minimum: float, maximum: float = float("inf")) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not minimum <= value <= maximum:
+            bound = f"from {minimum:g} to {maximum:g}" if maximum < float("inf") else f"at least {minimum:g}"
+            self.fail(line, f"{what}: expected a number {bound}, found {value!r}")
+        return float(value)
+
+    def choice(self, value: Any, line: int, what: str, choices: Tuple[str, ...]) -> str:
+        if str(value) not in choices:
+            self.fail(line, f"{what}: {value!r} is not one of {', '.join(choices)}" + did_you_mean(str(value), choices))
+        return str(value)
+
+
+def _line(mapping: Any, key: str) -> int:
+    return getattr(mapping, "key_lines", {}).get(key, getattr(mapping, "line", 0))
+
+
+def _join(where: str, key: str) -> str:
+    return f"{where}.{key}" if where else key
+
+
+def load_campaign(path: Path) -> Campaign:
+    """Read and check a campaign file (module notes); the graphs are checked by `check_campaign_cases`.
+
+    Raises
+    ------
+    CampaignError
+        Naming file, line and key: unknown or missing keys, values of the wrong type or out of range.
+    """
+    path = Path(path)
+    try:
+        data = load_marked_yaml(path)
+    except GraphError as error:
+        raise CampaignError(str(error)) from None
+    read = _Reader(path)
+    top = read.mapping(data, 1, "", "")
+    wind = read.mapping(top["wind"], _line(top, "wind"), "wind", "wind")
+    speeds = wind["speeds"]
+    if not isinstance(speeds, list) or not speeds:
+        read.fail(_line(wind, "speeds"), f"wind.speeds: expected a list of wind speeds [m/s], found {speeds!r}")
+    speeds = tuple(read.number(v, _line(wind, "speeds"), "wind.speeds", 3.0, 30.0) for v in speeds)
+    if any(b <= a for a, b in zip(speeds, speeds[1:])):
+        read.fail(_line(wind, "speeds"), f"wind.speeds: expected increasing speeds, found {list(speeds)}")
+    seeds = _seeds(read, wind.get("seeds", 1), _line(wind, "seeds"))
+    duration = read.number(top["duration"], _line(top, "duration"), "duration", 10.0, 36000.0)
+    transient = read.number(top.get("transient", 60.0), _line(top, "transient"), "transient", 0.0, 3600.0)
+    controllers = top["controllers"]
+    if not isinstance(controllers, dict) or not controllers:
+        read.fail(_line(top, "controllers"), "controllers: expected a mapping NAME: {graph: GRAPH, ...}, found "
+                  f"{controllers!r}")
+    turbine = top.get("turbine", "")
+    if not isinstance(turbine, str) or (turbine and not Path(turbine).is_file()):
+        read.fail(_line(top, "turbine"), f"turbine: {turbine!r} is not a turbine definition file")
+    return Campaign(
+        path=path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine,
+        controllers=tuple(_controller(read, name, entry, _line(controllers, name))
+                          for name, entry in controllers.items()),
+        turbulence_class=read.choice(wind.get("turbulence_class", "B"), _line(wind, "turbulence_class"),
+                                     "wind.turbulence_class", TURBULENCE_CLASSES),
+        shear_exponent=read.number(wind.get("shear_exponent", 0.2), _line(wind, "shear_exponent"),
+                                   "wind.shear_exponent", -0.5, 0.99),
+        site=_site(read, top.get("site", {}), _line(top, "site")))
+
+
+def _seeds(read: _Reader, value: Any, line: int) -> Tuple[int, ...]:
+    if isinstance(value, int) and not isinstance(value, bool) and value >= 1:
+        return tuple(range(1, value + 1))
+    if isinstance(value, list) and value and all(isinstance(v, int) and not isinstance(v, bool) and v >= 0
+                                                 for v in value) and len(set(value)) == len(value):
+        return tuple(value)
+    read.fail(line, f"wind.seeds: expected a count (1 or more) or a list of distinct seeds >= 0, found {value!r}")
+
+
+def _site(read: _Reader, value: Any, line: int) -> WindDistribution:
+    site = read.mapping(value, line, "site", "site")
+    if "wind_class" in site:
+        if "mean" in site:
+            read.fail(_line(site, "mean"), "site: give wind_class or mean, not both")
+        mean = IEC_CLASS_MEAN_SPEED[read.choice(site["wind_class"], _line(site, "wind_class"), "site.wind_class",
+                                                tuple(IEC_CLASS_MEAN_SPEED))]
+    else:
+        mean = read.number(site.get("mean", IEC_CLASS_MEAN_SPEED["I"]), _line(site, "mean"), "site.mean", 1.0, 30.0)
+    return WindDistribution(mean, read.number(site.get("shape", 2.0), _line(site, "shape"), "site.shape", 0.5, 10.0))
+
+
+def _controller(read: _Reader, name: Any, entry: Any, line: int) -> ControllerConfig:
+    where = f"controllers.{name}"
+    if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
+        read.fail(line, f"{where}: a controller name is letters, digits, _ and -")
+    entry = read.mapping(entry, line, where, "controller")
+    if not isinstance(entry["graph"], str) or not entry["graph"]:
+        read.fail(_line(entry, "graph"), f"{where}.graph: expected a graph name or file, found {entry['graph']!r}")
+    arguments = entry.get("arguments", {})
+    if not isinstance(arguments, dict) or any(isinstance(v, (dict, list)) for v in arguments.values()):
+        read.fail(_line(entry, "arguments"), f"{where}.arguments: expected a mapping NAME: VALUE, found {arguments!r}")
+    parameters = entry.get("parameters", [])
+    if not isinstance(parameters, list) or not all(isinstance(p, str) and ":=" in p for p in parameters):
+        read.fail(_line(entry, "parameters"), f"{where}.parameters: expected a list of 'NODE.PARAM:=VALUE', found "
+                  f"{parameters!r}")
+    return ControllerConfig(name, entry["graph"], tuple((str(k), _text(v)) for k, v in arguments.items()),
+                            tuple(parameters), line)
+
+
+def _text(value: Any) -> str:
+    """A launch argument as the command line gives it (true/false for YAML booleans)."""
+    return str(value).lower() if isinstance(value, bool) else str(value)
+
+
+def case_overrides(campaign: Campaign, speed: float, seed: int) -> List[str]:
+    """The ``-p`` texts that set the plant's wind and duration for the case (speed, seed)."""
+    total = campaign.transient + campaign.duration
+    texts = ["plant.wind_type:=turbulent", f"plant.wind_speed:={speed!r}", f"plant.seed:={seed}",
+             f"plant.turbulence_class:={campaign.turbulence_class}",
+             f"plant.shear_exponent:={campaign.shear_exponent!r}", f"plant.duration:={total!r}"]  # the plant makes its turbulent field at least this long
+    return texts + ([f"plant.turbine_file:={campaign.turbine}"] if campaign.turbine else [])
