@@ -34,7 +34,7 @@ from hawt_core.plant_description import PlantDescription
 
 __all__ = [
     "Controller", "CollectiveContribution", "HarmonicContribution", "BladeContribution", "Contribution",
-    "OutputRamp", "controller_parameters", "update_or_hold", "mean_pitch", "ACTIVE_PARAMETER",
+    "OutputRamp", "controller_parameters", "update_or_hold", "mean_pitch", "ACTIVE_PARAMETER", "ControllerFailure",
 ]
 
 
@@ -107,6 +107,14 @@ class BladeContribution:
 
     def finite(self) -> bool:
         return all(math.isfinite(value) for value in self.increment)
+
+
+class ControllerFailure(RuntimeError):
+    """A core that cannot go on (a hosted library that failed): not held like refused input, but stopped.
+
+    The ROS node reports it as a ``controller_failed`` error event and answers no more steps, so the
+    plant's safety system takes over; the in-process runner ends the run with the message (exit 1).
+    """
 
 
 Contribution = Union[CollectiveContribution, HarmonicContribution, BladeContribution]

@@ -18,7 +18,8 @@ What the base does for every controller (ros2_controllers' ``forward_controllers
   by step; the core is updated at every step, active or not; its contributions are
   published while active or ramping out. A repeated step is answered again, never
   recomputed (hawt_core.step_sync). Input the core refuses holds the last output and is
-  reported (``invalid_input``).
+  reported (``invalid_input``); a core that fails for good (``ControllerFailure``) is reported
+  (``controller_failed``) and answers no more steps, so the plant's safety system takes over.
 - **switches** from ``controller_manager`` take effect at their plant step (bumpless: the
   core ramps in or out; one that replaces another on its interfaces starts from the
   other's output of the step before, which it follows while inactive, and waits for it if
@@ -38,7 +39,8 @@ from hawt_msgs.srv import SwitchControllers
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 
 from hawt_controllers.contribution_messages import from_message, message_type, to_message, topic_of
-from hawt_controllers.controller import Contribution, Controller, controller_parameters, update_or_hold
+from hawt_controllers.controller import (Contribution, Controller, ControllerFailure, controller_parameters,
+                                         update_or_hold)
 from hawt_controllers.switch_listener import SwitchListener
 from hawt_controllers.switching import Switch, ramp_steps
 from hawt_core.command_interfaces import parse_interface
@@ -326,7 +328,13 @@ class ControllerNode(LifecycleNode):
         for switch in due:
             self._apply_switch(switch, step, header.stamp, loads)
         held = self.answer.last.contributions if self.answer.last is not None else ()
-        contributions, refusal = update_or_hold(self.core, step, loads, state, held)
+        try:
+            contributions, refusal = update_or_hold(self.core, step, loads, state, held)
+        except ControllerFailure as failure:
+            self.events(ControlEvent.ERROR, "controller_failed", f"step {step}: {failure}; no more output (the "
+                        "plant's safety system takes over)", step=step, stamp=header.stamp)
+            self.core = None  # answers no more steps
+            return
         if refusal is not None:
             self.events(ControlEvent.ERROR, "invalid_input", f"step {step}: {refusal}; "
                         + ("last output held" if held else "no output yet"), step=step, stamp=header.stamp)

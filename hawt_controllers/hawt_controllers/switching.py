@@ -25,6 +25,8 @@ import math
 from dataclasses import dataclass
 from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
+from hawt_core.command_interfaces import COLLECTIVE_PITCH, GENERATOR_TORQUE
+
 __all__ = [
     "ControllerInfo", "Switch", "SwitchRefused", "ScheduledSwitch", "InterfaceWindows", "plan_switch",
     "resolve_controller", "ramp_steps", "parse_schedule", "STATE_NAMES", "TRANSITIONS",
@@ -154,10 +156,11 @@ def plan_switch(controllers: Mapping[str, ControllerInfo], activate: Sequence[st
     if both:
         raise SwitchRefused(f"{sorted(both)[0]}: both activated and deactivated")
     for outgoing in chosen["deactivate"]:
-        if not outgoing.switchable and not any(set(outgoing.interfaces) <= set(c.interfaces)
-                                               for c in chosen["activate"]):
+        # the command cannot go without its collective interfaces; others (blade_pitch of a hosted IPC) may fall silent
+        needed = [i for i in outgoing.interfaces if i in (COLLECTIVE_PITCH, GENERATOR_TORQUE)] or outgoing.interfaces
+        if not outgoing.switchable and not any(set(needed) <= set(c.interfaces) for c in chosen["activate"]):
             raise SwitchRefused(f"{outgoing.name}: a {outgoing.type} controller can only be swapped for another "
-                                f"claimant of {', '.join(outgoing.interfaces)} in the same switch, not switched "
+                                f"claimant of {', '.join(needed)} in the same switch, not switched "
                                 f"off (without it the plant's safety system would stop the turbine)")
     _check_one_per_interface(controllers, chosen["activate"], chosen["deactivate"], step)
     return chosen["activate"], chosen["deactivate"], skipped
