@@ -1,0 +1,162 @@
+"""`hawt campaign` on real Dask workers: every case once, resumable, the same on a cluster as locally, a killed
+worker or a Ctrl-C loses nothing, and a case equals the lockstep ROS graph's run bit for bit."""
+import json
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import List
+
+import pandas
+import pytest
+
+from hawt_bag.step_comparison import step_differences
+from hawt_tools.campaign_file import case_overrides, load_campaign
+
+CAMPAIGN = """\
+wind: {speeds: [12, 16, 20], seeds: [1]}
+duration: 10
+transient: 2
+controllers:
+  baseline: {graph: baseline}
+  ipc_1p: {graph: ipc, arguments: {ipc_h2: false, ipc_h3: false}}
+"""
+CASES = 6
+HAWT = [sys.executable, "-m", "hawt_tools.cli"]
+
+
+class _Command:
+    """A command in a child process whose output lines are read as they come."""
+
+    def __init__(self, arguments: List[str]) -> None:
+        self.process = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.lines: List[str] = []
+        self.changed = threading.Condition()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        for line in self.process.stdout:
+            with self.changed:
+                self.lines.append(line)
+                self.changed.notify_all()
+
+    def wait_for(self, text: str, timeout: float = 300.0) -> None:
+        with self.changed:
+            assert self.changed.wait_for(lambda: any(text in line for line in self.lines), timeout), \
+                "".join(self.lines[-30:])
+
+    def finish(self, timeout: float = 600.0) -> int:
+        code = self.process.wait(timeout)
+        self.process.stdout.close()
+        return code
+
+
+def _wait_until(condition, what: str, timeout: float = 120.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"no {what} after {timeout:g} s"
+        time.sleep(0.05)
+
+
+def _rows(output: Path) -> dict:
+    """Stored cases by key, without the wall time."""
+    rows = [json.loads(path.read_text()) for path in (output / "cases").glob("*.json")]
+    return {row["key"]: {k: v for k, v in row.items() if k != "wall_s"} for row in rows}
+
+
+@pytest.fixture(scope="module")
+def campaign_file(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("campaign") / "small.yaml"
+    path.write_text(CAMPAIGN)
+    return path
+
+
+@pytest.fixture(scope="module")
+def local_run(campaign_file) -> Path:
+    output = campaign_file.parent / "local"
+    result = subprocess.run([*HAWT, "campaign", str(campaign_file), "-o", str(output), "--workers", "2"],
+                            capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    return output
+
+
+def test_every_case_runs_once_into_the_tables_and_a_rerun_skips_them(local_run, campaign_file, hawt_cli):
+    rows = _rows(local_run)
+    assert len(rows) == CASES and sorted((r["controller"], r["wind_speed"]) for r in rows.values()) == sorted(
+        (name, speed) for name in ("baseline", "ipc_1p") for speed in (12.0, 16.0, 20.0))
+    table = pandas.read_parquet(local_run / "cases.parquet")
+    assert len(table) == CASES and table["del.root_moment_oop_1"].gt(0).all()
+    assert pandas.read_csv(local_run / "cases.csv")["key"].tolist() == table["key"].tolist()
+    lifetime = pandas.read_csv(local_run / "lifetime.csv")
+    assert set(lifetime["controller"]) == {"baseline", "ipc_1p"} and lifetime["value"].notna().all()
+    assert (local_run / "report.html").is_file()
+    again = subprocess.run([*hawt_cli, "campaign", str(campaign_file), "-o", str(local_run)], capture_output=True,
+                           text=True, timeout=300)
+    assert again.returncode == 0, again.stderr[-2000:]
+    assert f"{CASES} already done" in again.stdout and "[1/" not in again.stdout
+
+
+def test_on_a_cluster_with_a_worker_killed_every_case_is_stored_once_and_equal_to_the_local_run(
+        local_run, campaign_file, hawt_cli, tmp_path):
+    """A dask scheduler and two dask worker processes on localhost; one worker is killed (SIGKILL) once the first
+    case has finished: its task runs again on the other, and the results are the local run's."""
+    dask = [str(Path(sys.executable).parent / "dask")]
+    address_file = tmp_path / "scheduler.json"
+    scheduler = subprocess.Popen([*dask, "scheduler", "--scheduler-file", str(address_file), "--port", "0",
+                                  "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    workers = [subprocess.Popen([*dask, "worker", "--scheduler-file", str(address_file), "--nthreads", "1",
+                                 "--no-nanny", "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+               for _ in range(2)]
+    try:
+        from distributed import Client
+
+        _wait_until(address_file.exists, "the scheduler's address file")
+        address = json.loads(address_file.read_text())["address"]
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=120)
+        output = tmp_path / "cluster"
+        command = _Command([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--scheduler", address])
+        command.wait_for("[1/")
+        workers[0].kill()
+        assert command.finish() == 0, "".join(command.lines[-30:])
+        assert f"[{CASES}/{CASES}]" in "".join(command.lines)
+        assert len(list((output / "cases").glob("*.json"))) == CASES
+        assert _rows(output) == _rows(local_run)
+    finally:
+        for process in (*workers, scheduler):
+            process.kill()
+            process.wait()
+
+
+def test_a_campaign_interrupted_with_ctrl_c_keeps_what_finished_and_resumes(campaign_file, hawt_cli, tmp_path):
+    output = tmp_path / "interrupted"
+    command = _Command([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1"])
+    command.wait_for("[1/")
+    command.process.send_signal(signal.SIGINT)
+    assert command.finish() == 130, "".join(command.lines[-30:])
+    finished = len(list((output / "cases").glob("*.json")))
+    assert 1 <= finished < CASES and "run the same command again to resume" in "".join(command.lines)
+    rerun = subprocess.run([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1"],
+                           capture_output=True, text=True, timeout=600)
+    assert rerun.returncode == 0, rerun.stdout[-2000:] + rerun.stderr[-2000:]
+    assert f"{finished} already done" in rerun.stdout
+    assert len(list((output / "cases").glob("*.json"))) == CASES
+
+
+@pytest.mark.ros
+def test_a_recorded_case_equals_the_lockstep_ros_graph_bit_for_bit(local_run, campaign_file, hawt_cli, tmp_path):
+    """The 16 m/s ipc_1p case with --bags, and `hawt launch` of the same graph with the campaign's plant settings."""
+    output = tmp_path / "bags"
+    result = subprocess.run([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1",
+                             "--bags"], capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    case = output / "bags" / "ipc_1p_16ms_seed1.mcap"
+    launched = tmp_path / "launched.mcap"
+    overrides = [word for text in case_overrides(load_campaign(campaign_file), 16.0, 1) for word in ("-p", text)]
+    result = subprocess.run([*hawt_cli, "launch", "ipc", "ipc_h2:=false", "ipc_h3:=false", *overrides,
+                             "--record", str(launched)], capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr[-2000:]
+    topics = ("/wt1/plant/blade_loads", "/wt1/plant/state", "/wt1/control/pitch_command")
+    assert step_differences(launched, case, topics) == []

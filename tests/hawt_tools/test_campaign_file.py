@@ -1,0 +1,76 @@
+"""Campaign files are checked before anything runs: a typo or a bad value is one line naming file, line and key,
+and `hawt campaign` exits 2 without starting a worker."""
+import subprocess
+import textwrap
+
+import pytest
+
+from hawt_analysis.lifetime import WindDistribution
+from hawt_tools.campaign import plan_cases
+from hawt_tools.campaign_file import CampaignError, load_campaign
+
+GOOD = """\
+wind:
+  speeds: [13, 18]
+  seeds: 2
+  turbulence_class: A
+site: {mean: 8.5, shape: 2.2}
+duration: 20
+transient: 5
+controllers:
+  baseline: {graph: baseline}
+  ipc_1p: {graph: ipc, arguments: {ipc_h2: false, ipc_h3: false}, parameters: ["ipc_h1.integral_gain:=0.5"]}
+"""
+
+
+def _write(tmp_path, text: str):
+    path = tmp_path / "campaign.yaml"
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def test_a_good_file_gives_every_case_once_with_a_key_of_what_defines_it(tmp_path):
+    campaign = load_campaign(_write(tmp_path, GOOD))
+    assert campaign.speeds == (13.0, 18.0) and campaign.seeds == (1, 2) and campaign.turbulence_class == "A"
+    assert campaign.site == WindDistribution(8.5, 2.2) and (campaign.duration, campaign.transient) == (20.0, 5.0)
+    assert campaign.controllers[1].arguments == (("ipc_h2", "false"), ("ipc_h3", "false"))
+    cases = plan_cases(campaign)
+    assert [(c.controller.name, c.speed, c.seed) for c in cases] == [
+        (name, speed, seed) for name in ("baseline", "ipc_1p") for speed in (13.0, 18.0) for seed in (1, 2)]
+    assert len({c.key for c in cases}) == 8
+    changed = load_campaign(_write(tmp_path, GOOD.replace("integral_gain:=0.5", "integral_gain:=0.6")))
+    again = plan_cases(changed)
+    assert [a.key == b.key for a, b in zip(cases, again)] == [True] * 4 + [False] * 4, \
+        "a parameter of one controller changes the keys of its cases only"
+
+
+@pytest.mark.parametrize("text, message", [
+    (GOOD.replace("  speeds:", "  speds:"), "campaign.yaml:2: wind.speds: unknown key (did you mean 'speeds'?)"),
+    (GOOD.replace("[13, 18]", "[13, 45]"), "campaign.yaml:2: wind.speeds: expected a number from 3 to 30, found 45"),
+    (GOOD.replace("[13, 18]", "[18, 13]"), "campaign.yaml:2: wind.speeds: expected increasing speeds"),
+    (GOOD.replace("seeds: 2", "seeds: [1, 1]"), "campaign.yaml:3: wind.seeds: expected a count"),
+    (GOOD.replace("class: A", "class: D"), "campaign.yaml:4: wind.turbulence_class: 'D' is not one of A, B, C"),
+    (GOOD.replace("duration: 20", "duration: -1"), "campaign.yaml:6: duration: expected a number from 10"),
+    (GOOD.replace("duration: 20\n", ""), "campaign.yaml:1: the file: missing key 'duration'"),
+    (GOOD.replace("{mean: 8.5, shape: 2.2}", "{wind_class: IV}"), "campaign.yaml:5: site.wind_class: 'IV' is not"),
+    (GOOD.replace("{graph: baseline}", "{grahp: baseline}"),
+     "campaign.yaml:9: controllers.baseline.grahp: unknown key (did you mean 'graph'?)"),
+    (GOOD.replace("{graph: baseline}", "{graph: baselin}"), "campaign.yaml:9: controllers.baseline: baselin: no"),
+    (GOOD.replace("ipc_h2: false", "ipc_h7: false"), "campaign.yaml:10: controllers.ipc_1p: "),
+    (GOOD.replace("integral_gain:=0.5", "integral_gian:=0.5"), "campaign.yaml:10: controllers.ipc_1p: "),
+    (GOOD.replace("integral_gain:=0.5", "integral_gain:=nan"), "campaign.yaml:10: controllers.ipc_1p: "),
+    ("wind: {speeds: [5]\n", "campaign.yaml:2:1: YAML error"),
+], ids=["key typo", "speed range", "speed order", "seeds", "class", "duration", "missing", "site", "controller key",
+        "graph", "argument", "parameter name", "parameter value", "yaml"])
+def test_a_bad_file_is_one_line_naming_file_line_and_key(tmp_path, text, message):
+    with pytest.raises(CampaignError) as raised:
+        plan_cases(load_campaign(_write(tmp_path, text)))
+    assert message in str(raised.value) and "\n" not in str(raised.value)
+
+
+def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_cli):
+    path = _write(tmp_path, GOOD.replace("integral_gain:=0.5", "integral_gian:=0.5"))
+    result = subprocess.run([*hawt_cli, "campaign", str(path), "-o", str(tmp_path / "out")], capture_output=True,
+                            text=True, timeout=120)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert "integral_gian" in result.stderr and not (tmp_path / "out").exists()
