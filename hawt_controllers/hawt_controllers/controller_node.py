@@ -272,9 +272,9 @@ class ControllerNode(LifecycleNode):
     def _awaited_handover(self, step: int, due: Sequence[Switch]) -> List[str]:
         """Topics whose outgoing contribution of step - 1 a replacing activation due at ``step`` still waits for."""
         claims = self.core.claims()
-        if not any(name == self.name for s in due if s.replaces(claims) for name, _ in s.activate):
-            return []
-        return [t for t in self._claimed_topics() if self.followed.get(t, (-1, None))[0] < step - 1]
+        handovers = [s for s in due if s.replaces(claims) and any(name == self.name for name, _ in s.activate)]
+        topics = sorted({parse_interface(i).topic for i in claims if any(s.replaced(i) for s in handovers)})
+        return [t for t in topics if self.followed.get(t, (-1, None))[0] < step - 1]
 
     # --- parameters --------------------------------------------------------------------------------
 

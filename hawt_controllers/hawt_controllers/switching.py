@@ -205,10 +205,12 @@ class InterfaceWindows:
         """Update the windows with a switch (switches must be applied in step order)."""
         end = switch.step + ramp_steps(switch.ramp_time, self.dt)
         for _, claims in switch.deactivate:
+            # a controller that hands over any interface falls silent on all of them at once
+            silent_from = switch.step if switch.replaces(claims) else end
             for interface in claims:
                 window = self._window_at(interface, switch.step)
-                if window is not None and not switch.replaced(interface):
-                    window[1] = end
+                if window is not None:
+                    window[1] = silent_from
         for _, claims in switch.activate:
             for interface in claims:
                 window = self._window_at(interface, switch.step)

@@ -10,6 +10,7 @@ from hawt_tools.node_parameters import node_parameters
 
 SCHEDULE = "schedule:=['500 +ipc_h1', '1500 +ipc_h4 +blade_sine', '2500 +ipc_h1_retuned -ipc_h1', " \
            "'4000 -blade_sine -ipc_h4']"
+ROSCO_SCHEDULE = "schedule:=['800 +cpc +ipc_h1 +ipc_h2 -rosco', '1400 +rosco -cpc -ipc_h1 -ipc_h2']"
 
 
 def test_node_parameters_follow_rcl_order_files_then_node_overrides(tmp_path):
@@ -50,8 +51,9 @@ def test_node_parameters_agree_with_rcl_for_any_order_of_wildcard_and_named_file
 
 
 @pytest.mark.ros
-@pytest.mark.parametrize("graph, arguments, seconds", [("ipc", [], 60), ("switching", [SCHEDULE], 60), ("lqg", [], 20)],
-                         ids=["ipc", "switching", "lqg"])
+@pytest.mark.parametrize("graph, arguments, seconds", [("ipc", [], 60), ("switching", [SCHEDULE], 60), ("lqg", [], 20),
+                                                      ("rosco_ipc", [ROSCO_SCHEDULE], 20)],
+                         ids=["ipc", "switching", "lqg", "rosco_ipc"])
 def test_hawt_run_equals_the_lockstep_graph_in_every_field_at_every_step(hawt_cli, tmp_path, graph, arguments,
                                                                           seconds):
     """Turbulence: plant/blade_loads, plant/state and control/pitch_command of `hawt run` and of the lockstep ROS
