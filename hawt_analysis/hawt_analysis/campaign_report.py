@@ -37,7 +37,7 @@ def lifetime_text(lifetime: Sequence[Mapping[str, Any]]) -> str:
     value = {(e["controller"], e["quantity"]): e["value"] for e in lifetime}
     quantities = [(f"lifetime DEL {c}", f"{name} DEL [MN*m]", 1e-6) for c, name in MAIN_CHANNELS.items()]
     quantities.append(("AEP [J]", "AEP [GWh]", 1 / 3.6e12))
-    lines = [f"{'':34s}" + "".join(f"{name:>24s}" for name in controllers)]
+    lines = [f"{'':38s}" + "".join(f"{name:>24s}" for name in controllers)]
     for quantity, label, factor in quantities:
         base = value.get((controllers[0], quantity), math.nan)
         cells = []
@@ -45,7 +45,7 @@ def lifetime_text(lifetime: Sequence[Mapping[str, Any]]) -> str:
             number = value.get((name, quantity), math.nan)
             change = f" ({100 * (number / base - 1):+6.1f}%)" if name != controllers[0] and base else " " * 10
             cells.append(f"{number * factor:10.4g}{change}")
-        lines.append(f"{label:34s}" + "".join(f"{cell:>24s}" for cell in cells))
+        lines.append(f"{label:38s}" + "".join(f"{cell:>24s}" for cell in cells))
     return "\n".join(lines)
 
 

@@ -35,7 +35,8 @@ from hawt_analysis.summary import summarize
 from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides
 from hawt_tools.graph_file import Graph, GraphError, load_graph
 
-__all__ = ["Case", "CampaignRun", "code_version", "plan_cases", "prepare_wind", "run_case", "run_campaign"]
+__all__ = ["Case", "CampaignRun", "code_version", "plan_cases", "prepare_wind", "run_case", "run_campaign",
+           "lifetime_table", "write_tables", "read_lifetime"]
 
 _PACKAGES = ("hawt_core", "hawt_plant", "hawt_controllers", "hawt_analysis", "hawt_tools", "hawt_bag", "hawt_node")
 
@@ -335,3 +336,14 @@ def write_tables(campaign: Campaign, rows: Iterable[Dict[str, Any]], output: Pat
     frame.to_csv(paths["cases.csv"], index=False)
     pandas.DataFrame(lifetime_table(campaign, rows)).to_csv(paths["lifetime.csv"], index=False)
     return paths
+
+
+def read_lifetime(directory: Path, prefix: str = "") -> List[Dict[str, Any]]:
+    """The lifetime table a campaign wrote into ``directory``, each controller named ``prefix + name``."""
+    import pandas
+
+    path = Path(directory) / "lifetime.csv"
+    if not path.is_file():
+        raise CampaignError(f"{directory}: no lifetime.csv (not a campaign folder, or its campaign ran no case yet)")
+    rows = pandas.read_csv(path).to_dict("records")
+    return [{**row, "controller": prefix + str(row["controller"])} for row in rows]

@@ -221,6 +221,9 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     from hawt_analysis.analysis_report import comparison_text, write_comparison_report
     from hawt_analysis.run_analysis import compare_bags
 
+    folders = [Path(path).is_dir() for path in args.bags]
+    if any(folders):
+        return _compare_campaigns(args, all(folders))
     analyses, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
     for analysis in analyses:
         _warn("compare", analysis.summary["warnings"])
@@ -228,6 +231,22 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     print(json.dumps(comparison) if args.json else comparison_text(comparison))
     if args.report:
         _progress(f"report: {write_comparison_report(comparison, args.report)}")
+    return 0
+
+
+def _compare_campaigns(args: argparse.Namespace, only_folders: bool) -> int:
+    """Lifetime DELs and AEP of campaign folders' controllers side by side, changes against the first."""
+    from hawt_analysis.campaign_report import lifetime_text
+    from hawt_tools.campaign import read_lifetime
+
+    if not only_folders:
+        raise GraphError("give bags or campaign folders, not both")
+    if args.report:
+        raise GraphError("--report: each campaign folder has its report.html already")
+    several = len(args.bags) > 1
+    lifetime = [row for path in args.bags
+                for row in read_lifetime(Path(path), f"{Path(path).name}/" if several else "")]
+    print(json.dumps(lifetime) if args.json else lifetime_text(lifetime))
     return 0
 
 
@@ -602,8 +621,10 @@ def _parser() -> argparse.ArgumentParser:
     analyze.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when the bag holds several")
     analyze.set_defaults(run=_cmd_analyze)
 
-    compare = commands.add_parser("compare", help="several runs side by side, changes against the first")
-    compare.add_argument("bags", nargs="+", metavar="FILE.mcap")
+    compare = commands.add_parser("compare", help="several runs (or campaign folders) side by side, changes "
+                                                  "against the first")
+    compare.add_argument("bags", nargs="+", metavar="FILE.mcap|CAMPAIGN_DIR",
+                         help="bags, or the output folders of hawt campaign (their lifetime DELs and AEP)")
     compare.add_argument("--json", action="store_true", help="print the comparison as JSON")
     compare.add_argument("--report", metavar="DIR", help="write index.html, comparison.png and comparison.json")
     compare.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when a bag holds several")

@@ -160,3 +160,12 @@ def test_a_recorded_case_equals_the_lockstep_ros_graph_bit_for_bit(local_run, ca
     assert result.returncode == 0, result.stderr[-2000:]
     topics = ("/wt1/plant/blade_loads", "/wt1/plant/state", "/wt1/control/pitch_command")
     assert step_differences(launched, case, topics) == []
+
+
+def test_compare_reads_campaign_folders(local_run, hawt_cli):
+    """Lifetime DELs and AEP of every controller of the campaign, changes against the first."""
+    result = subprocess.run([*hawt_cli, "compare", str(local_run)], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    header, *rows = result.stdout.splitlines()
+    assert header.split() == ["baseline", "ipc_1p"] and rows[-1].startswith("AEP [GWh]")
+    assert "%" in rows[0], "the second controller's change against the first"
