@@ -13,7 +13,7 @@ from typing import Mapping, Sequence
 
 from hawt_bag.errors import BagError
 
-__all__ = ["analysis_text", "comparison_text", "write_analysis_report", "write_comparison_report"]
+__all__ = ["analysis_text", "comparison_text", "write_analysis_report", "write_comparison_report", "write_html_page"]
 
 _MN = 1e-6
 _DEG = 180.0 / math.pi
@@ -127,13 +127,15 @@ def comparison_text(comparison: Mapping) -> str:
     return "\n".join(lines)
 
 
-def _index(directory: Path, title: str, text: str, images: Sequence[Path], data_file: str) -> Path:
+def write_html_page(path: Path, title: str, text: str, images: Sequence[Path], data_files: Sequence[str]) -> Path:
+    """One report page: the title, ``text`` as preformatted text, links to the data files beside it and the
+    images (PNGs in the same folder, each headed by its file name); returns ``path``."""
     figures = "\n".join(f'<h2>{html.escape(p.stem.replace("_", " "))}</h2>\n<img src="{html.escape(p.name)}" '
                         f'alt="{html.escape(p.stem)}" style="max-width:100%">' for p in images)
+    links = ", ".join(f'<a href="{html.escape(name)}">{html.escape(name)}</a>' for name in data_files)
     page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title></head>\n"
             f"<body>\n<h1>{html.escape(title)}</h1>\n<pre>{html.escape(text)}</pre>\n"
-            f"<p>All numbers in SI units: <a href=\"{data_file}\">{data_file}</a></p>\n{figures}\n</body></html>\n")
-    path = directory / "index.html"
+            f"<p>All numbers in SI units: {links}</p>\n{figures}\n</body></html>\n")
     path.write_text(page, encoding="utf-8")
     return path
 
@@ -154,8 +156,8 @@ def write_analysis_report(analysis, directory: os.PathLike) -> Path:
     directory = _folder(directory)
     images = write_report(analysis.run.channels, analysis.summary, directory)
     (directory / "summary.json").write_text(json.dumps(analysis.summary, indent=1))
-    return _index(directory, f"hawt analyze: {analysis.path.name}", analysis_text(analysis.summary), images,
-                  "summary.json")
+    return write_html_page(directory / "index.html", f"hawt analyze: {analysis.path.name}",
+                           analysis_text(analysis.summary), images, ["summary.json"])
 
 
 def write_comparison_report(comparison: Mapping, directory: os.PathLike) -> Path:
@@ -165,5 +167,5 @@ def write_comparison_report(comparison: Mapping, directory: os.PathLike) -> Path
     directory = _folder(directory)
     images = plot(comparison, directory)
     (directory / "comparison.json").write_text(json.dumps(comparison, indent=1))
-    return _index(directory, f"hawt compare: {', '.join(comparison['labels'])}", comparison_text(comparison),
-                  images, "comparison.json")
+    return write_html_page(directory / "index.html", f"hawt compare: {', '.join(comparison['labels'])}",
+                           comparison_text(comparison), images, ["comparison.json"])

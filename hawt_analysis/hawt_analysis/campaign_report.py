@@ -5,12 +5,13 @@ seed a dot), the lifetime DEL of each channel relative to the first controller (
 pitch activity against wind speed. Rows are the per-case dicts of ``hawt_tools.campaign``; the
 lifetime table is ``hawt_tools.campaign.lifetime_table``'s.
 """
-import html
 import math
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Sequence
+from typing import Any, List, Mapping, Sequence
 
 import numpy as np
+
+from .analysis_report import write_html_page
 
 __all__ = ["MAIN_CHANNELS", "lifetime_text", "write_campaign_report"]
 
@@ -113,16 +114,8 @@ def _figure_pitch(rows, path: Path) -> Path:
 def write_campaign_report(title: str, rows: Sequence[Mapping[str, Any]], lifetime: Sequence[Mapping[str, Any]],
                           directory: Path, tables: Mapping[str, Path]) -> Path:
     """Write ``report.html`` and its PNGs into ``directory``; return the page."""
-    images: Dict[str, Path] = {
-        "DEL against wind speed": _figure_del_against_speed(rows, directory / "del_against_wind_speed.png"),
-        "lifetime DEL": _figure_lifetime(lifetime, directory / "lifetime_del.png"),
-        "pitch activity": _figure_pitch(rows, directory / "pitch_activity.png")}
-    links = " · ".join(f'<a href="{html.escape(p.name)}">{html.escape(name)}</a>' for name, p in tables.items())
-    figures = "\n".join(f"<h2>{html.escape(name)}</h2>\n<img src=\"{html.escape(p.name)}\" alt=\"{html.escape(name)}\" "
-                        "style=\"max-width:100%\">" for name, p in images.items())
-    page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title></head>\n"
-            f"<body>\n<h1>{html.escape(title)}</h1>\n<pre>{html.escape(lifetime_text(lifetime))}</pre>\n"
-            f"<p>Tables (SI units): {links}</p>\n{figures}\n</body></html>\n")
-    path = directory / "report.html"
-    path.write_text(page, encoding="utf-8")
-    return path
+    images = [_figure_del_against_speed(rows, directory / "DEL_against_wind_speed.png"),
+              _figure_lifetime(lifetime, directory / "lifetime_DEL_change.png"),
+              _figure_pitch(rows, directory / "pitch_activity.png")]
+    return write_html_page(directory / "report.html", title, lifetime_text(lifetime), images,
+                           [path.name for path in tables.values()])
