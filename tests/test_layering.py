@@ -14,7 +14,7 @@ ROS_MODULES = {
     "hawt_plant": {"plant_node", "description_node"},
     "hawt_controllers": {"controller_node", "cpc_node", "ipc_node", "blade_sine_node", "mbc_node",
                          "controller_manager_node", "switch_listener", "repetitive_ipc_node",
-                         "repetitive_cpc_node", "coleman_excitation_node", "lqg_ipc_node"},
+                         "repetitive_cpc_node", "coleman_excitation_node", "lqg_ipc_node", "discon_node"},
     "hawt_bag": {"recorder", "replayer"},
     "hawt_tools": {"launcher", "controller_client", "graph_info", "example_nodes"},
 }
