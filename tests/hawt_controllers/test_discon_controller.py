@@ -1,6 +1,6 @@
 """hawt_controllers.discon_controller: a DISCON library as a hawt controller — claims, parameters, activation and
 the status sequence on the fake library of ``data/fake_discon.c``, and ROSCO holding the NREL 5 MW plant in
-the in-process runner (``hawt run``)."""
+the in-process runner (``hawt run``); a library failing in the lockstep ROS graph."""
 import math
 import subprocess
 import sys
@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hawt_analysis.run_analysis import analyze_bag
 from hawt_controllers.controller import CollectiveContribution, ControllerFailure
 from hawt_controllers.discon_controller import DisconController
 from hawt_controllers.rosco_input import read_settings, rosco_files
@@ -212,3 +213,31 @@ def test_hawt_run_with_a_missing_library_exits_2_in_one_line(hawt_cli):
 def test_importing_the_core_does_not_import_rclpy():
     code = "import sys, hawt_controllers.discon_controller; print('rclpy' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip() == "False"
+
+
+FAIL_AT = 200
+
+
+@pytest.mark.ros
+def test_a_library_failing_in_the_lockstep_graph_is_reported_and_the_safety_system_feathers(fake, tmp_path,
+                                                                                             hawt_cli):
+    infile = tmp_path / "fake.in"
+    infile.write_text(f"{tmp_path / 'calls.log'} {FAIL_AT}\n")
+    bag = tmp_path / "failing.mcap"
+    result = subprocess.run([*hawt_cli, "launch", "rosco", "duration:=8", "-p", f"rosco.library:={fake}",
+                             "-p", f"rosco.infile:={infile}", "--record", str(bag)],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    analysis = analyze_bag(bag)
+    events = {(e["step"], e["source"].rsplit("/", 1)[-1], e["kind"]): e for e in analysis.run.events}
+    failed = events[(FAIL_AT, "rosco", "controller_failed")]
+    assert "fake failure" in failed["detail"]
+    assert (FAIL_AT, "plant", "watchdog") in events and (800, "plant", "finished") in events
+    channels = analysis.run.channels
+    after = channels["time"] > channels["time"][-1] - 1.0
+    assert np.all(channels["generator_torque"][after] == 0.0), "generator torque off once tripped"
+    assert np.all(np.diff(channels["pitch"][channels["time"] > FAIL_AT * 0.01], axis=0) >= -1e-12), \
+        "pitch only moves towards feather after the failure"
+    assert channels["pitch"].max() <= math.pi / 2 + 1e-9
+    command = analysis.run.pitch_command
+    assert np.all(np.isfinite(command["pitch"])) and command["pitch"].max() <= math.pi / 2 + 1e-9
