@@ -48,7 +48,7 @@ def assembly_problem(interface: str, blades: int) -> Optional[str]:
     try:
         harmonic = parse_interface(interface).harmonic
         if harmonic:
-            check_configuration(harmonic, blades)
+            check_configuration(harmonic, blades, inverse=True)
     except (InterfaceError, ConfigurationError) as error:
         return f"{interface}: {error}" if isinstance(error, ConfigurationError) else str(error)
     return None

@@ -1,4 +1,4 @@
-"""Multi-blade coordinate (Coleman) transform of one harmonic, for any B >= 3.
+"""Multi-blade coordinate (Coleman) transform of one harmonic: forward for B >= 3, inverse for B >= 2.
 
 Conventions (DESIGN.md §3): ψ is the azimuth of blade 1 (0 = blade 1 up,
 increasing with rotation); blade i sits at ψ_i = ψ + 2π(i−1)/B.
@@ -17,9 +17,12 @@ offset of ROSCO's ``ColemanTransformInverse`` (φ_n = n·IPC_aziOffset(n))::
 
 What is supported, and why
 --------------------------
-* B >= 3 blades. For B = 2 the pair (cos_n, sin_n) cannot be recovered from two
-  blade values at every azimuth (the 2×2 matrix is singular at ψ = 0 for n = 1);
-  two-bladed rotors need the harmonic-estimator formulation of Zalkind & Pao.
+* B >= 3 blades for the forward transform. For B = 2 the pair (cos_n, sin_n) cannot be
+  recovered from two blade values at every azimuth (the 2×2 matrix is singular at ψ = 0
+  for n = 1); two-bladed rotors need the harmonic-estimator formulation of Zalkind & Pao
+  (:mod:`hawt_controllers.harmonic_estimator`). The inverse is defined for B = 2: for odd n
+  it gives θ_2 = −θ_1, Zalkind & Pao's pitch law eqs. 18–19 (with θ^{1P} = c − j s at φ = 0);
+  for even n, θ_2 = θ_1 (a collective-like pattern).
 * Every integer harmonic n >= 1. When 2n is not a multiple of B the
   (cos_n, sin_n) rows are orthogonal over the blades, so forward∘inverse is the
   identity at every azimuth (Fratini 2019 AC-7; van Engelen 2006 eq. 23).
@@ -75,7 +78,7 @@ class HarmonicComponents(NamedTuple):
     sin: np.ndarray
 
 
-def check_configuration(harmonic: int, n_blades: int) -> None:
+def check_configuration(harmonic: int, n_blades: int, inverse: bool = False) -> None:
     """Refuse a blade count or harmonic the transform cannot honour.
 
     Parameters
@@ -83,26 +86,30 @@ def check_configuration(harmonic: int, n_blades: int) -> None:
     harmonic : int
         Harmonic number n; must be an integer >= 1.
     n_blades : int
-        Number of blades B; must be >= 3.
+        Number of blades B; must be >= 3, or >= 2 for the inverse alone.
+    inverse : bool
+        Check for the inverse transform only (remodulating a demand onto the blades).
 
     Raises
     ------
     ConfigurationError
-        ``n_blades`` for B < 3 (B = 2 is singular), ``harmonic`` for n < 1 or a
-        non-integer.
+        ``n_blades`` for B < 3 (B = 2 is singular for the forward transform) or B < 2,
+        ``harmonic`` for n < 1 or a non-integer.
     """
     if isinstance(n_blades, bool) or not isinstance(n_blades, (int, np.integer)):
         raise ConfigurationError("n_blades", f"must be an integer, found {n_blades!r}")
     if isinstance(harmonic, bool) or not isinstance(harmonic, (int, np.integer)):
         raise ConfigurationError("harmonic", f"must be an integer, found {harmonic!r}")
-    if n_blades == 2:
+    if n_blades == 2 and not inverse:
         raise ConfigurationError(
             "n_blades",
             "the MBC transform is singular for B=2 (two blade values cannot carry mean, cos and sin); "
-            "two-bladed rotors need the harmonic-estimator formulation of Zalkind & Pao",
+            "two-bladed rotors need the harmonic-estimator formulation of Zalkind & Pao "
+            "(hawt_controllers.harmonic_estimator)",
         )
-    if n_blades < 3:
-        raise ConfigurationError("n_blades", f"must be >= 3 for the MBC transform, found {n_blades}")
+    if n_blades < (2 if inverse else 3):
+        fewest = 2 if inverse else 3
+        raise ConfigurationError("n_blades", f"must be >= {fewest} for the MBC transform, found {n_blades}")
     if harmonic < 1:
         raise ConfigurationError("harmonic", f"must be >= 1, found {harmonic}")
 
@@ -275,7 +282,7 @@ def mbc_inverse(
     harmonic : int
         Harmonic number n >= 1.
     n_blades : int
-        Number of blades B >= 3.
+        Number of blades B >= 2 (for B = 2 and odd n, θ_2 = −θ_1: Zalkind & Pao eqs. 18–19).
     phase_offset : float, optional
         φ_n [rad], added inside the cosine and sine. ROSCO's azimuth offset
         ``IPC_aziOffset(n)`` corresponds to φ_n = n·IPC_aziOffset(n).
@@ -293,7 +300,7 @@ def mbc_inverse(
     delay τ between command and blade, at rotor speed Ω, rotates by −nΩτ, so
     φ_n = nΩτ compensates it (see :func:`hawt_controllers.ipc_tuning.phase_offset_for_delay`).
     """
-    check_configuration(harmonic, n_blades)
+    check_configuration(harmonic, n_blades, inverse=True)
     c = finite_array("cos", cos)
     s = finite_array("sin", sin)
     psi = finite_array("azimuth", azimuth)

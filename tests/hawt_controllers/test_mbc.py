@@ -178,12 +178,13 @@ def test_the_per_step_forms_equal_the_array_forms_bit_for_bit(n_blades, harmonic
         mbc_forward_sample([1.0, math.nan, 2.0], 0.0, 1)
 
 
-def test_two_blades_are_refused_with_the_reason():
-    """B = 2 is singular; the error names n_blades and points to the harmonic estimator."""
-    with pytest.raises(ConfigurationError, match="n_blades: the MBC transform is singular for B=2.*Zalkind"):
+def test_two_blades_are_refused_by_the_forward_transform_with_the_reason():
+    """B = 2 is singular forwards; the error names n_blades and points to the harmonic estimator. The inverse
+    exists for B = 2 (Zalkind & Pao's pitch law, tests/hawt_controllers/test_harmonic_estimator.py); B = 1 has none."""
+    with pytest.raises(ConfigurationError, match="n_blades: the MBC transform is singular for B=2.*harmonic_estimator"):
         mbc_forward(np.ones(2), 0.0, 1)
-    with pytest.raises(ConfigurationError, match="n_blades"):
-        mbc_inverse(0.1, 0.2, 0.0, 1, 2)
+    with pytest.raises(ConfigurationError, match="n_blades: must be >= 2"):
+        mbc_inverse(0.1, 0.2, 0.0, 1, 1)
 
 
 @pytest.mark.parametrize("harmonic", [0, -1, 1.5, True])

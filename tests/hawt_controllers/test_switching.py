@@ -84,14 +84,14 @@ def test_a_claim_conflicting_with_an_active_controller_of_several_interfaces_is_
 
 
 def test_an_interface_the_loop_assembler_cannot_assemble_is_refused():
-    """harmonic/1 cannot be assembled for B=2 (the MBC transform is singular for two blades), a misspelled
-    blade_pitchh is no interface at all: both activations are refused with the assembler's reason; harmonic/1 for
-    B=3 is fine."""
+    """harmonic/1 cannot be assembled for B=1 (no inverse MBC; B=2 has one: Zalkind & Pao's θ_2 = −θ_1), a
+    misspelled blade_pitchh is no interface at all: both activations are refused with the assembler's reason;
+    harmonic/1 for B=3 is fine."""
     controllers = _controllers(ipc_h1="inactive")
     controllers["/wt1/blade_sine"] = _info("blade_sine", ("blade_pitchh",), "inactive", type="blade_sine")
     with pytest.raises(SwitchRefused, match="^/wt1/ipc_h1: cannot be assembled: harmonic/1: "):
         plan_switch(controllers, ["ipc_h1"], [], strict=True, step=10, assembly_problem=partial(assembly_problem,
-                                                                                              blades=2))
+                                                                                              blades=1))
     with pytest.raises(SwitchRefused, match="^/wt1/blade_sine: cannot be assembled: blade_pitchh: no such command "
                                             "interface \\(did you mean blade_pitch\\?\\)"):
         plan_switch(controllers, ["blade_sine"], [], strict=True, step=10,
