@@ -16,7 +16,7 @@ ROS_MODULES = {
                          "controller_manager_node", "switch_listener", "repetitive_ipc_node",
                          "repetitive_cpc_node", "coleman_excitation_node", "lqg_ipc_node", "discon_node"},
     "hawt_bag": {"recorder", "replayer"},
-    "hawt_tools": {"launcher", "controller_client", "graph_info", "example_nodes"},
+    "hawt_tools": {"launcher", "launch_events", "controller_client", "graph_info", "example_nodes"},
 }
 """Modules that are ROS nodes or node plumbing; every other module of a package is a core or a library."""
 ROS_DISTRIBUTION = ("rclpy", "rcl_interfaces", "lifecycle_msgs", "rosgraph_msgs", "builtin_interfaces", "std_msgs",

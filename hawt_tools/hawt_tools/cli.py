@@ -82,17 +82,26 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     if priority:
         check_priority(priority)
     recorder = _start_recorder(Path(record)) if record else None
+    events = None
     try:
         if composed:
             if priority:
                 set_priority(priority)
             code = run_composed(graph, overrides, duration, global_parameters)
         else:
+            if recorder is not None:  # deaths, respawns and stops from outside into the bag
+                from hawt_tools.launch_events import LaunchEvents
+
+                events = LaunchEvents("/" + spec.namespace.strip("/") if spec.namespace.strip("/") else "/"
+                                      for spec in graph.nodes)
             environment = {PRIORITY_VARIABLE: str(priority)} if priority else {}
-            code = ProcessGraph(graph, overrides, global_parameters, environment=environment).run(duration)
+            code = ProcessGraph(graph, overrides, global_parameters, environment=environment,
+                                events=events).run(duration)
     finally:
         if recorder is not None:
             recorded = _stop_recorder(recorder)
+        if events is not None:
+            events.close()
     if recorder is not None and recorded != 0:
         raise RuntimeError(f"the recorder of {record} failed (exit code {recorded})")
     return code

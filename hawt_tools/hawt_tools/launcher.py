@@ -6,6 +6,7 @@ Each node becomes ``EXECUTABLE [args] --ros-args -r __node:=NAME -r __ns:=NS
 included) and remappings itself.
 """
 import importlib.metadata
+import logging
 import os
 import signal
 import subprocess
@@ -15,7 +16,7 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Mapping, Optional, Sequence, TextIO, Tuple
+from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence, TextIO, Tuple
 
 import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
@@ -122,6 +123,10 @@ def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
     return arguments
 
 
+def _namespace(spec: NodeSpec) -> str:
+    return "/" + spec.namespace.strip("/") if spec.namespace.strip("/") else "/"
+
+
 def _describe_exit(code: int) -> str:
     if code < 0:
         try:
@@ -152,11 +157,15 @@ class ProcessGraph:
     output: TextIO = sys.stdout
     environment: Mapping[str, str] = field(default_factory=dict)
     """Variables set for every node process (over this process's environment, under the node's own ``env``)."""
+    events: Optional[Callable[[str, int, str, str], None]] = None
+    """``events(namespace, level, kind, detail)`` (hawt_tools.launch_events): a death, a respawn and a stop from
+    outside (interruption, wall-clock duration) go there too, before any node is stopped; levels as logging's."""
 
     def __post_init__(self) -> None:
         self._executables = [executable_path(self.graph, spec) for spec in self.graph.nodes]
         self._lock = threading.Lock()
         self._stop_reason: Optional[Tuple[int, str]] = None
+        self._stop_event: Optional[Tuple[int, str]] = None
 
     def _say(self, label: str, line: str) -> None:
         with self._lock:
@@ -176,10 +185,16 @@ class ProcessGraph:
         process.finished = False
         process.restart_at = None
 
-    def request_stop(self, code: int = 0, reason: str = "") -> None:
-        """Ask the run loop to shut the graph down and return ``code``."""
+    def request_stop(self, code: int = 0, reason: str = "", event: Optional[Tuple[int, str]] = None) -> None:
+        """Ask the run loop to shut the graph down and return ``code``; ``event`` (level, kind) is reported to
+        every namespace of the graph before the nodes are stopped."""
         if self._stop_reason is None:
-            self._stop_reason = (code, reason)
+            self._stop_reason, self._stop_event = (code, reason), event
+
+    def _report(self, namespaces: Iterable[str], level: int, kind: str, detail: str) -> None:
+        if self.events is not None:
+            for namespace in sorted(set(namespaces)):
+                self.events(namespace, level, kind, detail)
 
     def _on_exit(self, process: _Process, now: float) -> None:
         spec, code = process.spec, process.popen.returncode
@@ -187,14 +202,18 @@ class ProcessGraph:
         if spec.respawn and (spec.respawn_max_retries < 0 or process.retries < spec.respawn_max_retries):
             process.retries += 1
             process.restart_at = now + spec.respawn_delay
-            self._say("hawt launch", f"{spec.label} ended ({_describe_exit(code)}); respawning in "
-                                     f"{spec.respawn_delay:g} s (respawn {process.retries})")
+            line = f"{spec.label} ended ({_describe_exit(code)}); respawning in {spec.respawn_delay:g} s " \
+                   f"(respawn {process.retries})"
+            self._say("hawt launch", line)
+            self._report([_namespace(spec)], logging.WARNING, "node_respawn", line)
         elif code == 0:
             self._say("hawt launch", f"{spec.label} finished")
             if spec.shutdown_on_exit:
                 self.request_stop(0, f"{spec.label} finished (on_exit: shutdown)")
         else:
-            self.request_stop(1, f"node {spec.label} died unexpectedly ({_describe_exit(code)})")
+            reason = f"node {spec.label} died unexpectedly ({_describe_exit(code)})"
+            self._report([_namespace(spec)], logging.ERROR, "node_died", f"{reason}; stopping the graph")
+            self.request_stop(1, reason)
 
     def run(self, duration: Optional[float] = None) -> int:
         """Start every node, supervise them until done, then stop them all; returns the exit code.
@@ -205,7 +224,7 @@ class ProcessGraph:
             Wall-clock seconds after which the graph is stopped (None: until a node with
             ``on_exit: shutdown`` finishes, every node has finished, a node dies, or SIGINT/SIGTERM).
         """
-        with stop_signals(lambda *_: self.request_stop(0, "interrupted")), \
+        with stop_signals(lambda *_: self.request_stop(0, "interrupted", (logging.WARNING, "interrupted"))), \
                 tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
             processes = [
                 _Process(spec, [str(exe), *spec.arguments,
@@ -215,6 +234,9 @@ class ProcessGraph:
                 for process in processes:
                     self._start(process)
                 self._supervise(processes, duration)
+                if self._stop_event is not None:
+                    self._report((_namespace(spec) for spec in self.graph.nodes), *self._stop_event,
+                                 f"hawt launch stopped the graph: {self._stop_reason[1]}")
             finally:
                 self._stop_all(processes)
         code, reason = self._stop_reason or (0, "")
@@ -236,7 +258,8 @@ class ProcessGraph:
             if all(p.finished and p.restart_at is None for p in processes):
                 self.request_stop(0, "every node finished")
             elif deadline is not None and now >= deadline:
-                self.request_stop(0, f"duration of {duration:g} s reached")
+                self.request_stop(0, f"wall-clock --duration of {duration:g} s reached",
+                                  (logging.INFO, "wall_clock_stop"))
             time.sleep(0.02)
 
     def _stop_all(self, processes: List[_Process]) -> None:

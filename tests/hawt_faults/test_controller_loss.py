@@ -37,6 +37,9 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     assert watchdog["level"] == ControlEvent.ERROR
     assert watchdog["source"] == f"/{namespace}/plant"
     assert "control/pitch_command" in watchdog["detail"] and "command_timeout 3 s" in watchdog["detail"]
+    (died,) = recording.events_of("node_respawn")  # the launcher reports the death (its respawn waits 3600 s)
+    assert died["source"] == "/hawt_launch" and died["level"] == ControlEvent.WARN
+    assert f"/{namespace}/cpc ended (killed by SIGKILL)" in died["detail"] and 0 < died["step"] <= watchdog["step"]
     (returned,) = recording.events_of("command_returned")
     assert returned["level"] == ControlEvent.WARN and returned["step"] >= watchdog["step"]
     assert "the trip is latched" in returned["detail"]

@@ -1,0 +1,78 @@
+"""What the launcher has to say on ``control/events``: a node that died or is respawned, an interruption, a stop.
+
+No node of the graph can report its own death, and the plant's ``finished`` event is missing when the
+graph is stopped from outside (Ctrl-C, ``--duration`` of wall time). So ``hawt launch --record`` runs
+one more ROS node in its own process, ``/hawt_launch``, which publishes these on the ``control/events``
+of each namespace concerned, stamped with the step and time of that namespace's latest ``plant/state``
+(subscribed best effort, keep last 1: it adds no reader the plant waits for). Each event waits up to
+``MATCH_WAIT`` for its writer to match every reader the graph lists (the recorder), then goes out; the
+launcher publishes it before it stops any node, so the recorder is still there to take it.
+"""
+import threading
+import time
+from typing import Dict, Iterable, Tuple
+
+import rclpy
+from builtin_interfaces.msg import Time
+from hawt_msgs.msg import ControlEvent, TurbineState
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+
+from hawt_core.topics import EVENTS, TURBINE_STATE
+from hawt_node.qos import EVENTS as EVENTS_QOS
+from hawt_node.writer_matching import unmatched_writers
+
+__all__ = ["LaunchEvents", "MATCH_WAIT", "NODE_NAME"]
+
+NODE_NAME = "hawt_launch"
+MATCH_WAIT = 2.0
+"""Wall time [s] an event waits at most for its writer to match the graph's readers of control/events."""
+
+_LATEST = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
+
+
+class LaunchEvents:
+    """The launcher's ``/hawt_launch`` node (own context, executor thread) publishing ControlEvent messages.
+
+    Call ``events(namespace, level, kind, detail)``; ``close()`` when the recorder has stopped.
+    """
+
+    def __init__(self, namespaces: Iterable[str]) -> None:
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context, signal_handler_options=SignalHandlerOptions.NO)
+        self.node = Node(NODE_NAME, context=self.context)
+        self.latest: Dict[str, Tuple[int, Time]] = {}
+        self.publishers = {}
+        for namespace in sorted(set(namespaces)):
+            prefix = namespace.rstrip("/")
+            self.latest[namespace] = (0, Time())
+            self.publishers[namespace] = self.node.create_publisher(ControlEvent, f"{prefix}/{EVENTS}", EVENTS_QOS)
+            self.node.create_subscription(TurbineState, f"{prefix}/{TURBINE_STATE}",
+                                          lambda msg, ns=namespace: self._on_state(ns, msg), _LATEST)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+
+    def _on_state(self, namespace: str, msg: TurbineState) -> None:
+        if msg.step >= self.latest[namespace][0]:
+            self.latest[namespace] = (msg.step, msg.header.stamp)
+
+    def __call__(self, namespace: str, level: int, kind: str, detail: str) -> None:
+        publisher = self.publishers[namespace]
+        deadline = time.monotonic() + MATCH_WAIT
+        while unmatched_writers(self.node, {publisher.topic_name: publisher}) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        step, stamp = self.latest[namespace]
+        msg = ControlEvent(step=step, source=self.node.get_fully_qualified_name(), level=level, kind=kind,
+                           detail=detail)
+        msg.header.stamp = stamp
+        publisher.publish(msg)
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.thread.join(timeout=5.0)
+        self.node.destroy_node()
+        rclpy.shutdown(context=self.context)
