@@ -1,0 +1,35 @@
+"""What no node can report itself is in the bag: a node that died, and a graph stopped by a wall-clock --duration."""
+import psutil
+import pytest
+from hawt_msgs.msg import ControlEvent
+from launched_graph import LaunchedGraph
+
+from hawt_faults.fault_runs import read_recording
+
+pytestmark = pytest.mark.ros
+
+
+def test_a_node_that_dies_is_an_error_event_in_the_bag_at_the_plants_step(tmp_path):
+    bag = tmp_path / "died.mcap"
+    with LaunchedGraph(["ipc", "namespace:=died", "duration:=600", "-p", "plant.report_period:=1",
+                        "--record", str(bag)]) as graph:
+        graph.wait_for_line("t=2.0 s (")
+        ipc = next(child for child in psutil.Process(graph.process.pid).children(recursive=True)
+                   if "__node:=ipc_h2" in child.cmdline())
+        ipc.kill()
+        assert graph.finish() == 1, graph.tail()
+    (died,) = read_recording(bag, "died").events_of("node_died")
+    assert died["source"] == "/hawt_launch" and died["level"] == ControlEvent.ERROR and died["step"] >= 200
+    assert died["detail"] == "node /died/ipc_h2 died unexpectedly (killed by SIGKILL); stopping the graph"
+
+
+def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path):
+    bag = tmp_path / "stopped.mcap"
+    with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "20", "--record",
+                        str(bag)]) as graph:
+        assert graph.finish() == 0, graph.tail()
+    recording = read_recording(bag, "stopped")
+    (stop,) = recording.events_of("wall_clock_stop")
+    assert stop["source"] == "/hawt_launch" and stop["level"] == ControlEvent.INFO
+    assert 0 < stop["step"] <= recording.loads.fields["step"].max()
+    assert "wall-clock --duration of 20 s reached" in stop["detail"] and not recording.events_of("finished")
