@@ -38,6 +38,7 @@ __all__ = [
     "TurbineDefinitionError",
     "load_turbine",
     "nrel_5mw",
+    "nrel_5mw_two_bladed",
 ]
 
 _PACKAGED = Path(__file__).resolve().parent / "turbines"
@@ -356,6 +357,11 @@ def nrel_5mw() -> Turbine:
     return load_turbine(_PACKAGED / "nrel_5mw" / "turbine.yaml")
 
 
+def nrel_5mw_two_bladed() -> Turbine:
+    """A two-bladed variant of the NREL 5 MW shipped with the package (``turbines/nrel_5mw/two_bladed.yaml``)."""
+    return load_turbine(_PACKAGED / "nrel_5mw" / "two_bladed.yaml")
+
+
 def load_turbine(path: str | Path) -> Turbine:
     """Load and check a turbine definition file.
 
@@ -363,7 +369,9 @@ def load_turbine(path: str | Path) -> Turbine:
     ----------
     path : str or Path
         The ``turbine.yaml`` file; airfoil polars are read from ``airfoils/<name>.yaml``
-        in the same folder.
+        in the same folder. A file with the key ``derived_from`` (a file name in the same
+        folder) holds only what differs from that definition: its mappings are merged into the
+        base's key by key, every other value replaces the base's.
 
     Returns
     -------
@@ -376,7 +384,7 @@ def load_turbine(path: str | Path) -> Turbine:
         ``turbine.yaml: blade.aerodynamics.chord: expected 17 values, found 16``.
     """
     path = Path(path)
-    doc = _Section(path.name, "", _read_yaml(path))
+    doc = _Section(path.name, "", _derived(path, _read_yaml(path)))
     rotor = _rotor(doc.section("rotor"))
     aero = _blade_aerodynamics(doc.section("blade").section("aerodynamics"), rotor)
     airfoils = {name: _airfoil(path.parent / "airfoils" / f"{name}.yaml") for name in sorted(set(aero.airfoil))}
@@ -398,6 +406,26 @@ def load_turbine(path: str | Path) -> Turbine:
         pitch_actuator=_pitch_actuator(doc.section("pitch_actuator")),
         schedule=_schedule(doc.section("operation")),
     )
+
+
+def _derived(path: Path, data: Any) -> Any:
+    """``data`` merged onto the definition its ``derived_from`` names (one level: the base derives from none)."""
+    if not isinstance(data, dict) or "derived_from" not in data:
+        return data
+    base_name = data["derived_from"]
+    if not isinstance(base_name, str) or not base_name or Path(base_name).name != base_name:
+        raise TurbineDefinitionError(f"{path.name}: derived_from: expected a file name in the same folder, "
+                                     f"found {base_name!r}")
+    base = _read_yaml(path.parent / base_name)
+    if not isinstance(base, dict) or "derived_from" in base:
+        raise TurbineDefinitionError(f"{path.name}: derived_from: {base_name} must be a full definition")
+
+    def merged(below: Any, above: Any) -> Any:
+        if isinstance(below, dict) and isinstance(above, dict):
+            return {**below, **{key: merged(below.get(key), value) for key, value in above.items()}}
+        return above
+
+    return merged(base, {key: value for key, value in data.items() if key != "derived_from"})
 
 
 def _read_yaml(path: Path) -> Any:
