@@ -14,13 +14,13 @@ def test_a_node_that_dies_is_an_error_event_in_the_bag_at_the_plants_step(tmp_pa
     with LaunchedGraph(["ipc", "namespace:=died", "duration:=600", "-p", "plant.report_period:=1",
                         "--record", str(bag)]) as graph:
         graph.wait_for_line("t=2.0 s (")
-        ipc = next(child for child in psutil.Process(graph.process.pid).children(recursive=True)
-                   if "__node:=ipc_h2" in child.cmdline())
-        ipc.kill()
+        mbc = next(child for child in psutil.Process(graph.process.pid).children(recursive=True)
+                   if "__node:=mbc" in child.cmdline())
+        mbc.kill()  # no respawn for the loop assembler: the graph stops
         assert graph.finish() == 1, graph.tail()
     (died,) = read_recording(bag, "died").events_of("node_died")
     assert died["source"] == "/hawt_launch" and died["level"] == ControlEvent.ERROR and died["step"] >= 200
-    assert died["detail"] == "node /died/ipc_h2 died unexpectedly (killed by SIGKILL); stopping the graph"
+    assert died["detail"] == "node /died/mbc died unexpectedly (killed by SIGKILL); stopping the graph"
 
 
 def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path):
@@ -33,3 +33,24 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path):
     assert stop["source"] == "/hawt_launch" and stop["level"] == ControlEvent.INFO
     assert 0 < stop["step"] <= recording.loads.fields["step"].max()
     assert "wall-clock --duration of 20 s reached" in stop["detail"] and not recording.events_of("finished")
+
+
+def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribution_returns(tmp_path):
+    """The ipc graph's ipc_h1 SIGKILLed: reported, lost by mbc (its contribution fades), started again 1 s later,
+    answering again; the run completes."""
+    bag = tmp_path / "respawned.mcap"
+    with LaunchedGraph(["ipc", "namespace:=respawned", "duration:=30", "-p", "plant.report_period:=1",
+                        "--record", str(bag)]) as graph:
+        graph.wait_for_line("t=3.0 s (")
+        ipc = next(child for child in psutil.Process(graph.process.pid).children(recursive=True)
+                   if "__node:=ipc_h1" in child.cmdline())
+        ipc.kill()
+        assert graph.finish() == 0, graph.tail()
+    recording = read_recording(bag, "respawned")
+    (respawn,) = recording.events_of("node_respawn")
+    (lost,) = recording.events_of("contribution_lost")
+    (returned,) = recording.events_of("contribution_returned")
+    assert "/respawned/ipc_h1 ended (killed by SIGKILL); respawning in 1 s" in respawn["detail"]
+    assert "control/ipc/h1" in lost["detail"] and "control/ipc/h1" in returned["detail"]
+    assert respawn["step"] <= lost["step"] < returned["step"] < 3000
+    assert recording.events_of("finished")
