@@ -11,9 +11,12 @@ import os
 from pathlib import Path
 from typing import Mapping, Sequence
 
+import numpy as np
+
 from hawt_bag.errors import BagError
 
-__all__ = ["analysis_text", "comparison_text", "write_analysis_report", "write_comparison_report", "write_html_page"]
+__all__ = ["analysis_text", "comparison_text", "headline_text", "write_analysis_report", "write_comparison_report",
+           "write_html_page"]
 
 _MN = 1e-6
 _DEG = 180.0 / math.pi
@@ -124,6 +127,35 @@ def comparison_text(comparison: Mapping) -> str:
     if comparison.get("power"):
         entry = comparison["power"]["mean"]
         lines.append(row("electrical power mean [MW]", entry["value"], entry["change_percent"], _MN))
+    return "\n".join(lines)
+
+
+def headline_text(comparison: Mapping) -> str:
+    """A few lines a load engineer reads first: the second run against the first in blade-root, hub tilt/yaw and
+    tower-base DEL, pitch activity, and the rotor speed and power it held."""
+    loads, second = comparison["del"], 1
+
+    def change(names: Sequence[str]) -> str:
+        found = [loads[name] for name in names if name in loads]
+        if not found:
+            return "n/a"
+        return f"{np.mean([entry['change_percent'][second] for entry in found]):+.1f} %"
+
+    pitch, speed, power = comparison["pitch"], comparison["rotor_speed"]["mean"], comparison["power"]
+    travel = pitch["travel_rad"]["value"] if pitch else [math.nan, math.nan]
+    rows = [("blade-root out-of-plane DEL",
+             change([n for n in loads if n.startswith("root_moment_oop_")]) + " (mean of the blades)"),
+            ("hub tilt / yaw DEL", f"{change(['hub_tilt_moment'])} / {change(['hub_yaw_moment'])}"),
+            ("tower-base fore-aft / side-side DEL",
+             f"{change(['tower_base_fa_moment'])} / {change(['tower_base_ss_moment'])}"),
+            ("pitch travel (all blades)", f"{math.degrees(travel[0]):.0f} -> {math.degrees(travel[second]):.0f} deg"),
+            ("rotor speed held (mean)", f"{speed['value'][0] * 30 / math.pi:.2f} -> "
+                                        f"{speed['value'][second] * 30 / math.pi:.2f} rpm")]
+    if power:
+        rows.append(("power (mean)", f"{power['mean']['value'][0] / 1e6:.2f} -> "
+                                     f"{power['mean']['value'][second] / 1e6:.2f} MW"))
+    lines = [f"{comparison['labels'][second]} against {comparison['labels'][0]}:"]
+    lines += [f"  {label:37s} {value}" for label, value in rows]
     return "\n".join(lines)
 
 

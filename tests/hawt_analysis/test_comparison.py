@@ -58,3 +58,20 @@ def test_labels_must_match_the_summaries_and_be_unique(runs):
         compare_summaries([summary, summary], ["a"])
     with pytest.raises(ValueError, match="labels: expected unique labels"):
         compare_summaries([summary, summary], ["a", "a"])
+
+
+def test_the_headline_gives_the_second_run_against_the_first_blades_averaged():
+    from hawt_analysis.analysis_report import headline_text
+
+    entry = lambda a, b: {"value": [a, b], "change_percent": [0.0, 100 * (b / a - 1)]}  # noqa: E731
+    comparison = {"labels": ["baseline.mcap", "ipc.mcap"],
+                  "del": {"root_moment_oop_1": entry(8.0, 4.0), "root_moment_oop_2": entry(8.0, 6.0),
+                          "hub_tilt_moment": entry(3.0, 3.3), "hub_yaw_moment": entry(3.0, 2.7),
+                          "tower_base_fa_moment": entry(15.0, 16.5)},
+                  "pitch": {"travel_rad": entry(0.4, 4.0)},
+                  "rotor_speed": {"mean": entry(1.29, 1.29)}, "power": {"mean": entry(5e6, 5e6)}}
+    lines = headline_text(comparison).splitlines()
+    assert lines[0] == "ipc.mcap against baseline.mcap:"
+    assert "-37.5 % (mean of the blades)" in lines[1]
+    assert "+10.0 % / -10.0 %" in lines[2] and "+10.0 % / n/a" in lines[3]
+    assert "23 -> 229 deg" in lines[4] and "12.32 -> 12.32 rpm" in lines[5] and "5.00 -> 5.00 MW" in lines[6]
