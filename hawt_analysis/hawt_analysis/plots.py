@@ -35,6 +35,10 @@ _DISPLAY = MappingProxyType(
         "root_moment_ip": (1e-6, "root M_ip", "MN·m"),
         "hub_tilt_moment": (1e-6, "hub tilt", "MN·m"),
         "hub_yaw_moment": (1e-6, "hub yaw", "MN·m"),
+        "hub_rotating_y_moment": (1e-6, "hub rotating y", "MN·m"),
+        "hub_rotating_z_moment": (1e-6, "hub rotating z", "MN·m"),
+        "yaw_bearing_tilt_moment": (1e-6, "yaw bearing tilt", "MN·m"),
+        "yaw_bearing_yaw_moment": (1e-6, "yaw bearing yaw", "MN·m"),
         "tower_base_fa_moment": (1e-6, "tower base FA", "MN·m"),
         "tower_base_ss_moment": (1e-6, "tower base SS", "MN·m"),
     }

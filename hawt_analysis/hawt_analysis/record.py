@@ -7,6 +7,12 @@ Channel names are the field names of DESIGN §5: ``plant/blade_loads`` (``azimut
 base (one row per plant step). Per-blade fields are arrays of shape
 (n_samples, n_blades); in results, blade i's column is named ``<field>_<i>``
 (blades numbered from 1, DESIGN §3), e.g. ``root_moment_oop_1``.
+
+Derived channels: ``hub_rotating_y_moment`` and ``hub_rotating_z_moment``, the hub moments
+m_hy, m_hz in the frame that turns with the rotor (Zalkind & Pao's hub loads, OpenFAST
+LSSTipMya/Mza), are computed from ``hub_tilt_moment``, ``hub_yaw_moment`` and ``azimuth``
+(the inverse of eq. 13, :func:`hawt_analysis.load_transfer.main_bearing_to_hub`) whenever a
+record has those, so that bags recorded before them have them too.
 """
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -16,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._checks import finite_array, same_length
+from .load_transfer import main_bearing_to_hub
 
 __all__ = [
     "PER_BLADE_CHANNELS",
@@ -44,6 +51,10 @@ SCALAR_CHANNELS = (
     "hub_yaw_moment",
     "tower_base_fa_moment",
     "tower_base_ss_moment",
+    "yaw_bearing_tilt_moment",
+    "yaw_bearing_yaw_moment",
+    "hub_rotating_y_moment",
+    "hub_rotating_z_moment",
 )
 PER_BLADE_CHANNELS = ("root_moment_oop", "root_moment_ip", "pitch")
 _UNIFORM_TOLERANCE = 0.01
@@ -141,6 +152,9 @@ def make_record(channels: Mapping[str, ArrayLike]) -> Record:
         if name in channels:
             scalars[name] = finite_array(name, channels[name], ndim=1)
             same_length(name, scalars[name], time.size, "time")
+    if {"hub_tilt_moment", "hub_yaw_moment"} <= set(scalars) and "hub_rotating_y_moment" not in scalars:
+        scalars["hub_rotating_y_moment"], scalars["hub_rotating_z_moment"] = main_bearing_to_hub(
+            scalars["hub_tilt_moment"], scalars["hub_yaw_moment"], scalars["azimuth"])
     per_blade = {}
     for name in PER_BLADE_CHANNELS:
         if name in channels:

@@ -20,6 +20,10 @@ FATIGUE_CHANNELS = (
     ("root_moment_ip", "blade_root"),
     ("hub_tilt_moment", "steel"),
     ("hub_yaw_moment", "steel"),
+    ("hub_rotating_y_moment", "steel"),
+    ("hub_rotating_z_moment", "steel"),
+    ("yaw_bearing_tilt_moment", "steel"),
+    ("yaw_bearing_yaw_moment", "steel"),
     ("tower_base_fa_moment", "steel"),
     ("tower_base_ss_moment", "steel"),
 )

@@ -29,7 +29,7 @@ def synthetic_channels(
     Returns
     -------
     dict
-        ``time``, ``azimuth``, ``rotor_speed``, every other scalar channel of
+        ``time``, ``azimuth``, ``rotor_speed``, every other measured scalar channel of
         `hawt_analysis.record.SCALAR_CHANNELS`, and ``root_moment_oop``,
         ``root_moment_ip``, ``pitch`` of shape (n_samples, n_blades).
 
@@ -39,7 +39,8 @@ def synthetic_channels(
     [0, 2π); blade i sees ψ_i = ψ + 2π(i−1)/B. M_oop,i = 8 MN·m + 2 MN·m cos ψ_i
     + 0.4 MN·m cos 3ψ_i + turbulence; M_ip,i = 1 MN·m + 5 MN·m sin ψ_i (gravity)
     + turbulence; θ_i = 0.1 rad + 0.02 rad cos(ψ_i + 0.3) + turbulence; hub tilt
-    and yaw are Σ M_oop,i cos ψ_i and Σ M_oop,i sin ψ_i. Turbulence is white
+    and yaw are Σ M_oop,i cos ψ_i and Σ M_oop,i sin ψ_i; the yaw bearing's add 2.4 m × thrust
+    and −0.087 × aero torque. The derived ``hub_rotating_*`` channels are left to the record. Turbulence is white
     noise through a 2nd-order Butterworth low-pass at 1 Hz, scaled to unit
     standard deviation.
     """
@@ -77,6 +78,8 @@ def synthetic_channels(
         "tower_top_ss_disp": 0.02 * turbulence(),
         "hub_tilt_moment": np.sum(oop * np.cos(blade_psi), axis=1),
         "hub_yaw_moment": np.sum(oop * np.sin(blade_psi), axis=1),
+        "yaw_bearing_tilt_moment": np.sum(oop * np.cos(blade_psi), axis=1) + 2.4 * thrust,
+        "yaw_bearing_yaw_moment": np.sum(oop * np.sin(blade_psi), axis=1) - 0.087 * power / speed,
         "tower_base_fa_moment": 87.6 * thrust + 2e6 * turbulence(),
         "tower_base_ss_moment": 3e6 * turbulence(),
         "root_moment_oop": oop,

@@ -47,7 +47,7 @@ from hawt_plant.tower_shadow import TowerShadow
 from hawt_plant.turbine import Turbine
 from hawt_plant.wind_field import WindChange, WindField
 
-__all__ = ["ModelConfig", "TurbineModel", "TurbineOutput"]
+__all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 
 _MIN_INFLOW = 0.1  # [m/s] normal inflow used in the dynamic-inflow time constants is at least this
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
@@ -108,8 +108,10 @@ class TurbineOutput:
     ``hub_wind_speed`` is the undisturbed longitudinal wind at the rotor apex. Tower-top
     accelerations and displacements are those of the first modes (positive downwind and to
     the left looking downwind). Hub moments: about the non-rotating shaft axes y_s, z_s at
-    the apex (OpenFAST LSSTipMys, LSSTipMzs signs); tower-base moments: about y and x at
-    the base (TwrBsMyt, TwrBsMxt).
+    the apex (OpenFAST LSSTipMys, LSSTipMzs signs), which are also the main-bearing moments of
+    Zalkind & Pao (hub and main bearing at one point); yaw-bearing moments: about the inertial y
+    (tilt) and z (yaw) axes at the tower top (OpenFAST YawBrMyp, YawBrMzp, the tower top's small
+    rotation neglected); tower-base moments: about y and x at the base (TwrBsMyt, TwrBsMxt).
     """
 
     time: float
@@ -130,8 +132,19 @@ class TurbineOutput:
     tower_top_ss_disp: float
     hub_tilt_moment: float
     hub_yaw_moment: float
+    yaw_bearing_tilt_moment: float
+    yaw_bearing_yaw_moment: float
     tower_base_fa_moment: float
     tower_base_ss_moment: float
+
+
+STATE_FIELDS = (
+    "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust", "hub_wind_speed",
+    "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp", "hub_tilt_moment",
+    "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment", "yaw_bearing_tilt_moment",
+    "yaw_bearing_yaw_moment",
+)
+"""The :class:`TurbineOutput` fields that the plant publishes on ``plant/state`` (``TurbineState``)."""
 
 
 class TurbineModel:
@@ -844,12 +857,16 @@ class TurbineModel:
         ax, ay, az = self._apex
         base_fa = tilt + az * fx - ax * fz
         base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + ay * fz - az * fy
-        # Nacelle and hub (point masses moving with the tower top), tower, spinning inertias.
+        # Yaw bearing: the same rotor loads about the tower top; its yaw axis is inertial z.
         g = self._g
         x_top, y_top = self._tower.tolist()
+        height = self._tower_height
+        rx, ry, rz = ax - x_top, ay - y_top, az - height
+        bearing_tilt = tilt + rz * fx - rx * fz
+        bearing_yaw = yaw * self._cos_tilt - spin * self._sin_tilt + rx * fy - ry * fx
+        # Nacelle and hub (point masses moving with the tower top), tower, spinning inertias.
         sfa, sss = self._slope_fa, self._slope_ss
         xn, zn = self._nacelle_position
-        height = self._tower_height
         for body_mass, bx, bz, hy in ((self._nacelle_mass, xn + x_top, height + zn, 1.0 + sss * zn),
                                       (self._hub_mass, ax, az, self._ss_apex_gain)):
             body_fx = -body_mass * x_acc * (1.0 + sfa * (bz - height))
@@ -857,6 +874,8 @@ class TurbineModel:
             body_fz = -body_mass * (g - x_acc * sfa * (bx - x_top))
             base_fa += bz * body_fx - bx * body_fz
             base_ss += y_top * hy * body_fz - bz * body_fy
+            bearing_tilt += (bz - height) * body_fx - (bx - x_top) * body_fz
+            bearing_yaw += (bx - x_top) * body_fy - y_top * (hy - 1.0) * body_fx
         fa, ss = self._fa, self._ss
         base_fa += -x_acc * fa.modal_height_moment + g * x_top * fa.modal_first_moment
         base_ss += y_acc * ss.modal_height_moment - g * y_top * ss.modal_first_moment
@@ -864,6 +883,7 @@ class TurbineModel:
         spin_reaction = (self._hub_inertia * self._rotor_acceleration
                          + self._generator_inertia * ratio * self._generator_acceleration(self._acting_torque()))
         base_ss -= spin_reaction * self._cos_tilt
+        bearing_yaw += spin_reaction * self._sin_tilt
         generator_speed = ratio * self._generator_speed
         return TurbineOutput(
             time=self._time,
@@ -884,6 +904,8 @@ class TurbineModel:
             tower_top_ss_disp=y_top,
             hub_tilt_moment=tilt,
             hub_yaw_moment=yaw,
+            yaw_bearing_tilt_moment=bearing_tilt,
+            yaw_bearing_yaw_moment=bearing_yaw,
             tower_base_fa_moment=base_fa,
             tower_base_ss_moment=base_ss,
         )

@@ -43,7 +43,7 @@ from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 
 from hawt_plant.loop_latency import LoopLatency
-from hawt_plant.model import TurbineOutput
+from hawt_plant.model import STATE_FIELDS, TurbineOutput
 from hawt_plant.plant_setup import PARAMETERS, check_parameters, make_plant
 from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
 from hawt_node.events import EventPublisher
@@ -119,10 +119,7 @@ class PlantNode(Node):
                            root_moment_oop=out.root_moment_oop.tolist(), root_moment_ip=out.root_moment_ip.tolist(),
                            pitch=out.pitch.tolist())
         loads.header.stamp = stamp
-        state = TurbineState(step=self.step_index, **{name: float(getattr(out, name)) for name in (
-            "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
-            "hub_wind_speed", "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp",
-            "hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment")})
+        state = TurbineState(step=self.step_index, **{name: float(getattr(out, name)) for name in STATE_FIELDS})
         state.header.stamp = stamp
         if self.clock_publisher is not None:
             self.clock_publisher.publish(Clock(clock=stamp))

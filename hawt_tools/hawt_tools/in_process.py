@@ -28,6 +28,7 @@ from hawt_controllers.switching import (ControllerInfo, Switch, SwitchRefused, p
                                         ramp_steps)
 from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, resolve_values
+from hawt_plant.model import STATE_FIELDS
 from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
 from hawt_plant.plant_setup import make_plant
 from hawt_plant.safety_system import command_rejection
@@ -144,7 +145,7 @@ class InProcessRun:
         k, out = self.step_index, self.output
         if record is not None:
             record.add("plant/blade_loads", {"step": k, **{name: getattr(out, name) for name in _LOAD_FIELDS}})
-            record.add("plant/state", {"step": k, **{name: getattr(out, name) for name in _STATE_FIELDS}})
+            record.add("plant/state", {"step": k, **{name: getattr(out, name) for name in STATE_FIELDS}})
         while self.schedule and self.schedule[0].step <= k:
             self._apply(self.schedule.pop(0), k)
         collective: Optional[CollectiveContribution] = None
@@ -179,10 +180,6 @@ class InProcessRun:
 
 
 _LOAD_FIELDS = ("azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch")
-_STATE_FIELDS = ("generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
-                 "hub_wind_speed", "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp",
-                 "tower_top_ss_disp", "hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment",
-                 "tower_base_ss_moment")
 _TYPES = {"plant/blade_loads": "BladeLoads", "plant/state": "TurbineState", "control/pitch_command": "PitchCommand",
           "control/collective": "CollectivePitch", "control/blade_pitch": "BladePitch"}
 

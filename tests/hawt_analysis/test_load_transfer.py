@@ -117,3 +117,21 @@ def test_ac15_power_law_shear_over_the_sumr_rotor():
     wind = PowerLawWind(10.0, hub_height=142.4, shear_exponent=0.14)
     u = wind.velocity(0.0, np.zeros(2), np.zeros(2), np.array([249.2, 35.6]))[0] / 10.0
     np.testing.assert_allclose(u, [1.0815, 0.8236], atol=5e-5)
+
+
+def test_a_record_has_the_rotating_hub_moments_of_its_main_bearing_moments():
+    """make_record adds hub_rotating_y/z_moment (eq. 13 inverted) wherever hub tilt, yaw and azimuth are recorded,
+    so bags recorded before these channels have them; summarize gives their DELs (steel, m = 4)."""
+    from hawt_analysis.record import make_record
+    from hawt_analysis.summary import summarize
+
+    time = np.arange(2001) * 0.01
+    azimuth = np.mod(1.3 * time, 2 * math.pi)
+    tilt, yaw = 2.0 + np.cos(2 * azimuth), -0.5 + 0.3 * np.sin(2 * azimuth)
+    channels = {"time": time, "azimuth": azimuth, "rotor_speed": np.full(time.size, 1.3),
+                "hub_tilt_moment": tilt, "hub_yaw_moment": yaw}
+    record = make_record(channels)
+    expected = main_bearing_to_hub(tilt, yaw, azimuth)
+    np.testing.assert_allclose(record.scalars["hub_rotating_y_moment"], expected[0], atol=1e-12)
+    np.testing.assert_allclose(record.scalars["hub_rotating_z_moment"], expected[1], atol=1e-12)
+    assert summarize(channels)["del"]["hub_rotating_y_moment"]["m"] == 4.0

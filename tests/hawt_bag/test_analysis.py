@@ -44,7 +44,7 @@ def test_analyze_json_has_the_design_keys_and_the_dels_of_hawt_analysis(hawt_cli
     summary = json.loads(result.stdout)
     assert DESIGN_KEYS <= set(summary)
     reference = summarize(channels)
-    assert set(summary["del"]) == set(reference["del"]) and len(summary["del"]) == 10
+    assert set(summary["del"]) == set(reference["del"]) and len(summary["del"]) == 14  # 3 × 2 blade, 8 steel
     for name, entry in reference["del"].items():
         assert summary["del"][name]["value"] == pytest.approx(entry["value"], rel=1e-9), name
         assert summary["del"][name]["m"] == entry["m"]

@@ -17,7 +17,8 @@ BLADE_LOADS_FIELDS = ["azimuth", "rotor_speed", "root_moment_oop", "root_moment_
 TURBINE_STATE_FIELDS = [
     "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust", "hub_wind_speed",
     "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp", "hub_tilt_moment",
-    "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment",
+    "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment", "yaw_bearing_tilt_moment",
+    "yaw_bearing_yaw_moment",
 ]
 
 
