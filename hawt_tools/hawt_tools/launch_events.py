@@ -5,8 +5,10 @@ graph is stopped from outside (Ctrl-C, ``--duration`` of wall time). So ``hawt l
 one more ROS node in its own process, ``/hawt_launch``, which publishes these on the ``control/events``
 of each namespace concerned, stamped with the step and time of that namespace's latest ``plant/state``
 (subscribed best effort, keep last 1: it adds no reader the plant waits for). Each event waits up to
-``MATCH_WAIT`` for its writer to match every reader the graph lists (the recorder), then goes out; the
-launcher publishes it before it stops any node, so the recorder is still there to take it.
+``MATCH_WAIT`` for its writer to match every reader the graph lists (the recorder) and for a first
+``plant/state`` (on a busy machine this node once discovered the plant only after its first 250 steps),
+then goes out, at step 0 if the plant never published; the launcher publishes it before it stops any
+node, so the recorder is still there to take it.
 """
 import threading
 import time
@@ -27,8 +29,9 @@ from hawt_node.writer_matching import unmatched_writers
 __all__ = ["LaunchEvents", "MATCH_WAIT", "NODE_NAME"]
 
 NODE_NAME = "hawt_launch"
-MATCH_WAIT = 2.0
-"""Wall time [s] an event waits at most for its writer to match the graph's readers of control/events."""
+MATCH_WAIT = 5.0
+"""Wall time [s] an event waits at most for its writer to match the graph's readers of control/events and for
+the namespace's first plant/state."""
 
 _LATEST = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 
@@ -44,10 +47,11 @@ class LaunchEvents:
         rclpy.init(context=self.context, signal_handler_options=SignalHandlerOptions.NO)
         self.node = Node(NODE_NAME, context=self.context)
         self.latest: Dict[str, Tuple[int, Time]] = {}
+        self.heard: Dict[str, bool] = {}
         self.publishers = {}
         for namespace in sorted(set(namespaces)):
             prefix = namespace.rstrip("/")
-            self.latest[namespace] = (0, Time())
+            self.latest[namespace], self.heard[namespace] = (0, Time()), False
             self.publishers[namespace] = self.node.create_publisher(ControlEvent, f"{prefix}/{EVENTS}", EVENTS_QOS)
             self.node.create_subscription(TurbineState, f"{prefix}/{TURBINE_STATE}",
                                           lambda msg, ns=namespace: self._on_state(ns, msg), _LATEST)
@@ -57,13 +61,15 @@ class LaunchEvents:
         self.thread.start()
 
     def _on_state(self, namespace: str, msg: TurbineState) -> None:
+        self.heard[namespace] = True
         if msg.step >= self.latest[namespace][0]:
             self.latest[namespace] = (msg.step, msg.header.stamp)
 
     def __call__(self, namespace: str, level: int, kind: str, detail: str) -> None:
         publisher = self.publishers[namespace]
         deadline = time.monotonic() + MATCH_WAIT
-        while unmatched_writers(self.node, {publisher.topic_name: publisher}) and time.monotonic() < deadline:
+        while (unmatched_writers(self.node, {publisher.topic_name: publisher}) or not self.heard[namespace]) \
+                and time.monotonic() < deadline:
             time.sleep(0.01)
         step, stamp = self.latest[namespace]
         msg = ControlEvent(step=step, source=self.node.get_fully_qualified_name(), level=level, kind=kind,
