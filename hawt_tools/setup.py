@@ -25,6 +25,7 @@ setup(
             'pulse_source = hawt_tools.example_nodes:main_pulse_source',
             'relay = hawt_tools.example_nodes:main_relay',
             'counter_sink = hawt_tools.example_nodes:main_counter_sink',
+            'view = hawt_tools.view_node:main',
         ],
     },
 )

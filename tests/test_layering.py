@@ -14,9 +14,10 @@ ROS_MODULES = {
     "hawt_plant": {"plant_node", "description_node"},
     "hawt_controllers": {"controller_node", "cpc_node", "ipc_node", "blade_sine_node", "mbc_node",
                          "controller_manager_node", "switch_listener", "repetitive_ipc_node",
-                         "repetitive_cpc_node", "coleman_excitation_node", "lqg_ipc_node", "discon_node"},
+                         "repetitive_cpc_node", "coleman_excitation_node", "lqg_ipc_node", "discon_node",
+                         "main_bearing_ipc_node"},
     "hawt_bag": {"recorder", "replayer"},
-    "hawt_tools": {"launcher", "launch_events", "controller_client", "graph_info", "example_nodes"},
+    "hawt_tools": {"launcher", "launch_events", "controller_client", "graph_info", "example_nodes", "view_node"},
 }
 """Modules that are ROS nodes or node plumbing; every other module of a package is a core or a library."""
 ROS_DISTRIBUTION = ("rclpy", "rcl_interfaces", "lifecycle_msgs", "rosgraph_msgs", "builtin_interfaces", "std_msgs",

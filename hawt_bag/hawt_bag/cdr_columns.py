@@ -27,7 +27,7 @@ import numpy as np
 from .errors import BagError
 from .msg_definition import PRIMITIVE_SIZES, MessageDefinition
 
-__all__ = ["decode_columns", "encode_messages", "FieldReader"]
+__all__ = ["decode_columns", "encode_messages", "FieldReader", "header_stamp_ns"]
 
 _DTYPES = {
     "bool": "?", "byte": "u1", "char": "u1", "int8": "i1", "uint8": "u1", "int16": "<i2", "uint16": "<u2",
@@ -38,6 +38,15 @@ _ORIGIN = 4
 """CDR alignment is counted from the end of the encapsulation header."""
 _VECTOR_GROUPS = 32
 """Layouts checked with one vector step each; messages left after that are taken one by one."""
+
+
+def header_stamp_ns(data: bytes) -> int:
+    """``header.stamp`` [ns] of a serialized message whose first field is a ``std_msgs/Header`` (0 before 1970).
+
+    The stamp's ``int32 sec`` and ``uint32 nanosec`` are the first 8 bytes after the encapsulation header.
+    """
+    sec = int.from_bytes(data[_ORIGIN:_ORIGIN + 4], "little", signed=True)
+    return max(sec * 1_000_000_000 + int.from_bytes(data[_ORIGIN + 4:_ORIGIN + 8], "little"), 0)
 
 Definitions = Mapping[str, MessageDefinition]
 

@@ -15,7 +15,7 @@ from ament_index_python.packages import PackageNotFoundError, get_package_share_
 from .errors import BagError
 from .msg_definition import DELIMITER, parse_msg, short_type_name
 
-__all__ = ["msg_file", "schema_text", "type_hash"]
+__all__ = ["has_header", "msg_file", "schema_text", "type_hash"]
 
 
 def msg_file(type_name: str, suffix: str = ".msg") -> Path:
@@ -66,3 +66,10 @@ def type_hash(type_name: str) -> str:
         return ""
     hashes = json.loads(path.read_text()).get("type_hashes", [])
     return hashes[0]["hash_string"] if hashes else ""
+
+
+@lru_cache(maxsize=None)
+def has_header(type_name: str) -> bool:
+    """True if the type's first field is a ``std_msgs/Header`` (its CDR starts with the stamp: `header_stamp_ns`)."""
+    fields = parse_msg(msg_file(type_name).read_text(), type_name).fields
+    return bool(fields) and fields[0].type == "std_msgs/Header"

@@ -33,27 +33,29 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import List, Optional, Sequence
+from typing import Callable, List, Optional, Sequence
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
+from rclpy.topic_endpoint_info import TopicEndpointInfo
 
 from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_core.topics import RECORDER_NODE, RECORDER_PROGRESS
 from hawt_msgs.msg import RecorderProgress
 
 from .errors import BagError
-from .interface_files import schema_text
+from .cdr_columns import header_stamp_ns
+from .interface_files import has_header
 from .message_types import message_class
-from .msg_definition import parse_msg
 from .qos_profiles import QosOffer
 from .verification import verify_bag
 from .writer import BagWriter
 
-__all__ = ["Recorder", "RecorderOptions", "add_record_arguments", "main", "options_from", "record"]
+__all__ = ["Recorder", "RecorderOptions", "TopicDiscovery", "adapted_qos", "add_record_arguments", "main",
+           "options_from", "record", "visible"]
 
 _QUIET = 0.1
 _DRAIN_LIMIT = 1.0
@@ -99,16 +101,68 @@ class RecorderOptions:
     node_name: str = RECORDER_NODE
 
 
-def _has_header(type_name: str) -> bool:
-    fields = parse_msg(schema_text(type_name).split("\n" + "=" * 80, 1)[0], type_name).fields
-    return bool(fields) and fields[0].type == "std_msgs/Header"
-
-
 def _offer(profile) -> QosOffer:
     return QosOffer.from_enums(profile.history, profile.depth, profile.reliability, profile.durability,
                                profile.deadline.nanoseconds, profile.lifespan.nanoseconds, profile.liveliness,
                                profile.liveliness_lease_duration.nanoseconds,
                                profile.avoid_ros_namespace_conventions)
+
+
+def visible(topic: str) -> bool:
+    """False for a topic with a hidden component (``/_x``), which rosbag2's ``--all`` skips."""
+    return not any(part.startswith("_") for part in topic.split("/"))
+
+
+def adapted_qos(publishers: Sequence[TopicEndpointInfo], depth: int) -> QoSProfile:
+    """A subscription QoS that matches every publisher (rosbag2 ``Rosbag2QoS::adapt_request_to_offers``).
+
+    Keep-last ``depth``; reliable if all publishers are, else best effort; transient local if all are.
+    """
+    reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in publishers)
+    latched = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers)
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth,
+                      reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+
+
+class TopicDiscovery:
+    """Finds the graph's topics as they appear, as ``ros2 bag record`` does, and hands each new one to ``subscribe``.
+
+    ``poll()`` (call it from a timer) passes every topic that ``selected`` accepts, has publishers and one type,
+    once, to ``subscribe(topic, type_name, publishers)``; a topic it cannot take (several types, or ``subscribe``
+    raised BagError) is named in a warning of ``node``'s logger (``not <doing> TOPIC: why``) and not tried again.
+    """
+
+    def __init__(self, node: Node, selected: Callable[[str], bool],
+                 subscribe: Callable[[str, str, List[TopicEndpointInfo]], None], doing: str) -> None:
+        self._node = node
+        self._doing = doing
+        self._selected = selected
+        self._subscribe = subscribe
+        self.taken: set[str] = set()
+        self._skipped: set[str] = set()
+
+    def poll(self) -> None:
+        """Subscribe to every selected topic that has publishers and is not taken yet."""
+        for topic, types in self._node.get_topic_names_and_types():
+            if topic in self.taken or topic in self._skipped or not self._selected(topic):
+                continue
+            publishers = self._node.get_publishers_info_by_topic(topic)
+            if not publishers:
+                continue
+            if len(types) != 1:
+                self._skip(topic, f"it has several types ({', '.join(types)})")
+                continue
+            try:
+                self._subscribe(topic, types[0], publishers)
+            except BagError as error:
+                self._skip(topic, str(error))
+                continue
+            self.taken.add(topic)
+
+    def _skip(self, topic: str, reason: str) -> None:
+        self._skipped.add(topic)
+        self._node.get_logger().warning(f"not {self._doing} {topic}: {reason}")
 
 
 class Recorder(Node):
@@ -125,51 +179,27 @@ class Recorder(Node):
         self.last_message = time.monotonic()
         self._pattern = re.compile(options.regex) if options.regex else None
         self._wanted = {"/" + t.strip("/") for t in options.topics}
-        self._skipped: set[str] = set()
         self._recorded = {}
+        self.discovery = TopicDiscovery(self, self._selected, self._subscribe, "recording")
         self._progress = self.create_publisher(RecorderProgress, RECORDER_PROGRESS, _PROGRESS_QOS)
-        self.create_timer(options.poll_period, self.discover)
+        self.create_timer(options.poll_period, self.discovery.poll)
         self.create_timer(options.poll_period, self._publish_progress)
         self.create_timer(options.chunk_interval, self._close_chunk)
-        self.discover()
+        self.discovery.poll()
 
     def _selected(self, topic: str) -> bool:
         if topic == RECORDER_PROGRESS:
             return False
         if not self._wanted and self._pattern is None:
-            return self.options.include_hidden or not any(part.startswith("_") for part in topic.split("/"))
+            return self.options.include_hidden or visible(topic)
         return topic in self._wanted or bool(self._pattern and self._pattern.search(topic))
-
-    def discover(self) -> None:
-        """Subscribe to every selected topic that has publishers and is not recorded yet."""
-        for topic, types in self.get_topic_names_and_types():
-            if topic in self._recorded or topic in self._skipped or not self._selected(topic):
-                continue
-            publishers = self.get_publishers_info_by_topic(topic)
-            if not publishers:
-                continue
-            if len(types) != 1:
-                self._skip(topic, f"it has several types ({', '.join(types)})")
-                continue
-            try:
-                self._subscribe(topic, types[0], publishers)
-            except BagError as error:
-                self._skip(topic, str(error))
-
-    def _skip(self, topic: str, reason: str) -> None:
-        self._skipped.add(topic)
-        self.get_logger().warning(f"not recording {topic}: {reason}")
 
     def _subscribe(self, topic: str, type_name: str, publishers) -> None:
         kind = message_class(type_name)
         offers = [_offer(p.qos_profile) for p in publishers]
-        reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in publishers)
-        latched = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers)
-        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=self.options.depth,
-                         reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-                         durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+        qos = adapted_qos(publishers, self.options.depth)
         channel = self.writer.add_topic(topic, type_name, offers)
-        stamped = _has_header(type_name)
+        stamped = has_header(type_name)
         self.counts[topic] = 0
         self._log_times[topic] = 0
 
@@ -178,8 +208,7 @@ class Recorder(Node):
             self._log_times[topic] = received
             publish = received
             if stamped and len(data) >= 12:
-                sec = int.from_bytes(data[4:8], "little", signed=True)
-                publish = max(sec * 1_000_000_000 + int.from_bytes(data[8:12], "little"), 0)
+                publish = header_stamp_ns(data)
             try:
                 self.writer.write(channel, received, data, publish)
             except OSError as error:
@@ -192,7 +221,8 @@ class Recorder(Node):
 
         self._recorded[topic] = self.create_subscription(kind, topic, write, qos, raw=True)
         self.get_logger().info(f"recording {topic} [{type_name}] "
-                               f"({'reliable' if reliable else 'best effort'}, {len(publishers)} publisher(s))")
+                               f"({'reliable' if qos.reliability == ReliabilityPolicy.RELIABLE else 'best effort'}, "
+                               f"{len(publishers)} publisher(s))")
 
     def _publish_progress(self) -> None:
         topics = sorted(self._recorded)

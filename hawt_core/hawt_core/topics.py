@@ -5,6 +5,7 @@ __all__ = [
     "BLADE_LOADS", "TURBINE_STATE", "COLLECTIVE", "PITCH_COMMAND", "EVENTS", "CLOCK",
     "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "SWITCHES", "SCHEDULE", "CONTROLLER_STATES", "PLANT_DESCRIPTION",
     "mbc_topic", "ipc_topic", "blade_pitch_topic", "RECORDER_NODE", "RECORDER_PROGRESS",
+    "VIEW_NODE",
 ]
 
 BLADE_LOADS = "plant/blade_loads"
@@ -23,6 +24,8 @@ RECORDER_NODE = "hawt_recorder"
 """The recorder's node name (``hawt record``, ``hawt launch --record``): what a run waits for before it starts."""
 RECORDER_PROGRESS = "/recorder/progress"
 """What the recorder has written so far (hawt_msgs/RecorderProgress): a recorded lockstep plant's back-pressure."""
+VIEW_NODE = "hawt_view"
+"""The node of ``hawt view`` (``hawt launch --view``), which serves the graph to Foxglove."""
 
 
 def mbc_topic(harmonic: int) -> str:

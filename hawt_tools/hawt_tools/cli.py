@@ -61,14 +61,16 @@ def _cmd_launch(args: argparse.Namespace) -> int:
     from hawt_tools.launcher import package_prefix
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
-    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority)
+    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority,
+                      args.view_port if args.view else None)
 
 
 def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
-               record: Optional[str], priority: int = 0) -> int:
+               record: Optional[str], priority: int = 0, view_port: Optional[int] = None) -> int:
     """Run a checked graph (separate processes or composed), recording it into ``record`` if given.
 
-    ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority.
+    ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority. With ``view_port``
+    the ``view`` executable serves the graph to Foxglove on that port while it runs.
     """
     from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
     from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
@@ -81,9 +83,12 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
     if priority:
         check_priority(priority)
+    view = _view_command(view_port) if view_port is not None else None
     recorder = _start_recorder(Path(record)) if record else None
-    events = None
+    events = viewer = None
     try:
+        if view is not None:
+            viewer = subprocess.Popen(view, stdin=subprocess.DEVNULL, start_new_session=True)
         if composed:
             if priority:
                 set_priority(priority)
@@ -99,9 +104,11 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
                                 events=events).run(duration)
     finally:
         if recorder is not None:
-            recorded = _stop_recorder(recorder)
+            recorded = _stop_process(recorder)
         if events is not None:
             events.close()
+        if viewer is not None:
+            _stop_process(viewer)
     if recorder is not None and recorded != 0:
         raise RuntimeError(f"the recorder of {record} failed (exit code {recorded})")
     return code
@@ -141,23 +148,41 @@ def _start_recorder(path: Path) -> subprocess.Popen:
         if recorder.poll() is not None:
             raise RuntimeError(f"the recorder of {path} exited before recording (exit code {recorder.returncode})")
         if time.monotonic() > deadline:
-            _stop_recorder(recorder)
+            _stop_process(recorder)
             raise RuntimeError(f"the recorder of {path} did not start within 20 s")
         time.sleep(0.02)
     return recorder
 
 
-def _stop_recorder(recorder: subprocess.Popen) -> int:
-    """Stop the recorder after the graph (SIGINT: it takes what is still arriving, then finishes the bag)."""
+def _stop_process(process: subprocess.Popen) -> int:
+    """Stop the recorder or the view after the graph (SIGINT: the recorder takes what is still arriving, then
+    finishes the bag)."""
     for sig, timeout in ((signal.SIGINT, 30.0), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
-        if recorder.poll() is not None:
+        if process.poll() is not None:
             break
-        os.killpg(recorder.pid, sig)
+        os.killpg(process.pid, sig)
         try:
-            recorder.wait(timeout)
+            process.wait(timeout)
         except subprocess.TimeoutExpired:
             continue
-    return recorder.wait()
+    return process.wait()
+
+
+def _view_command(port: int) -> List[str]:
+    """The command line of hawt_tools' ``view`` executable serving on ``port``."""
+    from hawt_tools.launcher import package_prefix
+
+    executable = Path(package_prefix("hawt_tools") or "") / "lib" / "hawt_tools" / "view"
+    if not executable.is_file():
+        raise RuntimeError("hawt_tools' view executable is not installed (run scripts/setup.sh)")
+    return [str(executable), "--port", str(port)]
+
+
+def _cmd_view(args: argparse.Namespace) -> int:
+    from hawt_tools.view import options_from
+    from hawt_tools.view_node import view
+
+    return view(options_from(args))
 
 
 def _cmd_record(args: argparse.Namespace) -> int:
@@ -553,6 +578,9 @@ def _parser() -> argparse.ArgumentParser:
     launch.add_argument("--record", metavar="FILE.mcap",
                         help="record every topic into this new bag; the recorder starts before the graph "
                              "and stops after it")
+    launch.add_argument("--view", action="store_true",
+                        help="serve the graph live to Foxglove while it runs (as 'hawt view', on --view-port)")
+    launch.add_argument("--view-port", type=int, default=8765, metavar="N", help="port of --view (default 8765)")
     launch.set_defaults(run=_cmd_launch)
 
     run = commands.add_parser(
@@ -578,6 +606,17 @@ def _parser() -> argparse.ArgumentParser:
                                              "Ctrl-C/SIGTERM; topics that appear later are picked up.")
     add_record_arguments(record)
     record.set_defaults(run=_cmd_record)
+
+    from hawt_tools.view import add_view_arguments
+
+    view = commands.add_parser(
+        "view", help="serve the running graph live to Foxglove (WebSocket; topics, plant time, parameters)",
+        description="Serve every topic of the running graph on a Foxglove WebSocket (ROS 2 channels: ros2msg "
+                    "schemas, CDR messages as published), timed by the plant's clock, with the nodes' "
+                    "parameters to view and set. In Foxglove: Open connection, Foxglove WebSocket, "
+                    "ws://localhost:8765; layout: hawt_tools/foxglove/hawt_layout.json.")
+    add_view_arguments(view)
+    view.set_defaults(run=_cmd_view)
 
     replay = commands.add_parser("replay", help="publish a bag's messages again, timed or step by step",
                                  description="Replay a bag at its recorded timing (times --rate), or step by step "

@@ -1,0 +1,220 @@
+"""The view node: the running graph live in Foxglove over its WebSocket protocol (``hawt view``, ``launch --view``).
+
+Topics are found as the recorder finds them (`hawt_bag.recorder.TopicDiscovery`, every 0.1 s, QoS adapted
+to the publishers) and each becomes a channel (``ros2msg`` schema, ``cdr`` encoding: `hawt_tools.view`)
+fed with the bytes of a raw subscription, never deserialized. A message's log time is its
+``header.stamp`` (the plant's simulated time, DESIGN §3); a message without a header takes the latest
+simulated time seen, and ``/clock`` is the server's time, so plots of a live graph and of its bag share
+one time axis. Parameters: the protocol's get and set go to the nodes' standard ``rcl_interfaces``
+parameter services (``/ns/node.param``; an empty get lists every node's parameters), so a gain can be
+retuned from the Foxglove app; a node that refuses a value says why in a status message.
+
+Stops on SIGINT or SIGTERM, or when the process that started it dies.
+"""
+import argparse
+import sys
+import threading
+from collections.abc import Sequence
+from typing import List, Optional
+
+import foxglove
+import rclpy
+from foxglove import Parameter, ParameterType, Schema, StatusLevel
+from foxglove.websocket import Capability, Client, ServerListener
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter as RosParameter
+from rclpy.parameter import parameter_value_to_python
+from rclpy.parameter_client import AsyncParameterClient
+from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
+
+from hawt_bag.cdr_columns import header_stamp_ns
+from hawt_bag.interface_files import has_header, schema_text
+from hawt_bag.message_types import message_class
+from hawt_bag.recorder import TopicDiscovery, adapted_qos, visible
+from hawt_core.stop_signals import parent_gone, stop_signals
+from hawt_core.topics import CLOCK, VIEW_NODE
+from hawt_tools.view import (CDR, ROS2MSG, ViewOptions, add_view_arguments, coerce, options_from, parameter_name,
+                             split_parameter_name)
+
+__all__ = ["View", "main", "ros2_schema", "to_parameter", "view"]
+
+
+def ros2_schema(type_name: str) -> Schema:
+    """The ``ros2msg`` schema of ``pkg/msg/Type`` (BagError naming the type if its ``.msg`` is not installed)."""
+    return Schema(name=type_name, encoding=ROS2MSG, data=schema_text(type_name).encode())
+
+
+def to_parameter(full_name: str, value: object) -> Parameter:
+    """A protocol parameter from a ROS parameter's Python value (None: not set); floats keep their type."""
+    if isinstance(value, float):
+        return Parameter(full_name, value=value, type=ParameterType.Float64)
+    if isinstance(value, Sequence) and not isinstance(value, (str, bytes)):  # list or array.array
+        items = list(value)
+        if items and all(isinstance(item, float) for item in items):
+            return Parameter(full_name, value=items, type=ParameterType.Float64Array)
+        return Parameter(full_name, value=items)
+    return Parameter(full_name, value=value)
+
+
+class View(Node):
+    """Forwards every visible topic of the graph to a Foxglove WebSocket server, and parameters both ways."""
+
+    def __init__(self, options: ViewOptions, **node_kwargs) -> None:
+        super().__init__(VIEW_NODE, **node_kwargs)
+        self.options = options
+        self.now = 0  # the latest simulated time seen [ns]
+        self.counts: dict[str, int] = {}
+        self._channels: dict[str, foxglove.Channel] = {}
+        self._forwarders = {}
+        self._parameter_clients: dict[str, AsyncParameterClient] = {}
+        self._lock = threading.Lock()
+        self._foxglove = foxglove.Context()
+        self.server = foxglove.start_server(
+            name="hawt", host=options.host, port=options.port, context=self._foxglove,
+            capabilities=[Capability.Time, Capability.Parameters], server_listener=_Parameters(self))
+        self.discovery = TopicDiscovery(self, visible, self._subscribe, "viewing")
+        self.create_timer(options.poll_period, self.discovery.poll)
+        self.discovery.poll()
+
+    def _subscribe(self, topic: str, type_name: str, publishers) -> None:
+        kind = message_class(type_name)
+        channel = foxglove.Channel(topic, schema=ros2_schema(type_name), message_encoding=CDR, context=self._foxglove)
+        stamped, clock = has_header(type_name), topic == CLOCK
+        self._channels[topic] = channel
+        self.counts[topic] = 0
+
+        def forward(data: bytes, _info) -> None:
+            stamp = self.now
+            if stamped or clock:  # rosgraph_msgs/Clock starts with its time as a Header does
+                stamp = header_stamp_ns(data)
+                self.now = max(self.now, stamp)
+            if clock:
+                self.server.broadcast_time(stamp)
+            channel.log(data, log_time=stamp)
+            self.counts[topic] += 1
+
+        self._forwarders[topic] = self.create_subscription(
+            kind, topic, forward, adapted_qos(publishers, self.options.depth), raw=True)
+        self.get_logger().info(f"viewing {topic} [{type_name}]")
+
+    def close(self) -> None:
+        """Stop the server (clients are disconnected) and close the channels."""
+        self.server.stop()
+        for channel in self._channels.values():
+            channel.close()
+
+    # Parameters: called on the server's thread while the executor spins on the main one.
+
+    def _client(self, node: str) -> AsyncParameterClient:
+        with self._lock:
+            if node not in self._parameter_clients:
+                self._parameter_clients[node] = AsyncParameterClient(self, node)
+            client = self._parameter_clients[node]
+        if not client.wait_for_services(self.options.timeout):
+            raise TimeoutError(f"{node}: no parameter services within {self.options.timeout:g} s")
+        return client
+
+    def _result(self, future: Future):
+        done = threading.Event()
+        future.add_done_callback(lambda _: done.set())
+        if not done.wait(self.options.timeout):
+            raise TimeoutError(f"no answer within {self.options.timeout:g} s")
+        return future.result()
+
+    def _nodes(self) -> List[str]:
+        own = self.get_fully_qualified_name()
+        names = (f"{namespace.rstrip('/')}/{name}" for name, namespace in self.get_node_names_and_namespaces())
+        return sorted(name for name in set(names) if name != own)
+
+    def _values(self, node: str, names: Optional[Sequence[str]] = None) -> dict[str, object]:
+        """Python values of ``names`` (all if None) of a node."""
+        client = self._client(node)
+        if names is None:
+            names = list(self._result(client.list_parameters()).result.names)
+        values = self._result(client.get_parameters(list(names))).values
+        return {name: parameter_value_to_python(value) for name, value in zip(names, values)}
+
+    def get_parameters(self, full_names: Sequence[str]) -> List[Parameter]:
+        """The protocol's getParameters: the named parameters, or every node's if none are named."""
+        wanted: dict[str, Optional[List[str]]] = {node: None for node in self._nodes()} if not full_names else {}
+        for full_name in full_names:
+            node, name = split_parameter_name(full_name)
+            wanted.setdefault(node, []).append(name)
+        found = []
+        for node, names in wanted.items():
+            try:
+                found += [to_parameter(parameter_name(node, name), value)
+                          for name, value in self._values(node, names).items()]
+            except TimeoutError as error:
+                self.get_logger().warning(f"parameters of {node}: {error}")
+        return found
+
+    def set_parameters(self, parameters: Sequence[Parameter]) -> List[Parameter]:
+        """The protocol's setParameters: each value (as the parameter's type) to its node; the values after."""
+        by_node: dict[str, dict[str, object]] = {}
+        for parameter in parameters:
+            node, name = split_parameter_name(parameter.name)
+            by_node.setdefault(node, {})[name] = parameter.get_value()
+        after = []
+        for node, values in by_node.items():
+            try:
+                current = self._values(node, list(values))
+                requests = [RosParameter(name, value=coerce(value, current[name])) for name, value in values.items()]
+                results = self._result(self._client(node).set_parameters(requests)).results
+                for request, result in zip(requests, results):
+                    if not result.successful:
+                        self.server.publish_status(f"{node}: {request.name} not set: {result.reason}",
+                                                   StatusLevel.Warning)
+                after += [to_parameter(parameter_name(node, name), value)
+                          for name, value in self._values(node, list(values)).items()]
+            except (TimeoutError, TypeError, ValueError) as error:
+                self.server.publish_status(f"{node}: parameters not set: {error}", StatusLevel.Error)
+        return after
+
+
+class _Parameters(ServerListener):
+    """The server's parameter requests, handed to the view node."""
+
+    def __init__(self, node: View) -> None:
+        self._node = node
+
+    def on_get_parameters(self, client: Client, param_names: list[str],
+                          request_id: Optional[str] = None) -> list[Parameter]:
+        return self._node.get_parameters(param_names)
+
+    def on_set_parameters(self, client: Client, parameters: list[Parameter],
+                          request_id: Optional[str] = None) -> list[Parameter]:
+        return self._node.set_parameters(parameters)
+
+
+def view(options: ViewOptions, ros_args: Optional[List[str]] = None, report=print) -> int:
+    """Serve the graph until SIGINT/SIGTERM or the death of the starting process; returns the exit code."""
+    stop = []
+    launcher_gone = parent_gone()
+    with stop_signals(lambda *_: stop.append(True)), \
+            rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
+        node = View(options)
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        report(f"hawt view: serving the graph on ws://{options.host}:{node.server.port} "
+               "(Foxglove: Open connection, Foxglove WebSocket; Ctrl-C to stop)")
+        try:
+            while not stop and not launcher_gone():
+                executor.spin_once(timeout_sec=0.05)
+        finally:
+            node.close()
+            executor.shutdown()
+            node.destroy_node()
+    report(f"hawt view: forwarded {sum(node.counts.values())} messages of {len(node.counts)} topics")
+    return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> None:
+    """The ``view`` executable (what ``hawt launch --view`` starts): ``view [--host H] [--port N]``."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
+    parser = argparse.ArgumentParser(prog="view", description="Serve the running graph to Foxglove.")
+    add_view_arguments(parser)
+    sys.exit(view(options_from(parser.parse_args(argv[:len(argv) - len(ros_args)])), ["view", *ros_args]))
