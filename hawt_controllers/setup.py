@@ -31,6 +31,7 @@ setup(
             'repetitive_cpc = hawt_controllers.repetitive_cpc_node:main',
             'coleman_excitation = hawt_controllers.coleman_excitation_node:main',
             'lqg_ipc = hawt_controllers.lqg_ipc_node:main',
+            'main_bearing_ipc = hawt_controllers.main_bearing_ipc_node:main',
             'discon = hawt_controllers.discon_node:main',
             'controller_manager = hawt_controllers.controller_manager_node:main',
         ],

@@ -5,17 +5,14 @@ Turbine" (notes: ``literature/notes/seed001_zalkind.md`` §2.4–2.6, Appendix A
 harmonic phasors m^{iP} = m_c^{iP} + j m_s^{iP} in true amplitudes
 (:mod:`hawt_controllers.harmonic_estimator`).
 
-* Hub (rotating) → main bearing (fixed): the exact azimuth rotation, eq. 13, and its closed
-  forms for the hub 1P, eqs. 14–17 with eq. 16 corrected (:func:`main_bearing_from_hub_1p`).
+* Hub (rotating) → main bearing (fixed): the exact azimuth rotation, eq. 13
+  (:mod:`hawt_controllers.hub_frame`, re-exported here), and its closed forms for the hub 1P,
+  eqs. 14–17 with eq. 16 corrected (:func:`main_bearing_from_hub_1p`).
 * Every other link: the complex affine map m_2 = a_1 m_1 + a_0 fitted by least squares over
   N >= 2 operating points, eqs. 8–11 (:func:`fit_transfer`), separately for region II and
   region III, the region read from the collective pitch (:func:`operating_region`,
   :func:`fit_transfer_by_region`). The paper writes a^*[m_1; 1] and fits with conjugated
   data; the coefficients returned here are conj(a), so that m_2 = gain·m_1 + offset.
-
-Axes: hub y, z rotate with the rotor and coincide with the fixed shaft axes y_s, z_s at ψ = 0
-(blade 1 up); the rotor turns right-handedly about the downwind shaft axis, so the fixed
-components are the rotating ones turned by ψ (eq. 13).
 """
 from __future__ import annotations
 
@@ -24,6 +21,8 @@ from typing import Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+from hawt_controllers.hub_frame import hub_to_main_bearing, main_bearing_to_hub
 
 from ._checks import finite_array, same_length
 
@@ -37,23 +36,6 @@ __all__ = [
     "main_bearing_to_hub",
     "operating_region",
 ]
-
-
-def hub_to_main_bearing(hub_y: ArrayLike, hub_z: ArrayLike, azimuth: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Fixed-frame main-bearing moments from rotating hub moments, Zalkind & Pao eq. 13.
-
-    m_my = cos ψ m_hy − sin ψ m_hz,  m_mz = sin ψ m_hy + cos ψ m_hz (ψ of blade 1, rad).
-    """
-    y, z, psi = (np.asarray(v, dtype=float) for v in (hub_y, hub_z, azimuth))
-    c, s = np.cos(psi), np.sin(psi)
-    return c * y - s * z, s * y + c * z
-
-
-def main_bearing_to_hub(main_y: ArrayLike, main_z: ArrayLike, azimuth: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Rotating hub moments from fixed-frame main-bearing moments: the inverse (transpose) of eq. 13."""
-    y, z, psi = (np.asarray(v, dtype=float) for v in (main_y, main_z, azimuth))
-    c, s = np.cos(psi), np.sin(psi)
-    return c * y + s * z, -s * y + c * z
 
 
 @dataclass(frozen=True)

@@ -11,12 +11,13 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
-from hawt_plant.turbine import Turbine, load_turbine, nrel_5mw
+from hawt_plant.turbine import Turbine, nrel_5mw, turbine_from
 
 __all__ = ["PARAMETERS", "check_parameters", "make_plant"]
 
 PARAMETERS = (
-    ParameterSpec("turbine_file", "", "turbine definition YAML ('' = the packaged NREL 5 MW)", read_only=True),
+    ParameterSpec("turbine_file", "", "turbine definition YAML, or a packaged turbine's name: nrel_5mw, "
+                  "nrel_5mw_two_bladed ('' = the packaged NREL 5 MW)", read_only=True),
     ParameterSpec("dt", 0.01, "plant step (100 Hz by default)", "s", minimum=1e-3, maximum=0.1, read_only=True),
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",
@@ -82,7 +83,7 @@ def check_parameters(values: Mapping[str, Any]) -> None:
 def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, TurbineOutput]:
     """The turbine, its model and the output of step 0 for the plant's parameter ``values``."""
     v = values
-    turbine = load_turbine(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
+    turbine = turbine_from(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
     wind = make_wind(InflowSettings(
         kind=v["wind_type"], wind_speed=v["wind_speed"], shear_exponent=v["shear_exponent"],
         hub_height=turbine.hub_height, turbulence_class=v["turbulence_class"], seed=v["seed"],

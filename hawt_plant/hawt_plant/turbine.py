@@ -39,6 +39,8 @@ __all__ = [
     "load_turbine",
     "nrel_5mw",
     "nrel_5mw_two_bladed",
+    "PACKAGED_TURBINES",
+    "turbine_from",
 ]
 
 _PACKAGED = Path(__file__).resolve().parent / "turbines"
@@ -360,6 +362,16 @@ def nrel_5mw() -> Turbine:
 def nrel_5mw_two_bladed() -> Turbine:
     """A two-bladed variant of the NREL 5 MW shipped with the package (``turbines/nrel_5mw/two_bladed.yaml``)."""
     return load_turbine(_PACKAGED / "nrel_5mw" / "two_bladed.yaml")
+
+
+PACKAGED_TURBINES = {"nrel_5mw": nrel_5mw, "nrel_5mw_two_bladed": nrel_5mw_two_bladed}
+"""Turbines shipped with the package, by the name a ``turbine_file`` parameter may give instead of a path."""
+
+
+def turbine_from(name_or_path: str) -> Turbine:
+    """The packaged turbine of this name (:data:`PACKAGED_TURBINES`), else the definition file at this path."""
+    packaged = PACKAGED_TURBINES.get(name_or_path)
+    return packaged() if packaged else load_turbine(name_or_path)
 
 
 def load_turbine(path: str | Path) -> Turbine:
