@@ -1,0 +1,126 @@
+"""hawt launch --view on a recorded lockstep graph: a Foxglove WebSocket client sees what the recorder wrote, and
+a parameter it sets reaches its node and the bag."""
+import asyncio
+import json
+import re
+import signal
+import struct
+from dataclasses import dataclass, field
+
+import numpy as np
+import psutil
+import pytest
+import websockets
+from launched_graph import LaunchedGraph
+from mcap.records import Schema
+from mcap_ros2.decoder import DecoderFactory
+
+from hawt_bag.reader import BagReader
+from hawt_bag.topic_columns import read_topic_columns
+
+pytestmark = pytest.mark.ros
+
+_SUBPROTOCOL = "foxglove.sdk.v1"
+_MESSAGE_DATA = 0x01
+_TIME = 0x02
+_FIELDS = ("step", "azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch")
+
+
+@dataclass
+class Seen:
+    """What the client saw: the advertised channel of a topic, its messages (log time, decoded), the server's
+    time, and the parameter values the server answered with."""
+
+    channel: dict = field(default_factory=dict)
+    messages: list = field(default_factory=list)
+    time: int = 0
+    before: dict = field(default_factory=dict)
+    after: dict = field(default_factory=dict)
+
+
+async def _answer(socket, request_id: str, seen: Seen, decode) -> dict:
+    """Read frames (collecting messages) until the parameterValues answer of ``request_id``; its values by name."""
+    while True:
+        frame = await asyncio.wait_for(socket.recv(), 30)
+        if isinstance(frame, bytes):
+            _take(frame, seen, decode)
+            continue
+        message = json.loads(frame)
+        if message["op"] == "parameterValues" and message.get("id") == request_id:
+            return {p["name"]: p.get("value") for p in message["parameters"]}
+
+
+def _take(frame: bytes, seen: Seen, decode) -> None:
+    if frame[0] == _MESSAGE_DATA:
+        _, log_time = struct.unpack_from("<IQ", frame, 1)
+        seen.messages.append((log_time, decode(frame[13:])))
+    elif frame[0] == _TIME:
+        seen.time = max(seen.time, struct.unpack_from("<Q", frame, 1)[0])
+
+
+async def _watch(port: int, topic: str, count: int, parameter: str) -> Seen:
+    """Subscribe to ``topic`` and take ``count`` of its messages; then get ``parameter`` and set it to 1.5 times
+    its value (the answers interleave with more messages, which are kept too)."""
+    seen, decode = Seen(), None
+    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[_SUBPROTOCOL], max_size=None) as socket:
+        while len(seen.messages) < count:
+            frame = await asyncio.wait_for(socket.recv(), 60)
+            if isinstance(frame, bytes):
+                _take(frame, seen, decode)
+                continue
+            message = json.loads(frame)
+            channel = next((c for c in message.get("channels", ()) if c["topic"] == topic), None)
+            if message["op"] == "advertise" and channel is not None:
+                seen.channel = channel
+                decode = DecoderFactory().decoder_for(channel["encoding"], Schema(
+                    id=1, name=channel["schemaName"], encoding=channel["schemaEncoding"],
+                    data=channel["schema"].encode()))
+                subscription = {"id": 1, "channelId": channel["id"]}
+                await socket.send(json.dumps({"op": "subscribe", "subscriptions": [subscription]}))
+        await socket.send(json.dumps({"op": "getParameters", "parameterNames": [parameter], "id": "get"}))
+        seen.before = await _answer(socket, "get", seen, decode)
+        await socket.send(json.dumps({"op": "setParameters", "id": "set", "parameters": [
+            {"name": parameter, "value": 1.5 * seen.before[parameter], "type": "float64"}]}))
+        seen.after = await _answer(socket, "set", seen, decode)
+    return seen
+
+
+def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that_lands_in_the_bag(tmp_path):
+    """Blade loads from the WebSocket (decoded by mcap_ros2 with the advertised ros2msg schema, logged at their
+    header stamp) equal the recorder's for the same steps; integral_gain of ipc_h1 set through the protocol is
+    answered with its new value and is a parameter_change event of ipc_h1 in the bag."""
+    bag = tmp_path / "viewed.mcap"
+    parameter = "/viewed/ipc_h1.integral_gain"
+    with LaunchedGraph(["ipc", "namespace:=viewed", "duration:=600", "-p", "plant.report_period:=1", "--record",
+                        str(bag), "--view", "--view-port", "0"]) as graph:
+        graph.wait_for_line("hawt view: serving the graph on ws://")
+        port = int(re.search(r"ws://127\.0\.0\.1:(\d+)", "".join(graph.lines)).group(1))
+        (viewer,) = [child for child in psutil.Process(graph.process.pid).children(recursive=True)
+                     if "hawt_tools/view" in " ".join(child.cmdline())]
+        seen = asyncio.run(_watch(port, "/viewed/plant/blade_loads", 300, parameter))
+        changed = len(graph.lines)
+        graph.wait_for_line("t=", after=changed)  # a report after the change: its step is in the bag
+        graph.process.send_signal(signal.SIGINT)
+        assert graph.finish() == 0, graph.tail()
+    assert any("hawt view: forwarded" in line for line in graph.lines), graph.tail()
+    assert not viewer.is_running()
+
+    assert seen.channel["schemaName"] == "hawt_msgs/msg/BladeLoads" and seen.channel["encoding"] == "cdr"
+    with BagReader(bag) as reader:
+        loads = read_topic_columns(reader, "/viewed/plant/blade_loads").fields
+        events = read_topic_columns(reader, "/viewed/control/events", ("source", "kind", "detail")).fields
+    rows = {int(step): row for row, step in enumerate(loads["step"])}
+    assert len(seen.messages) >= 300
+    for log_time, message in seen.messages:
+        stamp = message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+        assert log_time == stamp, f"step {message.step}: logged at {log_time} ns, stamped {stamp} ns"
+        row = rows[message.step]
+        for name in _FIELDS:
+            assert np.array_equal(np.asarray(getattr(message, name)), loads[name][row]), f"step {message.step}: {name}"
+    assert seen.time > 0  # the plant's /clock
+
+    value = 1.5 * seen.before[parameter]
+    assert seen.after == {parameter: value}
+    changes = [str(detail) for source, kind, detail in zip(events["source"], events["kind"], events["detail"])
+               if source == "/viewed/ipc_h1" and kind == "parameter_change"]
+    assert len(changes) == 1 and changes[0].startswith(f"integral_gain={value!r} (from step "), changes
