@@ -13,6 +13,7 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/launch', glob('launch/*.yaml')),
+        ('share/' + package_name + '/foxglove', glob('foxglove/*.json')),
     ],
     install_requires=['setuptools'],
     zip_safe=True,

@@ -7,7 +7,8 @@ fed with the bytes of a raw subscription, never deserialized. A message's log ti
 simulated time seen, and ``/clock`` is the server's time, so plots of a live graph and of its bag share
 one time axis. Parameters: the protocol's get and set go to the nodes' standard ``rcl_interfaces``
 parameter services (``/ns/node.param``; an empty get lists every node's parameters), so a gain can be
-retuned from the Foxglove app; a node that refuses a value says why in a status message.
+retuned from the Foxglove app; a node that refuses a value says why in a status message; what
+``/parameter_events`` reports changed, however it was set, goes to the clients subscribed to it.
 
 Stops on SIGINT or SIGTERM, or when the process that started it dies.
 """
@@ -21,6 +22,7 @@ import foxglove
 import rclpy
 from foxglove import Parameter, ParameterType, Schema, StatusLevel
 from foxglove.websocket import Capability, Client, ServerListener
+from rcl_interfaces.msg import ParameterEvent
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter as RosParameter
@@ -75,6 +77,7 @@ class View(Node):
             name="hawt", host=options.host, port=options.port, context=self._foxglove,
             capabilities=[Capability.Time, Capability.Parameters], server_listener=_Parameters(self))
         self.discovery = TopicDiscovery(self, visible, self._subscribe, "viewing")
+        self.create_subscription(ParameterEvent, "/parameter_events", self._parameters_changed, 100)
         self.create_timer(options.poll_period, self.discovery.poll)
         self.discovery.poll()
 
@@ -104,6 +107,13 @@ class View(Node):
         self.server.stop()
         for channel in self._channels.values():
             channel.close()
+
+    def _parameters_changed(self, event: ParameterEvent) -> None:
+        """New and changed values of any node to the clients subscribed to them (however they were set)."""
+        changed = [*event.new_parameters, *event.changed_parameters]
+        if changed and event.node != self.get_fully_qualified_name():
+            self.server.publish_parameter_values([to_parameter(parameter_name(event.node, p.name),
+                                                               parameter_value_to_python(p.value)) for p in changed])
 
     # Parameters: called on the server's thread while the executor spins on the main one.
 

@@ -6,6 +6,7 @@ import re
 import signal
 import struct
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 import psutil
@@ -29,25 +30,26 @@ _FIELDS = ("step", "azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip"
 @dataclass
 class Seen:
     """What the client saw: the advertised channel of a topic, its messages (log time, decoded), the server's
-    time, and the parameter values the server answered with."""
+    time, the parameter values the server answered with (by request id) and those it pushed as updates."""
 
     channel: dict = field(default_factory=dict)
     messages: list = field(default_factory=list)
     time: int = 0
-    before: dict = field(default_factory=dict)
-    after: dict = field(default_factory=dict)
+    answers: dict = field(default_factory=dict)
+    updates: dict = field(default_factory=dict)
 
 
-async def _answer(socket, request_id: str, seen: Seen, decode) -> dict:
-    """Read frames (collecting messages) until the parameterValues answer of ``request_id``; its values by name."""
-    while True:
+async def _until(socket, seen: Seen, decode, done: Callable[[], bool]) -> None:
+    """Read frames (messages, times, parameter values) into ``seen`` until ``done()``."""
+    while not done():
         frame = await asyncio.wait_for(socket.recv(), 30)
         if isinstance(frame, bytes):
             _take(frame, seen, decode)
             continue
         message = json.loads(frame)
-        if message["op"] == "parameterValues" and message.get("id") == request_id:
-            return {p["name"]: p.get("value") for p in message["parameters"]}
+        if message["op"] == "parameterValues":
+            values = {p["name"]: p.get("value") for p in message["parameters"]}
+            (seen.answers.setdefault(message["id"], {}) if "id" in message else seen.updates).update(values)
 
 
 def _take(frame: bytes, seen: Seen, decode) -> None:
@@ -59,8 +61,8 @@ def _take(frame: bytes, seen: Seen, decode) -> None:
 
 
 async def _watch(port: int, topic: str, count: int, parameter: str) -> Seen:
-    """Subscribe to ``topic`` and take ``count`` of its messages; then get ``parameter`` and set it to 1.5 times
-    its value (the answers interleave with more messages, which are kept too)."""
+    """Subscribe to ``topic`` and take ``count`` of its messages; then get ``parameter``, subscribe to its updates
+    and set it to 1.5 times its value (the answers interleave with more messages, which are kept too)."""
     seen, decode = Seen(), None
     async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[_SUBPROTOCOL], max_size=None) as socket:
         while len(seen.messages) < count:
@@ -78,17 +80,19 @@ async def _watch(port: int, topic: str, count: int, parameter: str) -> Seen:
                 subscription = {"id": 1, "channelId": channel["id"]}
                 await socket.send(json.dumps({"op": "subscribe", "subscriptions": [subscription]}))
         await socket.send(json.dumps({"op": "getParameters", "parameterNames": [parameter], "id": "get"}))
-        seen.before = await _answer(socket, "get", seen, decode)
+        await _until(socket, seen, decode, lambda: "get" in seen.answers)
+        await socket.send(json.dumps({"op": "subscribeParameterUpdates", "parameterNames": [parameter]}))
         await socket.send(json.dumps({"op": "setParameters", "id": "set", "parameters": [
-            {"name": parameter, "value": 1.5 * seen.before[parameter], "type": "float64"}]}))
-        seen.after = await _answer(socket, "set", seen, decode)
+            {"name": parameter, "value": 1.5 * seen.answers["get"][parameter], "type": "float64"}]}))
+        await _until(socket, seen, decode, lambda: "set" in seen.answers and parameter in seen.updates)
     return seen
 
 
 def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that_lands_in_the_bag(tmp_path):
     """Blade loads from the WebSocket (decoded by mcap_ros2 with the advertised ros2msg schema, logged at their
     header stamp) equal the recorder's for the same steps; integral_gain of ipc_h1 set through the protocol is
-    answered with its new value and is a parameter_change event of ipc_h1 in the bag."""
+    answered with its new value, pushed to a client subscribed to its updates, and is a parameter_change event of
+    ipc_h1 in the bag."""
     bag = tmp_path / "viewed.mcap"
     parameter = "/viewed/ipc_h1.integral_gain"
     with LaunchedGraph(["ipc", "namespace:=viewed", "duration:=600", "-p", "plant.report_period:=1", "--record",
@@ -119,8 +123,8 @@ def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that
             assert np.array_equal(np.asarray(getattr(message, name)), loads[name][row]), f"step {message.step}: {name}"
     assert seen.time > 0  # the plant's /clock
 
-    value = 1.5 * seen.before[parameter]
-    assert seen.after == {parameter: value}
+    value = 1.5 * seen.answers["get"][parameter]
+    assert seen.answers["set"] == {parameter: value} and seen.updates == {parameter: value}
     changes = [str(detail) for source, kind, detail in zip(events["source"], events["kind"], events["detail"])
                if source == "/viewed/ipc_h1" and kind == "parameter_change"]
     assert len(changes) == 1 and changes[0].startswith(f"integral_gain={value!r} (from step "), changes
