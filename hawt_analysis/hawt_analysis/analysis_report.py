@@ -69,7 +69,7 @@ def analysis_text(summary: Mapping) -> str:
     if command and command.get("flag_steps"):
         lines.append("command flags      " + ", ".join(f"{name} {count} steps"
                                                        for name, count in command["flag_steps"].items()))
-    lines += _segment_lines(summary.get("segments") or [])
+    lines += _segment_lines(summary.get("segments") or [], summary.get("n_blades") or 3)
     events = summary.get("events") or []
     lines += ["", f"events ({len(events)}):" if events else "events: none recorded"]
     lines += [f"  t={e['time']:10.3f} s  step {e['step']:>8}  {_LEVELS.get(e['level'], e['level'])!s:<5} "
@@ -77,12 +77,14 @@ def analysis_text(summary: Mapping) -> str:
     return "\n".join(lines)
 
 
-def _segment_lines(segments: list) -> list:
-    """Loads between controller switches: M_oop 1P-3P (mean of the blades) and hub tilt/yaw 3P per segment."""
+def _segment_lines(segments: list, n_blades: int) -> list:
+    """Loads between controller switches: M_oop 1P-3P (mean of the blades) and hub tilt/yaw B·P per segment (the
+    fixed frame's blade-passing harmonic: 3P for three blades, 2P for two)."""
     if not segments:
         return []
     lines = ["", "loads between controller switches (harmonic amplitudes in MN·m; M_oop: mean of the blades):",
-             f"{'steps':<16}{'from':>9}{'M_oop 1P':>10}{'2P':>8}{'3P':>8}{'tilt 3P':>9}{'yaw 3P':>8}"]
+             f"{'steps':<16}{'from':>9}{'M_oop 1P':>10}{'2P':>8}{'3P':>8}"
+             f"{f'tilt {n_blades}P':>9}{f'yaw {n_blades}P':>8}"]
     for segment in segments:
         span = f"{segment['first_step']}..{segment['last_step']}"
         harmonics = segment["harmonics"]
@@ -92,7 +94,7 @@ def _segment_lines(segments: list) -> list:
         amplitude = {name: dict(zip(h["n"], h["amplitude"])) for name, h in harmonics.items()}
         blades = [a for name, a in amplitude.items() if name.startswith("root_moment_oop")]
         oop = [sum(a[n] for a in blades) / len(blades) if blades else None for n in (1, 2, 3)]
-        hub = [amplitude.get(name, {}).get(3) for name in ("hub_tilt_moment", "hub_yaw_moment")]
+        hub = [amplitude.get(name, {}).get(n_blades) for name in ("hub_tilt_moment", "hub_yaw_moment")]
         lines.append(f"{span:<16}{segment['start_s']:>8.1f}s{_fmt(oop[0], _MN):>10}{_fmt(oop[1], _MN):>8}"
                      f"{_fmt(oop[2], _MN):>8}{_fmt(hub[0], _MN):>9}{_fmt(hub[1], _MN):>8}")
     return lines
