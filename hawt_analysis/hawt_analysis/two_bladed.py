@@ -10,6 +10,7 @@ window of N_R revolutions in azimuth).
   hub 1P, main-bearing, yaw-bearing and tower-base 0P and 2P) and its mean collective pitch.
 * :func:`fit_chain`: Zalkind & Pao's transfer model over runs at several wind speeds (eqs. 8–11,
   region II and III apart by the collective pitch); hub → main bearing is the exact eq. 13.
+  :func:`transfer_model_from_bags` does both for recorded steady runs, one bag per wind speed.
 * :func:`main_bearing_history` and :func:`plot_fig8`: the paper's Fig. 8 redrawn from a run
   (AC-20): hub-y 1P and its reference j m_hz^{1P} (magnitude, phase), the 1P pitch of blade 1
   (magnitude, phase), the main-bearing 2P of both axes, over time.
@@ -22,12 +23,15 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from hawt_bag.plant_run import load_plant_run
+from hawt_bag.reader import BagReader
 from hawt_controllers.harmonic_estimator import sliding_phasors
 from hawt_controllers.hub_frame import main_bearing_to_hub
 
 from .load_transfer import TransferFit, fit_transfer_by_region
 
-__all__ = ["CHAIN_LINKS", "chain_phasors", "fit_chain", "main_bearing_history", "plot_fig8"]
+__all__ = ["CHAIN_LINKS", "chain_phasors", "fit_chain", "main_bearing_history", "plot_fig8",
+           "transfer_model_from_bags"]
 
 CHAIN_LINKS = (
     ("flap_1p", "hub_y_1p"), ("flap_1p", "hub_z_1p"),
@@ -75,6 +79,16 @@ def fit_chain(points: Sequence[Mapping[str, complex]], fine_pitch: float = 0.0) 
             fits[(source, target)] = dict(fit_transfer_by_region([p[source] for p in points],
                                                                  [p[target] for p in points], pitch, fine_pitch))
     return fits
+
+
+def transfer_model_from_bags(paths: Sequence[Path], revolutions: float = 2.0,
+                             fine_pitch: float = 0.0) -> tuple[list[dict[str, complex]], dict]:
+    """:func:`chain_phasors` of each bag's plant run (a steady run per wind speed) and :func:`fit_chain` over them."""
+    points = []
+    for path in paths:
+        with BagReader(path) as reader:
+            points.append(chain_phasors(load_plant_run(reader).channels, revolutions))
+    return points, fit_chain(points, fine_pitch)
 
 
 def main_bearing_history(channels: Mapping[str, np.ndarray], revolutions: float = 2.0) -> dict[str, np.ndarray]:

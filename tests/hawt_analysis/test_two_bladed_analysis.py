@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from hawt_analysis.load_transfer import main_bearing_from_hub_1p
-from hawt_analysis.two_bladed import CHAIN_LINKS, chain_phasors, fit_chain, main_bearing_history, plot_fig8
+from hawt_analysis.two_bladed import (CHAIN_LINKS, chain_phasors, fit_chain, main_bearing_history, plot_fig8,
+                                      transfer_model_from_bags)
 from hawt_bag.plant_run import load_plant_run
 from hawt_bag.reader import BagReader
 from hawt_tools.cli import find_graph
@@ -64,3 +65,18 @@ def test_fit_chain_recovers_each_link_per_region():
     for link, regions in links.items():
         for region, (gain, offset) in regions.items():
             assert fits[link][region].gain == pytest.approx(gain) and fits[link][region].offset == pytest.approx(offset)
+
+
+def test_the_transfer_model_is_fitted_from_bags_of_steady_runs(recorded, tmp_path):
+    """Two steady region-III runs without IPC (14 and 16 m/s, 40 s) recorded to bags: one point per bag, and each
+    link of CHAIN_LINKS has a region-III fit through both points."""
+    paths = []
+    for wind in ("14", "16"):
+        paths.append(tmp_path / f"u{wind}.mcap")
+        run_graph(load_graph(find_graph("two_bladed"), {"duration": "40", "wind_speed": wind,
+                                                        "main_bearing_ipc": "false"}, package_prefix), record=paths[-1])
+    points, fits = transfer_model_from_bags(paths)
+    assert len(points) == 2 and set(fits) == set(CHAIN_LINKS)
+    for link, regions in fits.items():
+        assert set(regions) == {3} and regions[3].points == 2
+        assert regions[3].predict(points[0][link[0]]) == pytest.approx(points[0][link[1]], abs=1.0)
