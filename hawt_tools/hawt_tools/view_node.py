@@ -10,33 +10,31 @@ parameter services (``/ns/node.param``; an empty get lists every node's paramete
 retuned from the Foxglove app; a node that refuses a value says why in a status message; what
 ``/parameter_events`` reports changed, however it was set, goes to the clients subscribed to it.
 
-Stops on SIGINT or SIGTERM, or when the process that started it dies.
+Runs as every hawt node does (`hawt_node.node_main.run_nodes`: on the EventsExecutor, stopped by SIGINT
+or SIGTERM, or when the process that started it dies).
 """
 import argparse
 import sys
 import threading
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from typing import List, Optional
 
 import foxglove
-import rclpy
 from foxglove import Parameter, ParameterType, Schema, StatusLevel
 from foxglove.websocket import Capability, Client, ServerListener
 from rcl_interfaces.msg import ParameterEvent
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter as RosParameter
 from rclpy.parameter import parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
-from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
 from hawt_bag.cdr_columns import header_stamp_ns
 from hawt_bag.interface_files import has_header, schema_text
 from hawt_bag.message_types import message_class
 from hawt_bag.recorder import TopicDiscovery, adapted_qos, visible
-from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_core.topics import CLOCK, VIEW_NODE
+from hawt_node.node_main import run_nodes
 from hawt_tools.view import (CDR, ROS2MSG, ViewOptions, add_view_arguments, coerce, options_from, parameter_name,
                              split_parameter_name)
 
@@ -80,6 +78,8 @@ class View(Node):
         self.create_subscription(ParameterEvent, "/parameter_events", self._parameters_changed, 100)
         self.create_timer(options.poll_period, self.discovery.poll)
         self.discovery.poll()
+        self.get_logger().info(f"serving the graph on ws://{options.host}:{self.server.port} "
+                               "(Foxglove: Open connection, Foxglove WebSocket)")
 
     def _subscribe(self, topic: str, type_name: str, publishers) -> None:
         kind = message_class(type_name)
@@ -88,7 +88,7 @@ class View(Node):
         self._channels[topic] = channel
         self.counts[topic] = 0
 
-        def forward(data: bytes, _info) -> None:
+        def forward(data: bytes) -> None:  # no message info: the EventsExecutor fails on such callbacks
             stamp = self.now
             if stamped or clock:  # rosgraph_msgs/Clock starts with its time as a Header does
                 stamp = header_stamp_ns(data)
@@ -102,11 +102,13 @@ class View(Node):
             kind, topic, forward, adapted_qos(publishers, self.options.depth), raw=True)
         self.get_logger().info(f"viewing {topic} [{type_name}]")
 
-    def close(self) -> None:
-        """Stop the server (clients are disconnected) and close the channels."""
+    def destroy_node(self) -> None:
+        """Stop the server (clients are disconnected), close the channels, say what was forwarded, destroy."""
         self.server.stop()
         for channel in self._channels.values():
             channel.close()
+        self.get_logger().info(f"forwarded {sum(self.counts.values())} messages of {len(self.counts)} topics")
+        super().destroy_node()
 
     def _parameters_changed(self, event: ParameterEvent) -> None:
         """New and changed values of any node to the clients subscribed to them (however they were set)."""
@@ -133,6 +135,14 @@ class View(Node):
             raise TimeoutError(f"no answer within {self.options.timeout:g} s")
         return future.result()
 
+    def _split(self, full_names: Iterable[str]) -> Iterator[tuple[str, str]]:
+        """(node, parameter) of each name; a name that is not ``/node.parameter`` is an error status instead."""
+        for full_name in full_names:
+            try:
+                yield split_parameter_name(full_name)
+            except ValueError as error:
+                self.server.publish_status(str(error), StatusLevel.Error)
+
     def _nodes(self) -> List[str]:
         own = self.get_fully_qualified_name()
         names = (f"{namespace.rstrip('/')}/{name}" for name, namespace in self.get_node_names_and_namespaces())
@@ -149,8 +159,7 @@ class View(Node):
     def get_parameters(self, full_names: Sequence[str]) -> List[Parameter]:
         """The protocol's getParameters: the named parameters, or every node's if none are named."""
         wanted: dict[str, Optional[List[str]]] = {node: None for node in self._nodes()} if not full_names else {}
-        for full_name in full_names:
-            node, name = split_parameter_name(full_name)
+        for node, name in self._split(full_names):
             wanted.setdefault(node, []).append(name)
         found = []
         for node, names in wanted.items():
@@ -165,8 +174,8 @@ class View(Node):
         """The protocol's setParameters: each value (as the parameter's type) to its node; the values after."""
         by_node: dict[str, dict[str, object]] = {}
         for parameter in parameters:
-            node, name = split_parameter_name(parameter.name)
-            by_node.setdefault(node, {})[name] = parameter.get_value()
+            for node, name in self._split([parameter.name]):
+                by_node.setdefault(node, {})[name] = parameter.get_value()
         after = []
         for node, values in by_node.items():
             try:
@@ -199,25 +208,9 @@ class _Parameters(ServerListener):
         return self._node.set_parameters(parameters)
 
 
-def view(options: ViewOptions, ros_args: Optional[List[str]] = None, report=print) -> int:
+def view(options: ViewOptions, ros_args: Optional[List[str]] = None) -> int:
     """Serve the graph until SIGINT/SIGTERM or the death of the starting process; returns the exit code."""
-    stop = []
-    launcher_gone = parent_gone()
-    with stop_signals(lambda *_: stop.append(True)), \
-            rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
-        node = View(options)
-        executor = SingleThreadedExecutor()
-        executor.add_node(node)
-        report(f"hawt view: serving the graph on ws://{options.host}:{node.server.port} "
-               "(Foxglove: Open connection, Foxglove WebSocket; Ctrl-C to stop)")
-        try:
-            while not stop and not launcher_gone():
-                executor.spin_once(timeout_sec=0.05)
-        finally:
-            node.close()
-            executor.shutdown()
-            node.destroy_node()
-    report(f"hawt view: forwarded {sum(node.counts.values())} messages of {len(node.counts)} topics")
+    run_nodes(lambda: [View(options)], lambda _nodes: None, ros_args)
     return 0
 
 

@@ -97,7 +97,7 @@ def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that
     parameter = "/viewed/ipc_h1.integral_gain"
     with LaunchedGraph(["ipc", "namespace:=viewed", "duration:=600", "-p", "plant.report_period:=1", "--record",
                         str(bag), "--view", "--view-port", "0"]) as graph:
-        graph.wait_for_line("hawt view: serving the graph on ws://")
+        graph.wait_for_line("serving the graph on ws://")
         port = int(re.search(r"ws://127\.0\.0\.1:(\d+)", "".join(graph.lines)).group(1))
         (viewer,) = [child for child in psutil.Process(graph.process.pid).children(recursive=True)
                      if "hawt_tools/view" in " ".join(child.cmdline())]
@@ -106,7 +106,7 @@ def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that
         graph.wait_for_line("t=", after=changed)  # a report after the change: its step is in the bag
         graph.process.send_signal(signal.SIGINT)
         assert graph.finish() == 0, graph.tail()
-    assert any("hawt view: forwarded" in line for line in graph.lines), graph.tail()
+    assert any("[hawt_view]: forwarded" in line for line in graph.lines), graph.tail()
     assert not viewer.is_running()
 
     assert seen.channel["schemaName"] == "hawt_msgs/msg/BladeLoads" and seen.channel["encoding"] == "cdr"
