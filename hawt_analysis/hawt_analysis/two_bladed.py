@@ -111,16 +111,23 @@ def plot_fig8(history: Mapping[str, np.ndarray], path: Path) -> Path:
     t = history["time"][keep]
     figure = Figure(figsize=(9, 9), layout="constrained")
     magnitude, phase, pitch, bearing = figure.subplots(4, 1, sharex=True)
-    for key, label in (("hub_y", "m_hy 1P"), ("reference", "reference j·m_hz 1P")):
-        values = history[key][keep]
+    reference = history["reference"][keep]
+    reference_phase = np.unwrap(np.angle(reference))
+    for values, phase_values, label in ((history["hub_y"][keep], None, "m_hy 1P"),
+                                        (reference, reference_phase, "reference j·m_hz 1P")):
+        if phase_values is None:  # within ±180° of the reference, so that convergence shows as meeting
+            phase_values = reference_phase + np.angle(values / reference)
         magnitude.plot(t, 1e-6 * np.abs(values), label=label)
-        phase.plot(t, np.degrees(np.angle(values)), label=label)
+        phase.plot(t, np.degrees(phase_values), label=label)
     magnitude.set_ylabel("hub 1P [MN·m]")
     phase.set_ylabel("hub 1P phase [°]")
     pitch_1p = history["pitch_1p"][keep]
-    pitch.plot(t, np.degrees(np.abs(pitch_1p)), label="|θ 1P| [°]")
-    pitch.plot(t, np.degrees(np.angle(np.conj(pitch_1p))) / 100.0, label="∠θ^1P (eq. 18) [100°]")
-    pitch.set_ylabel("IPC 1P")
+    pitch.plot(t, np.degrees(np.abs(pitch_1p)), label="|θ^1P|")
+    pitch.set_ylabel("IPC 1P magnitude [°]")
+    pitch_phase = pitch.twinx()
+    pitch_phase.plot(t, np.degrees(np.unwrap(np.angle(np.conj(pitch_1p)))), color="tab:orange", label="∠θ^1P (eq. 18)")
+    pitch_phase.set_ylabel("IPC 1P phase [°]")
+    pitch_phase.legend(loc="lower right", fontsize="small")
     for key, label in (("main_y_2p", "main bearing y 2P"), ("main_z_2p", "main bearing z 2P")):
         bearing.plot(t, 1e-6 * np.abs(history[key][keep]), label=label)
     bearing.set_ylabel("[MN·m]")
