@@ -30,8 +30,8 @@ from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
 
-from hawt_analysis.record import PER_BLADE_CHANNELS, SCALAR_CHANNELS
-from hawt_analysis.summary import summarize
+from hawt_analysis.record import PER_BLADE_CHANNELS, SCALAR_CHANNELS, make_record
+from hawt_analysis.summary import load_channels, summarize
 from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides
 from hawt_tools.graph_file import Graph, GraphError, load_graph
 
@@ -177,9 +177,7 @@ def case_row(case: Case, channels: Dict[str, np.ndarray], command: np.ndarray, d
                            "key": case.key, "wall_s": wall}
     for name, entry in summary["del"].items():
         row[f"del.{name}"] = entry["value"]
-    for name in summary["del"]:
-        base, _, blade = name.rpartition("_")
-        values = channels[base][:, int(blade) - 1] if base in PER_BLADE_CHANNELS else channels[name]
+    for name, (values, _) in load_channels(make_record(channels)).items():  # derived channels too
         row[f"max.{name}"], row[f"min.{name}"] = float(values.max()), float(values.min())
     speed = channels["rotor_speed"]
     row.update({"rotor_speed.mean": float(speed.mean()), "rotor_speed.std": float(speed.std()),

@@ -44,7 +44,8 @@ class LaunchEvents:
 
     def __init__(self, namespaces: Iterable[str]) -> None:
         self.context = rclpy.Context()
-        rclpy.init(context=self.context, signal_handler_options=SignalHandlerOptions.NO)
+        # no arguments: the launcher's own (namespace:=wt1, …) would be read as ROS remap rules
+        rclpy.init(args=[], context=self.context, signal_handler_options=SignalHandlerOptions.NO)
         self.node = Node(NODE_NAME, context=self.context)
         self.latest: Dict[str, Tuple[int, Time]] = {}
         self.heard: Dict[str, bool] = {}

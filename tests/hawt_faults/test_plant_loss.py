@@ -22,11 +22,12 @@ def test_cpc_and_ipc_publish_nothing_after_the_plant_dies_so_nothing_winds_up(la
         watcher.wait_for_answer(200, run.launcher, topic)
     watcher.wait_until_recorded(run.launcher)
     run.kill("plant")
-    watcher.spin(0.5)
-    at_loss = dict(watcher.steps)
-    for _ in range(20):
+    for _ in range(25):
         watcher.spin(0.1)
-    assert watcher.steps == at_loss, "a controller published during the plant's absence"
+    # Answers in flight may still come (on a busy machine one came 0.5 s after the kill), nothing beyond them.
+    last_sent = watcher.steps["plant/blade_loads"]
+    assert all(watcher.steps[topic] <= last_sent + IN_FLIGHT for topic in CONTROLLER_TOPICS), \
+        f"a controller published during the plant's absence: {watcher.steps}"
     run.interrupt()
     output = run.finish()
 
