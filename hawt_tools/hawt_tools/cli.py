@@ -489,6 +489,32 @@ def _coupling_identified(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_transfer(args: argparse.Namespace) -> int:
+    """Zalkind & Pao's load-transfer model fitted over recorded steady runs, per link and region."""
+    from hawt_analysis.two_bladed import transfer_model_from_bags
+
+    if len(args.bags) < 2:
+        raise GraphError("give two or more bags (steady runs at different wind speeds) to fit over")
+    try:
+        _, fits = transfer_model_from_bags([Path(path) for path in args.bags], fine_pitch=args.fine_pitch)
+    except ValueError as error:
+        raise GraphError(str(error)) from None
+    rows = [{"input": source, "output": target, "region": region, "gain": [fit.gain.real, fit.gain.imag],
+             "offset": [fit.offset.real, fit.offset.imag], "residual_rms": fit.residual_rms, "points": fit.points}
+            for (source, target), by_region in fits.items() for region, fit in sorted(by_region.items())]
+    if args.json:
+        print(json.dumps(rows))
+        return 0
+    print(f"{'input':>14s} -> {'output':<14s} region  |gain|  arg(gain) [deg]  |offset| [MN*m]  "
+          "residual [MN*m]  points")
+    for row in rows:
+        gain, offset = complex(*row["gain"]), complex(*row["offset"])
+        print(f"{row['input']:>14s} -> {row['output']:<14s} {row['region']:>6d}  {abs(gain):6.3f}  "
+              f"{math.degrees(math.atan2(gain.imag, gain.real)):15.1f}  {abs(offset) / 1e6:15.3f}  "
+              f"{row['residual_rms'] / 1e6:15.3f}  {row['points']:6d}")
+    return 0
+
+
 def _cmd_campaign(args: argparse.Namespace) -> int:
     """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder."""
     from hawt_analysis.campaign_report import lifetime_text, write_campaign_report
@@ -779,6 +805,17 @@ def _parser() -> argparse.ArgumentParser:
         lqg.add_argument(option, type=float, help=f"{text} (default: lqg_ipc's)")
     lqg.add_argument("--plot", metavar="PNG", help="write the frequency responses here")
     lqg.set_defaults(run=_cmd_design_lqg)
+
+    transfer = commands.add_parser(
+        "transfer", help="Zalkind & Pao's load-transfer model (blade -> hub -> main bearing -> yaw bearing -> tower) "
+                         "fitted over recorded steady runs",
+        description="Fit the complex affine transfer m2 = gain*m1 + offset (Zalkind & Pao 2019 eqs. 8-11) of each "
+                    "link of the load chain over the last revolutions of each bag (one steady run per wind speed), "
+                    "separately for region II and III (by the collective pitch against --fine-pitch).")
+    transfer.add_argument("bags", nargs="+", metavar="FILE.mcap")
+    transfer.add_argument("--fine-pitch", type=float, default=0.0, help="region boundary: collective pitch [rad]")
+    transfer.add_argument("--json", action="store_true", help="print the fits as JSON")
+    transfer.set_defaults(run=_cmd_transfer)
 
     campaign = commands.add_parser(
         "campaign", help="a design-load-case campaign (speeds x seeds x controllers) on Dask workers, lifetime loads",

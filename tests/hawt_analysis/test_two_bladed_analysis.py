@@ -1,6 +1,9 @@
 """hawt_analysis.two_bladed: the harmonic chain of a run, its fitted transfer model, and Fig. 8 redrawn from a
 recorded bag (AC-20 of literature/notes/seed001_zalkind.md §6)."""
+import json
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -14,6 +17,8 @@ from hawt_tools.cli import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import run_graph
 from hawt_tools.launcher import package_prefix
+
+HAWT = [sys.executable, "-m", "hawt_tools.cli"]
 
 
 @pytest.fixture(scope="module")
@@ -80,3 +85,14 @@ def test_the_transfer_model_is_fitted_from_bags_of_steady_runs(recorded, tmp_pat
     for link, regions in fits.items():
         assert set(regions) == {3} and regions[3].points == 2
         assert regions[3].predict(points[0][link[0]]) == pytest.approx(points[0][link[1]], abs=1.0)
+    # the same from the command line: one row per link and region; one bag alone is one line and exit 2
+    result = subprocess.run([*HAWT, "transfer", *map(str, paths), "--json"], capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr
+    rows = json.loads(result.stdout)
+    assert {(row["input"], row["output"]) for row in rows} == set(CHAIN_LINKS)
+    assert {row["region"] for row in rows} == {3}
+    flap = next(row for row in rows if (row["input"], row["output"]) == CHAIN_LINKS[0])
+    assert complex(*flap["gain"]) == pytest.approx(fits[CHAIN_LINKS[0]][3].gain)
+    alone = subprocess.run([*HAWT, "transfer", str(paths[0])], capture_output=True, text=True, timeout=120)
+    assert alone.returncode == 2 and len(alone.stderr.strip().splitlines()) == 1
