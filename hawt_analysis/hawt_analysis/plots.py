@@ -179,13 +179,19 @@ def write_report(
     directory: Path,
     options: AnalysisOptions = AnalysisOptions(),
 ) -> list[Path]:
-    """Write ``time_series.png``, ``spectra.png`` and ``del.png`` into ``directory``; return their paths."""
+    """Write ``time_series.png``, ``spectra.png`` and ``del.png`` into ``directory``, and for a two-bladed rotor
+    Zalkind & Pao's Fig. 8 (``main_bearing_fig8.png``, `hawt_analysis.two_bladed`); return their paths."""
     directory = Path(directory)
-    return [
+    images = [
         plot_time_series(channels, directory / "time_series.png"),
         plot_spectra(channels, directory / "spectra.png", options),
         plot_del_bars(summary, directory / "del.png"),
     ]
+    if summary.get("n_blades") == 2 and {"hub_tilt_moment", "hub_yaw_moment"} <= set(channels):
+        from .two_bladed import main_bearing_history, plot_fig8
+
+        images.append(plot_fig8(main_bearing_history(channels), directory / "main_bearing_fig8.png"))
+    return images
 
 
 def write_comparison_report(comparison: Mapping, directory: Path) -> list[Path]:

@@ -96,3 +96,14 @@ def test_the_transfer_model_is_fitted_from_bags_of_steady_runs(recorded, tmp_pat
     assert complex(*flap["gain"]) == pytest.approx(fits[CHAIN_LINKS[0]][3].gain)
     alone = subprocess.run([*HAWT, "transfer", str(paths[0])], capture_output=True, text=True, timeout=120)
     assert alone.returncode == 2 and len(alone.stderr.strip().splitlines()) == 1
+
+
+def test_the_analysis_report_of_a_two_bladed_run_has_fig_8(tmp_path):
+    """`hawt analyze --report` of a recorded two_bladed run adds the main-bearing figure to its page."""
+    bag, report = tmp_path / "2b.mcap", tmp_path / "report"
+    for command in (["run", "two_bladed", "duration:=60", "--record", str(bag)],
+                    ["analyze", str(bag), "--report", str(report)]):
+        result = subprocess.run([*HAWT, *command], capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, result.stderr
+    assert (report / "main_bearing_fig8.png").stat().st_size > 10_000
+    assert 'src="main_bearing_fig8.png"' in (report / "index.html").read_text()

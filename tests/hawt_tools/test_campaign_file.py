@@ -2,6 +2,7 @@
 and `hawt campaign` exits 2 without starting a worker."""
 import subprocess
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -74,3 +75,9 @@ def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_c
                             text=True, timeout=120)
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
     assert "integral_gian" in result.stderr and not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("name", ["dlc12.yaml", "two_bladed_ac17.yaml"])
+def test_the_shipped_campaign_files_are_valid(name):
+    campaign = load_campaign(Path(__file__).resolve().parents[2] / "campaigns" / name)
+    assert len(plan_cases(campaign)) == len(campaign.controllers) * len(campaign.speeds) * len(campaign.seeds)
