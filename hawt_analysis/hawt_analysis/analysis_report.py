@@ -194,12 +194,15 @@ def write_analysis_report(analysis, directory: os.PathLike) -> Path:
                            analysis_text(analysis.summary), images, ["summary.json"])
 
 
-def write_comparison_report(comparison: Mapping, directory: os.PathLike) -> Path:
-    """Write ``index.html``, ``comparison.png`` and ``comparison.json``; return the index."""
+def write_comparison_report(comparison: Mapping, directory: os.PathLike, analyses: Sequence = ()) -> Path:
+    """Write ``index.html``, ``comparison.png`` and ``comparison.json`` and, given the runs' analyses (in the
+    comparison's order), their time series and spectra overlaid; return the index."""
     from .plots import write_comparison_report as plot
 
     directory = _folder(directory)
-    images = plot(comparison, directory)
+    labels = comparison["labels"]
+    images = plot(comparison, directory, {label: a.run.channels for label, a in zip(labels, analyses)},
+                  {label: a.run.events for label, a in zip(labels, analyses)})
     (directory / "comparison.json").write_text(json.dumps(comparison, indent=1))
     return write_html_page(directory / "index.html", f"hawt compare: {', '.join(comparison['labels'])}",
                            comparison_text(comparison), images, ["comparison.json"])

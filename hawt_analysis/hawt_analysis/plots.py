@@ -18,6 +18,8 @@ from .spectra import power_spectrum, rotor_harmonic_frequencies
 from .summary import FATIGUE_CHANNELS, AnalysisOptions
 
 __all__ = [
+    "plot_compared_spectra",
+    "plot_compared_time_series",
     "plot_comparison",
     "plot_del_bars",
     "plot_spectra",
@@ -194,6 +196,86 @@ def write_report(
     return images
 
 
-def write_comparison_report(comparison: Mapping, directory: Path) -> list[Path]:
-    """Write ``comparison.png`` into ``directory``; return its path in a list."""
-    return [plot_comparison(comparison, Path(directory) / "comparison.png")]
+COMPARED_FIELDS = ("rotor_speed", "pitch", "root_moment_oop", "hub_tilt_moment", "hub_yaw_moment",
+                   "tower_base_fa_moment")
+"""What the overlays of several runs show (per-blade fields: blade 1)."""
+
+MARKED_EVENTS = ("switch", "watchdog", "controller_failed", "contribution_lost", "contribution_returned",
+                 "node_died", "node_respawn", "invalid_input")
+"""Event kinds the time-series overlay marks."""
+
+
+def _compared(runs: Mapping[str, Mapping[str, ArrayLike]], names: tuple[str, ...]):
+    """(label, record, {field: blade-1 or scalar values}) per run, for the fields of ``names`` it has."""
+    for label, channels in runs.items():
+        record = make_record(channels)
+        yield label, record, {name: values[:, 0] for name, values in _fields(record, names)}
+
+
+def plot_compared_time_series(runs: Mapping[str, Mapping[str, ArrayLike]], events: Mapping[str, list],
+                              path: Path) -> Path:
+    """Rotor speed, pitch, blade-1 root moment, hub and tower loads of every run overlaid on one time axis, each
+    run's events of MARKED_EVENTS as vertical lines in its colour. Returns the PNG path."""
+    figure = Figure(figsize=(10, 1.7 * len(COMPARED_FIELDS) + 0.6), layout="constrained")
+    axes = dict(zip(COMPARED_FIELDS, figure.subplots(len(COMPARED_FIELDS), 1, sharex=True, squeeze=False)[:, 0]))
+    for k, (label, record, fields) in enumerate(_compared(runs, COMPARED_FIELDS)):
+        colour = f"C{k}"
+        for name, values in fields.items():
+            axes[name].plot(record.time, _DISPLAY[name][0] * values, lw=0.6, color=colour, label=label)
+        for event in events.get(label, ()):
+            if event["kind"] in MARKED_EVENTS and event.get("time") is not None:
+                for ax in axes.values():
+                    ax.axvline(event["time"], color=colour, ls=":", lw=0.8)
+                axes[COMPARED_FIELDS[0]].annotate(event["kind"], (event["time"], 1.0),
+                                                  xycoords=("data", "axes fraction"), fontsize="x-small",
+                                                  rotation=90, va="top", color=colour)
+    for name, ax in axes.items():
+        factor, quantity, unit = _DISPLAY[name]
+        ax.set_ylabel(f"{quantity}{' 1' if name in PER_BLADE_CHANNELS else ''} [{unit}]")
+        ax.grid(alpha=0.3)
+    axes[COMPARED_FIELDS[-1]].set_xlabel("time [s]")
+    axes[COMPARED_FIELDS[0]].legend(loc="lower right", fontsize="small", ncols=len(runs))
+    return _save(figure, path)
+
+
+def plot_compared_spectra(runs: Mapping[str, Mapping[str, ArrayLike]], path: Path,
+                          options: AnalysisOptions = AnalysisOptions()) -> Path:
+    """Welch PSDs of the blade-1 root moment, hub tilt/yaw and tower-base fore-aft moment of every run overlaid,
+    the rotor harmonics nP of the first run's mean speed marked. Returns the PNG path."""
+    names = COMPARED_FIELDS[2:]
+    figure = Figure(figsize=(10, 2.0 * len(names) + 0.6), layout="constrained")
+    axes = dict(zip(names, figure.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]))
+    upper = None
+    for label, record, fields in _compared(runs, names):
+        if upper is None:
+            frequencies = rotor_harmonic_frequencies(float(record.scalars["rotor_speed"].mean()), options.harmonics)
+            upper = 1.25 * frequencies.max()
+            for ax in axes.values():
+                for n, frequency in zip(options.harmonics, frequencies):
+                    ax.axvline(frequency, color="grey", ls="--", lw=0.6)
+                    ax.annotate(f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small",
+                                va="bottom")
+        for name, values in fields.items():
+            spectrum = power_spectrum(_DISPLAY[name][0] * values, record.sample_rate, options.psd_segment_duration)
+            axes[name].semilogy(spectrum.frequency, spectrum.density, lw=0.7, label=label)
+    for name, ax in axes.items():
+        _, quantity, unit = _DISPLAY[name]
+        ax.set_ylabel(f"PSD {quantity}{' 1' if name in PER_BLADE_CHANNELS else ''}\n[{unit}²/Hz]")
+        ax.grid(alpha=0.3, which="both")
+    axes[names[0]].legend(loc="upper right", fontsize="small")
+    axes[names[-1]].set_xlim(0.0, upper)
+    axes[names[-1]].set_xlabel("frequency [Hz]")
+    return _save(figure, path)
+
+
+def write_comparison_report(comparison: Mapping, directory: Path,
+                            runs: Mapping[str, Mapping[str, ArrayLike]] = MappingProxyType({}),
+                            events: Mapping[str, list] = MappingProxyType({})) -> list[Path]:
+    """Write ``comparison.png`` (changes against the first run) into ``directory`` and, given the runs' channels
+    by label (and their events), ``compared_time_series.png`` and ``compared_spectra.png``; return the paths."""
+    directory = Path(directory)
+    paths = [plot_comparison(comparison, directory / "comparison.png")]
+    if runs:
+        paths += [plot_compared_time_series(runs, events, directory / "compared_time_series.png"),
+                  plot_compared_spectra(runs, directory / "compared_spectra.png")]
+    return paths

@@ -264,7 +264,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     _warn("compare", comparison["warnings"])
     print(json.dumps(comparison) if args.json else comparison_text(comparison))
     if args.report:
-        _progress(f"report: {write_comparison_report(comparison, args.report)}")
+        _progress(f"report: {write_comparison_report(comparison, args.report, analyses)}")
     return 0
 
 
@@ -567,11 +567,11 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         # plant/blade_loads has three subscribers (cpc, mbc, recorder): step 0 waits for all of them
         _run_graph(graph, ["plant.wait_for_subscribers:=3"], None, None, False, str(path))
         paths.append(path)
-    _, comparison = compare_bags([str(p) for p in paths], None, progress=_progress)
+    analyses, comparison = compare_bags([str(p) for p in paths], None, progress=_progress)
     print(f"hawt demo: IPC 1P+2P against the baseline, {args.duration:g} s of IEC class B turbulence at "
           f"{args.wind_speed:g} m/s (seed {args.seed})")
     print(headline_text(comparison))
-    report = write_comparison_report(comparison, bags / "report")
+    report = write_comparison_report(comparison, bags / "report", analyses)
     print(f"every number (DELs, harmonics, spectra, pitch activity): {report}\n"
           f"(or: ./hawt compare {' '.join(str(p) for p in paths)})")
     return 0

@@ -35,3 +35,15 @@ def test_plotting_leaves_the_global_matplotlib_backend_alone(run, tmp_path):
     backend = matplotlib.get_backend()
     write_report(run, summarize(run), tmp_path)
     assert matplotlib.get_backend() == backend
+
+
+def test_comparison_report_with_the_runs_overlays_their_time_series_and_spectra(run, tmp_path):
+    """Given each run's channels (and events), the report also overlays the runs in time (events marked) and
+    frequency (nP marked)."""
+    reduced = {**run, "hub_tilt_moment": 0.5 * run["hub_tilt_moment"]}
+    comparison = compare_summaries([summarize(run), summarize(reduced)], ["a", "b"])
+    events = {"b": [{"time": 10.0, "step": 1000, "kind": "switch", "source": "/wt1/ipc_h1", "level": 20,
+                     "detail": "activated"}]}
+    paths = write_comparison_report(comparison, tmp_path, {"a": run, "b": reduced}, events)
+    assert [path.name for path in paths] == ["comparison.png", "compared_time_series.png", "compared_spectra.png"]
+    assert all(path.read_bytes().startswith(PNG_SIGNATURE) for path in paths)
