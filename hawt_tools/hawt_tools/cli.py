@@ -97,8 +97,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
             if recorder is not None:  # deaths, respawns and stops from outside into the bag
                 from hawt_tools.launch_events import LaunchEvents
 
-                events = LaunchEvents("/" + spec.namespace.strip("/") if spec.namespace.strip("/") else "/"
-                                      for spec in graph.nodes)
+                events = LaunchEvents(spec.full_namespace for spec in graph.nodes)
             environment = {PRIORITY_VARIABLE: str(priority)} if priority else {}
             code = ProcessGraph(graph, overrides, global_parameters, environment=environment,
                                 events=events).run(duration)

@@ -90,10 +90,14 @@ class NodeSpec:
     line: int = 0
 
     @property
+    def full_namespace(self) -> str:
+        """The node's namespace, fully qualified (``/wt1``, or ``/`` for none)."""
+        return "/" + self.namespace.strip("/")
+
+    @property
     def label(self) -> str:
         """The node's fully qualified name, as ``hawt list`` shows it."""
-        namespace = self.namespace.strip("/")
-        return f"/{namespace}/{self.name}" if namespace else f"/{self.name}"
+        return f"{self.full_namespace.rstrip('/')}/{self.name}"
 
 
 @dataclass(frozen=True)

@@ -252,10 +252,15 @@ def plant_parameters(graph: Graph, overrides: Overrides = ()) -> Dict[str, Any]:
     plants = [spec for spec in graph.nodes if _node_kind(graph, spec)[0] == "plant"]
     if len(plants) != 1:
         raise GraphError(f"{graph.path}: expected exactly one plant node, found {len(plants)}")
+    return _node_values(graph, plants[0], PLANT_PARAMETERS, overrides)
+
+
+def _node_values(graph: Graph, spec: NodeSpec, table, overrides: Overrides) -> Dict[str, Any]:
+    """The values of ``table`` that node ``spec`` gets, a bad one a GraphError naming the node."""
     try:
-        return resolve_values(PLANT_PARAMETERS, node_parameters(plants[0], overrides))
+        return resolve_values(table, node_parameters(spec, overrides))
     except ParameterError as error:
-        raise GraphError(f"{graph.path}:{plants[0].line}: node {plants[0].name!r}: {error}") from None
+        raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r}: {error}") from None
 
 
 def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
@@ -280,10 +285,7 @@ def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
                              f"{len(found.get(kind, ()))}")
 
     def values(spec: NodeSpec, table) -> Dict[str, Any]:
-        try:
-            return resolve_values(table, node_parameters(spec, overrides))
-        except ParameterError as error:
-            raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r}: {error}") from None
+        return _node_values(graph, spec, table, overrides)
 
     plant_spec, assembler_spec = found["plant"][0][0], found["assembler"][0][0]
     controllers = [(spec.label, core, values(spec, controller_parameters(core)))
@@ -291,8 +293,7 @@ def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
     managers = [values(spec, MANAGER_PARAMETERS) for spec, _ in found.get("manager", ())]
     schedule, ramp_time = (managers[0]["schedule"], managers[0]["ramp_time"]) if managers else ((), 0.0)
     try:
-        namespace = "/" + plant_spec.namespace.strip("/") if plant_spec.namespace.strip("/") else ""
-        return InProcessRun(namespace, values(plant_spec, PLANT_PARAMETERS),
+        return InProcessRun(plant_spec.full_namespace.rstrip("/"), values(plant_spec, PLANT_PARAMETERS),
                             values(assembler_spec, ASSEMBLER_PARAMETERS), controllers, schedule, ramp_time)
     except SwitchRefused as refusal:
         raise GraphError(f"{graph.path}: controller_manager schedule: {refusal}") from None

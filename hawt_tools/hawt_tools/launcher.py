@@ -123,10 +123,6 @@ def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
     return arguments
 
 
-def _namespace(spec: NodeSpec) -> str:
-    return "/" + spec.namespace.strip("/") if spec.namespace.strip("/") else "/"
-
-
 def _describe_exit(code: int) -> str:
     if code < 0:
         try:
@@ -205,14 +201,14 @@ class ProcessGraph:
             line = f"{spec.label} ended ({_describe_exit(code)}); respawning in {spec.respawn_delay:g} s " \
                    f"(respawn {process.retries})"
             self._say("hawt launch", line)
-            self._report([_namespace(spec)], logging.WARNING, "node_respawn", line)
+            self._report([spec.full_namespace], logging.WARNING, "node_respawn", line)
         elif code == 0:
             self._say("hawt launch", f"{spec.label} finished")
             if spec.shutdown_on_exit:
                 self.request_stop(0, f"{spec.label} finished (on_exit: shutdown)")
         else:
             reason = f"node {spec.label} died unexpectedly ({_describe_exit(code)})"
-            self._report([_namespace(spec)], logging.ERROR, "node_died", f"{reason}; stopping the graph")
+            self._report([spec.full_namespace], logging.ERROR, "node_died", f"{reason}; stopping the graph")
             self.request_stop(1, reason)
 
     def run(self, duration: Optional[float] = None) -> int:
@@ -235,7 +231,7 @@ class ProcessGraph:
                     self._start(process)
                 self._supervise(processes, duration)
                 if self._stop_event is not None:
-                    self._report((_namespace(spec) for spec in self.graph.nodes), *self._stop_event,
+                    self._report((spec.full_namespace for spec in self.graph.nodes), *self._stop_event,
                                  f"hawt launch stopped the graph: {self._stop_reason[1]}")
             finally:
                 self._stop_all(processes)
