@@ -259,12 +259,12 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
                     winds[(case.speed, case.seed)] = client.submit(
                         prepare_wind, case.controller, campaign, case.speed, case.seed, pure=False,
                         key=f"wind-{case.speed:g}-{case.seed}-{case.key}")
+            if bags:  # before any case can write there
+                (output / "bags").mkdir(parents=True, exist_ok=True)
             futures = {client.submit(run_case, case, campaign,
                                      str(output / "bags" / f"{case.file_stem}.mcap") if bags else None,
                                      winds[(case.speed, case.seed)], key=f"case-{case.key}", pure=False): case
                        for case in todo}
-            if bags:
-                (output / "bags").mkdir(parents=True, exist_ok=True)
             start, done = time.monotonic(), 0
             for future in as_completed(futures):
                 case = futures[future]
