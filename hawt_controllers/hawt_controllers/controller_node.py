@@ -15,7 +15,8 @@ What the base does for every controller (ros2_controllers' ``forward_controllers
   parameter, an ``invalid_parameter`` event), create the contribution publishers and the
   input subscriptions. ``active`` decides whether it then starts active at step 0.
 - **steps**: the inputs the core declares (``plant/blade_loads``, ``plant/state``) are joined
-  by step; the core is updated at every step, active or not; its contributions are
+  by step (with ``await_schedule``, only once controller_manager's schedule has arrived); the
+  core is updated at every step, active or not; its contributions are
   published while active or ramping out. A repeated step is answered again, never
   recomputed (hawt_core.step_sync). Input the core refuses holds the last output and is
   reported (``invalid_input``); a core that fails for good (``ControllerFailure``) is reported
@@ -41,7 +42,7 @@ from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRet
 from hawt_controllers.contribution_messages import from_message, message_type, to_message, topic_of
 from hawt_controllers.controller import (Contribution, Controller, ControllerFailure, controller_parameters,
                                          update_or_hold)
-from hawt_controllers.switch_listener import SwitchListener
+from hawt_controllers.switch_listener import AWAIT_SCHEDULE, SwitchListener
 from hawt_controllers.switching import Switch, ramp_steps
 from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, ParameterSpec, check_values
@@ -79,13 +80,14 @@ class ControllerNode(LifecycleNode):
     """Lifecycle node around one controller core (module notes); subclasses set ``CONTROLLER``."""
 
     CONTROLLER: ClassVar[type] = Controller
-    PARAMETERS: ClassVar[Tuple[ParameterSpec, ...]] = (*controller_parameters(Controller), WAIT_FOR_RECORDER)
-    """The node's parameter table, the controller's own rows, ``active`` and ``wait_for_recorder`` (set for each
-    subclass from CONTROLLER)."""
+    PARAMETERS: ClassVar[Tuple[ParameterSpec, ...]] = (*controller_parameters(Controller), WAIT_FOR_RECORDER,
+                                                         AWAIT_SCHEDULE)
+    """The node's parameter table, the controller's own rows, ``active``, ``wait_for_recorder`` and
+    ``await_schedule`` (set for each subclass from CONTROLLER)."""
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
-        cls.PARAMETERS = (*controller_parameters(cls.CONTROLLER), WAIT_FOR_RECORDER)
+        cls.PARAMETERS = (*controller_parameters(cls.CONTROLLER), WAIT_FOR_RECORDER, AWAIT_SCHEDULE)
 
     @classmethod
     def check_parameters(cls, values) -> None:
@@ -297,8 +299,9 @@ class ControllerNode(LifecycleNode):
         return self.answer.last.step if self.answer.last is not None else 0
 
     def _input(self, name: str, msg: Any) -> None:
-        if self.core is None or self.answer.handled(msg.step):
-            return
+        if self.core is None or self.answer.handled(msg.step) \
+                or (self.values["await_schedule"] and not self.switches.has_schedule):
+            return  # (before the schedule: the plant resends the step until it is answered)
         if self.deferred is not None:
             if msg.step == self.deferred.step:
                 return  # a resend of the step that waits for the handover

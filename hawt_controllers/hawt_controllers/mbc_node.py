@@ -40,7 +40,7 @@ from hawt_controllers.exceptions import ConfigurationError
 from hawt_controllers.limits import PitchLimits
 from hawt_controllers.loop_assembly import LoopAssembler, assembly_problem, extrapolated_azimuth, fade_factor
 from hawt_controllers.mbc import check_configuration, mbc_forward
-from hawt_controllers.switch_listener import SwitchListener
+from hawt_controllers.switch_listener import AWAIT_SCHEDULE, SwitchListener
 from hawt_controllers.switching import InterfaceWindows
 from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, check_values
@@ -64,9 +64,7 @@ PARAMETERS = (
     ParameterSpec("controllers", [""], "controller names that must have announced themselves before the first "
                   "step is answered (lockstep: the graph's controllers, so every run starts alike; ['']: none)",
                   read_only=True),
-    ParameterSpec("await_schedule", False, "answer the first step only once controller_manager has published "
-                  "its schedule (lockstep with a schedule: every scheduled switch is then known before its step)",
-                  read_only=True),
+    AWAIT_SCHEDULE,
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     WAIT_FOR_RECORDER,
     ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),

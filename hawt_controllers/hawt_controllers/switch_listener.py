@@ -4,9 +4,9 @@ Every controller and the mbc node keep one :class:`SwitchListener`. It subscribe
 ``controller_manager/switch`` and ``controller_manager/schedule`` (transient local: a node
 that starts late still gets earlier switches) and hands out each switch when the node
 handles the switch's step (:meth:`SwitchListener.due`); ``has_schedule`` says whether the
-manager's schedule has arrived. A controller also announces its lifecycle state
-on ``controller_manager/controllers`` (:meth:`SwitchListener.announce`), which is how
-the controller manager learns which controllers exist.
+manager's schedule has arrived (a node with ``await_schedule`` answers no step before it has).
+A controller also announces its lifecycle state on ``controller_manager/controllers``
+(:meth:`SwitchListener.announce`), which is how the controller manager learns which controllers exist.
 """
 from typing import List, Optional, Sequence
 
@@ -15,10 +15,17 @@ from rclpy.node import Node
 
 from hawt_controllers.switching import Switch
 from hawt_core.command_interfaces import join_claims, split_claims
+from hawt_core.parameter_table import ParameterSpec
 from hawt_node.qos import LATCHED
 from hawt_core.topics import CONTROLLER_STATES, SCHEDULE, SWITCHES
 
-__all__ = ["SwitchListener", "switch_from_message", "switch_message"]
+__all__ = ["AWAIT_SCHEDULE", "SwitchListener", "switch_from_message", "switch_message"]
+
+AWAIT_SCHEDULE = ParameterSpec(
+    "await_schedule", False, "answer the first step only once controller_manager has published its schedule "
+    "(every scheduled switch is then known before its step); hawt launch sets it when the graph has a "
+    "controller_manager", read_only=True)
+"""The parameter of every node that applies switches (the loop assembler and each controller)."""
 
 
 def switch_from_message(msg: ControllerSwitch) -> Switch:

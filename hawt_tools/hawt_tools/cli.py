@@ -72,14 +72,14 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority. With ``view_port``
     the ``view`` executable serves the graph to Foxglove on that port while it runs.
     """
-    from hawt_tools.launcher import ProcessGraph, parse_overrides, run_composed
+    from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
     from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
 
     # --mode beats the graph's own 'mode' values (an override of every node that has one); -p beats --mode
     modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes if takes_parameter(graph, spec, "mode")] \
         if mode else []
     overrides = parse_overrides(graph, modes + list(parameters))
-    global_parameters = {"wait_for_recorder": True} if record else {}  # the plant starts once all is recorded
+    global_parameters = launcher_parameters(graph, bool(record))
     check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
     if priority:
         check_priority(priority)

@@ -33,6 +33,7 @@ __all__ = [
     "package_prefix",
     "executable_path",
     "parse_overrides",
+    "launcher_parameters",
     "ros_arguments",
     "ProcessGraph",
     "run_composed",
@@ -80,6 +81,19 @@ def parse_overrides(graph: Graph, texts: Sequence[str]) -> Overrides:
         spec = graph.node(node)
         overrides.setdefault(spec.label, []).append((parameter, value))
     return overrides
+
+
+def launcher_parameters(graph: Graph, recorded: bool) -> Dict[str, object]:
+    """The parameters ``hawt launch`` gives every node (a node that does not declare one ignores it).
+
+    ``wait_for_recorder`` when the run is recorded (no message is sent before the recorder reads it);
+    ``await_schedule`` when the graph has a controller_manager (no step is answered before its schedule is
+    known, so every scheduled switch comes at its step in every node).
+    """
+    values: Dict[str, object] = {"wait_for_recorder": True} if recorded else {}
+    if any(spec.executable == "controller_manager" for spec in graph.nodes):
+        values["await_schedule"] = True
+    return values
 
 
 def _nest(values: Sequence[Tuple[str, object]]) -> Dict[str, object]:

@@ -168,6 +168,37 @@ def test_a_replacing_controller_waits_for_the_outgoing_output_of_the_step_before
     assert any(e.kind == "switch" and "from the outgoing controller's last output" in e.detail for e in plant.events)
 
 
+def test_with_await_schedule_no_step_is_answered_before_the_schedule_so_a_switch_at_step_0_is_on_time(graph):
+    """An inactive ipc with await_schedule (hawt launch sets it in a graph with a controller_manager): step 0, sent
+    again and again, gets no answer while the schedule is missing; once the schedule (activate it at step 0) is
+    there, step 0 is answered by the active controller. Without the wait it would have answered step 0 inactive,
+    and a resent step is never recomputed: the switch would have come one step late."""
+    from hawt_msgs.msg import ControllerSchedule
+    from hawt_core.topics import SCHEDULE
+
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    ipc = add(IpcNode(context=context, cli_args=_arguments(active=False, await_schedule=True, ramp_time=0.0)
+                      + ["-r", "__node:=ipc_h1"]))
+    spin_until(lambda: ipc.switches is not None and plant.loads.get_subscription_count() == 1, "ipc configured")
+    sends = 0
+
+    def sent_again() -> bool:
+        nonlocal sends
+        plant.send(0)
+        sends += 1
+        return sends == 50
+
+    spin_until(sent_again, "step 0 sent 50 times")
+    assert plant.answers == {} and ipc.answer.last is None
+    switch = ControllerSwitch(step=0, activate=["/cn/ipc_h1"], activate_interfaces=["harmonic/1"], ramp_time=0.0)
+    plant.create_publisher(ControllerSchedule, SCHEDULE, LATCHED).publish(ControllerSchedule(switches=[switch]))
+    spin_until(lambda: ipc.switches.has_schedule, "the schedule received")
+    plant.send(0)
+    spin_until(lambda: 0 in plant.answers, "the answer of step 0")
+    assert ipc._state_machine.current_state[1] == "active"
+
+
 def test_the_schedule_is_published_in_one_message_once_the_controllers_it_names_have_announced(graph):
     """controller_manager with schedule ['5 +ipc_b']: nothing on controller_manager/schedule while ipc_b is unknown
     (it cannot be planned); once ipc_b announces itself, one latched message with the switch of step 5."""

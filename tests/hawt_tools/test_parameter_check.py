@@ -4,7 +4,7 @@ import pytest
 from hawt_tools import launcher
 from hawt_tools.cli import find_graph, main
 from hawt_tools.graph_file import load_graph
-from hawt_tools.launcher import package_prefix, parse_overrides
+from hawt_tools.launcher import launcher_parameters, package_prefix, parse_overrides
 from hawt_tools.parameter_check import check_graph_parameters
 
 
@@ -105,13 +105,17 @@ def test_mode_option_and_global_parameters_are_not_refused_by_nodes_without_them
 
 
 def test_rclpy_own_parameters_and_the_launcher_globals_pass_the_check():
-    """use_sim_time (declared by rclpy itself) and wait_for_recorder (the plant and every node answering its steps
-    have it, controller_manager has not) are accepted."""
+    """use_sim_time (declared by rclpy itself), wait_for_recorder (the plant and every node answering its steps
+    have it, controller_manager has not) and await_schedule (every node that applies switches has it, in a graph
+    with a controller_manager) are accepted."""
     graph = load_graph(find_graph("ipc"), {}, package_prefix)
     overrides = parse_overrides(graph, ["cpc.use_sim_time:=true", "plant.start_type_description_service:=false"])
-    values = check_graph_parameters(graph, overrides, {"wait_for_recorder": True})
+    assert launcher_parameters(graph, recorded=True) == {"wait_for_recorder": True, "await_schedule": True}
+    values = check_graph_parameters(graph, overrides, launcher_parameters(graph, recorded=True))
     assert all(values[f"/wt1/{name}"]["wait_for_recorder"] is True for name in ("plant", "cpc", "mbc", "ipc_h1"))
-    assert "wait_for_recorder" not in values["/wt1/controller_manager"]
+    assert all(values[f"/wt1/{name}"]["await_schedule"] is True for name in ("cpc", "mbc", "ipc_h1"))
+    assert not {"wait_for_recorder", "await_schedule"} & set(values["/wt1/controller_manager"])
+    assert "await_schedule" not in values["/wt1/plant"]
 
 
 def test_the_parameters_rclpy_declares_itself_are_the_ones_the_check_knows():
