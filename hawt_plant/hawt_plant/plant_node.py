@@ -11,6 +11,12 @@ the last valid one is held and the rejection is a ``control/events`` message. In
 realtime a command older than the last applied one is ignored (one ``stale_input``
 event per burst) and one for a step the plant has not reached is refused.
 
+Only the ``command_sources`` (the graph's loop assembler, ``mbc``, by default) command the
+plant: each command's publisher is identified by its GID and named through the ROS graph
+(hawt_node.command_senders); a command from any other publisher is refused before it is
+read, so it never answers a step, and the first from each intruder is an ``intruder``
+event naming it (the ``finished`` event counts them all).
+
 The plant's own safety system (:mod:`hawt_plant.safety_system`) watches the commands:
 with no command applied for ``command_timeout`` (lockstep: step k unanswered that long,
 after its resends; before the first command: ``startup_timeout``) it trips, reports a
@@ -46,6 +52,7 @@ from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import STATE_FIELDS, TurbineOutput
 from hawt_plant.plant_setup import PARAMETERS, check_parameters, make_plant
 from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
+from hawt_node.command_senders import CommandSenders, Sample
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import declare_parameters
@@ -55,6 +62,12 @@ from hawt_node.writer_matching import unmatched_writers
 from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, RECORDER_PROGRESS, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
+
+LOOK_AGAIN = 0.001
+"""Wall time [s] after which the plant looks again for a command that was announced but not taken yet."""
+LOOKS = 50
+"""Looks for an announced command before the plant stops looking (it was taken with an earlier one)."""
+
 
 def _stamp(seconds: float) -> Time:
     nanoseconds = int(round(seconds * 1e9))
@@ -92,7 +105,15 @@ class PlantNode(Node):
         self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP_HISTORY)
         self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
         self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
-        self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
+        sources = [name for name in v["command_sources"] if name]
+        self.senders = CommandSenders(self, PitchCommand, PITCH_COMMAND, CONTROL_LOOP, sources) if sources else None
+        self.create_subscription(PitchCommand, PITCH_COMMAND,
+                                 self._on_command if self.senders is None else self._ring, CONTROL_LOOP)
+        self.looks = LOOKS
+        self.received = 0
+        self.intruders: dict[bytes, int] = {}
+        self._look_again = self.create_timer(LOOK_AGAIN, self._take_commands)
+        self._look_again.cancel()
         self.recorded_until: Optional[float] = None
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
         self.held = self.finishing = False
@@ -205,6 +226,41 @@ class PlantNode(Node):
             self.events(ControlEvent.WARN, "recorder", f"starting without the recorder on {', '.join(missing)}")
             return True
         return not missing
+
+    def _ring(self, _: PitchCommand) -> None:
+        """A command has arrived: take it, and whatever else waits, with its sender (hawt_node.command_senders)."""
+        self.looks = 0
+        self.received = self.senders.received
+        self._take_commands()
+
+    def _take_commands(self) -> None:
+        samples = self.senders.take()
+        self.looks += 1
+        announced = self.senders.received == self.received and self.looks < LOOKS  # not in the reader yet
+        if announced or self.senders.waiting:  # look again shortly
+            self._look_again.reset()
+        else:
+            self._look_again.cancel()
+        for sample in samples:
+            if sample.allowed:
+                self._on_command(sample.message)
+            else:
+                self._refuse_intruder(sample)
+
+    def _refuse_intruder(self, sample: Sample) -> None:
+        """Count a command from a publisher that is not a command source; report the first of each publisher."""
+        count = self.intruders[sample.gid] = self.intruders.get(sample.gid, 0) + 1
+        if count == 1:
+            who = sample.sender or f"a publisher the graph does not name (publisher gid {sample.gid.hex()})"
+            self.events(ControlEvent.ERROR, "intruder", f"control/pitch_command step {sample.message.step} from "
+                        f"{who} refused: only {', '.join(sorted(self.senders.allowed))} may command this plant "
+                        "(its later commands are refused and counted)", step=self.step_index,
+                        stamp=_stamp(self.output.time))
+
+    def destroy_node(self) -> None:
+        if self.senders is not None:
+            self.senders.close()
+        super().destroy_node()
 
     def _on_command(self, msg: PitchCommand) -> None:
         if self.done.done():
@@ -346,6 +402,8 @@ class PlantNode(Node):
         latency = "" if self.lockstep else self.latency.summary()
         if latency:
             summary += "; " + latency
+        if self.intruders:
+            summary += f"; {sum(self.intruders.values())} commands from {len(self.intruders)} intruders refused"
         self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
         self.done.set_result(True)
 

@@ -65,6 +65,9 @@ PARAMETERS = (
     ParameterSpec("startup_timeout", 30.0, "wall time the first command may take once the plant has started "
                   "(controllers starting up) before the safety system trips", "s", minimum=0.01, maximum=3600.0,
                   read_only=True),
+    ParameterSpec("command_sources", ["mbc"], "the nodes whose control/pitch_command the plant obeys (names "
+                  "relative to its namespace, or absolute); another publisher's commands are refused and reported "
+                  "as an intruder (['']: obey any publisher)", read_only=True),
     ParameterSpec("stale_burst_gap", 1.0, "realtime: commands older than the last applied one are reported once "
                   "per burst; a burst ends after this long without one", "s", minimum=0.0, maximum=600.0,
                   read_only=True),

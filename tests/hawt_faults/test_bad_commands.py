@@ -18,7 +18,8 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
     """Realtime baseline: three refusals (invalid_input), two stale bursts (one stale_input each); pitch undisturbed."""
     namespace = "bad_commands"
     injector = probe(namespace)
-    run = launch("baseline", namespace, "mode:=realtime", "duration:=12")
+    run = launch("baseline", namespace, "mode:=realtime", "duration:=12",  # the probe may command (a source)
+                 "-p", "plant.command_sources:=['mbc', '/fault_probe']")
     injector.wait_until_recorded(run.launcher)
     injector.wait_for_step(300, run.launcher)  # the injected commands are numbered from the plant's step
     step = injector.plant_step

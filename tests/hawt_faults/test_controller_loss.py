@@ -24,7 +24,7 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     namespace = f"cpc_lost_{mode}"
     watcher = probe(namespace)
     run = launch(str(graph_outliving(tmp_path, "baseline", "cpc")), namespace, f"mode:={mode}",
-                 f"duration:={FEATHER_DURATION}")
+                 f"duration:={FEATHER_DURATION}", "-p", "plant.command_sources:=['mbc', '/fault_probe']")
     watcher.wait_until_recorded(run.launcher)
     run.kill("cpc")
     watcher.wait_for_event("watchdog", run.launcher)

@@ -69,7 +69,7 @@ def test_a_bad_pitch_command_is_not_applied_and_is_reported(node, hawt_cli):
     publisher = node.create_publisher(PitchCommand, "/bad/control/pitch_command", _QOS)
     plant = subprocess.Popen([sys.executable, "-c", "from hawt_plant.plant_node import main; main()", "--ros-args", "-r", "__ns:=/bad",
                               "-p", "duration:=0.05", "-p", "resend_period:=0.2",
-                              "-p", "wait_for_subscribers:=1"],
+                              "-p", "wait_for_subscribers:=1", "-p", "command_sources:=['/plant_node_test']"],
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         deadline = time.monotonic() + 30

@@ -1,0 +1,82 @@
+"""Only the graph's command source commands the plant: another publisher on control/pitch_command is refused
+(identified by its publisher GID), reported as an intruder, and changes nothing of the run."""
+import math
+
+import numpy as np
+import pytest
+from hawt_msgs.msg import ControlEvent, PitchCommand
+
+from hawt_bag.step_comparison import step_differences
+from hawt_faults.fault_runs import assert_plant_finished, read_recording
+
+pytestmark = pytest.mark.ros
+
+FEATHERED = [1.5] * 3
+"""The intruder's pitch [rad] (86 deg), with zero torque: applied for even one step, it would show."""
+
+
+def _intrude(intruder, run, until_step: int) -> None:
+    """The intruder answers every plant step it sees, from the plant's current step to ``until_step``."""
+    intruder.publish_until(lambda step: PitchCommand(step=step, pitch=FEATHERED, generator_torque=0.0),
+                           lambda: intruder.plant_step >= until_step, run.launcher, f"plant step {until_step}")
+
+
+def _the_intruder_was_refused_and_named(recording, namespace: str) -> None:
+    (event,) = recording.events_of("intruder")
+    assert event["level"] == ControlEvent.ERROR and event["source"] == f"/{namespace}/plant"
+    assert " from /fault_probe refused: only " f"/{namespace}/mbc may command this plant" in event["detail"]
+    (finished,) = recording.events_of("finished")
+    assert "from 1 intruders refused" in finished["detail"]
+
+
+def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, probe):
+    """Lockstep baseline in turbulence, twice: once alone, once with a second publisher answering every step with
+    86 deg and zero torque from step 100 to 400. The intruder's commands never answer a step: the plant topics are
+    equal in every field at every step to the run without it, and so are the loop assembler's commands."""
+    arguments = ("wind_type:=turbulent", "seed:=3", "duration:=6")
+    alone = launch("baseline", "alone_ls", *arguments)
+    alone.finish()
+    namespace = "intruder_ls"
+    intruder = probe(namespace)
+    run = launch("baseline", namespace, *arguments)
+    intruder.wait_until_recorded(run.launcher, margin=0)
+    intruder.wait_for_step(100, run.launcher)
+    _intrude(intruder, run, 400)
+    run.finish()
+
+    recording = read_recording(run.bag, namespace)
+    _the_intruder_was_refused_and_named(recording, namespace)
+    plant = ("plant/blade_loads", "plant/state")
+    assert step_differences(alone.bag, run.bag, [f"/alone_ls/{t}" for t in plant],
+                            [f"/{namespace}/{t}" for t in plant]) == []
+    commands = read_recording(alone.bag, "alone_ls").commands.fields, recording.commands.fields
+    sourced = [np.asarray(c["generator_torque"]) != 0.0 for c in commands]  # the intruder's rows have 0 torque
+    assert np.count_nonzero(~sourced[1]) > 10, "the intruder's commands are in the bag"
+    for name in ("step", "pitch", "generator_torque"):
+        first, second = (np.asarray(c[name])[keep] for c, keep in zip(commands, sourced))
+        assert np.array_equal(np.unique(first, axis=0), np.unique(second, axis=0)), name
+    assert_plant_finished(recording, 6.0)
+
+
+def test_an_intruder_in_realtime_is_refused_named_and_never_applied(launch, probe):
+    """Realtime baseline, steady 18 m/s: an intruder sends 86 deg and zero torque for 300 steps; the pitch stays
+    within 0.5 deg of where it was, the torque never drops to zero, and the safety system is not tripped."""
+    namespace = "intruder_rt"
+    intruder = probe(namespace)
+    run = launch("baseline", namespace, "mode:=realtime", "duration:=10")
+    intruder.wait_until_recorded(run.launcher)
+    intruder.wait_for_step(300, run.launcher)
+    start = intruder.plant_step
+    _intrude(intruder, run, start + 300)
+    run.finish()
+
+    recording = read_recording(run.bag, namespace)
+    _the_intruder_was_refused_and_named(recording, namespace)
+    steps, pitch = recording.measured_pitch()
+    after = pitch[steps >= start]
+    assert np.all(np.abs(after - pitch[steps == start]) < math.radians(0.5)), \
+        f"the pitch moved to {np.degrees(after.max()):.2f} deg"
+    state = recording.state.fields
+    assert np.all(np.asarray(state["generator_torque"])[np.asarray(state["step"]) >= start] > 1e4)
+    assert not recording.events_of("watchdog") and not recording.events_of("invalid_input")
+    assert_plant_finished(recording, 10.0)
