@@ -7,7 +7,9 @@ of each namespace concerned, stamped with the step and time of that namespace's 
 (subscribed best effort, keep last 1: it adds no reader the plant waits for). Each event waits up to
 ``MATCH_WAIT`` for its writer to match every reader the graph lists (the recorder) and for a first
 ``plant/state`` (on a busy machine this node once discovered the plant only after its first 250 steps),
-then goes out, at step 0 if the plant never published; the launcher publishes it before it stops any
+``HEAR_WAIT`` for the latter while the graph lists a publisher of ``plant/state`` (its samples are on
+their way: an event at step 0 was once seen beside two busy loops), then goes out, at step 0 if the
+plant never published; the launcher publishes it before it stops any
 node, so the recorder is still there to take it.
 """
 import threading
@@ -26,12 +28,14 @@ from hawt_core.topics import EVENTS, TURBINE_STATE
 from hawt_node.qos import EVENTS as EVENTS_QOS
 from hawt_node.writer_matching import unmatched_writers
 
-__all__ = ["LaunchEvents", "MATCH_WAIT", "NODE_NAME"]
+__all__ = ["HEAR_WAIT", "LaunchEvents", "MATCH_WAIT", "NODE_NAME"]
 
 NODE_NAME = "hawt_launch"
 MATCH_WAIT = 5.0
 """Wall time [s] an event waits at most for its writer to match the graph's readers of control/events and for
 the namespace's first plant/state."""
+HEAR_WAIT = 30.0
+"""Wall time [s] an event waits at most for the namespace's first plant/state while the graph lists its publisher."""
 
 _LATEST = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 
@@ -68,9 +72,16 @@ class LaunchEvents:
 
     def __call__(self, namespace: str, level: int, kind: str, detail: str) -> None:
         publisher = self.publishers[namespace]
-        deadline = time.monotonic() + MATCH_WAIT
-        while (unmatched_writers(self.node, {publisher.topic_name: publisher}) or not self.heard[namespace]) \
-                and time.monotonic() < deadline:
+        start = time.monotonic()
+        state = f"{namespace.rstrip('/')}/{TURBINE_STATE}"
+
+        def waiting(waited: float) -> bool:
+            if waited < MATCH_WAIT and unmatched_writers(self.node, {publisher.topic_name: publisher}):
+                return True
+            return not self.heard[namespace] and (waited < MATCH_WAIT or (
+                waited < HEAR_WAIT and self.node.count_publishers(state) > 0))
+
+        while waiting(time.monotonic() - start):
             time.sleep(0.01)
         step, stamp = self.latest[namespace]
         msg = ControlEvent(step=step, source=self.node.get_fully_qualified_name(), level=level, kind=kind,
