@@ -5,7 +5,10 @@ import signal
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-__all__ = ["parent_gone", "stop_signals"]
+__all__ = ["LAUNCHER_PID", "parent_gone", "stop_signals"]
+
+LAUNCHER_PID = "HAWT_LAUNCHER_PID"
+"""Environment variable in which a launcher gives its children its process id (:func:`parent_gone`)."""
 
 
 @contextmanager
@@ -30,6 +33,11 @@ def parent_gone() -> Callable[[], bool]:
     children) stops as it would on SIGTERM, finishing its messages or its bag: the watchdog
     equivalent of ``PR_SET_PDEATHSIG``, which Python can only set in a fork hook that is unsafe
     beside threads and that fires when the forking *thread* ends.
+
+    The launcher names itself in ``HAWT_LAUNCHER_PID``: a launcher killed while this process was
+    still starting (before this call) is then seen gone too. The variable is taken out of the
+    environment, so that a process this one starts compares with its own parent.
     """
-    parent = os.getppid()
+    launcher = os.environ.pop(LAUNCHER_PID, "")
+    parent = int(launcher) if launcher.isdigit() else os.getppid()
     return lambda: os.getppid() != parent

@@ -132,6 +132,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 def _start_recorder(path: Path) -> subprocess.Popen:
     """Start the ``record`` executable of hawt_bag on ``path`` and wait until it has created the bag."""
+    from hawt_core.stop_signals import LAUNCHER_PID
     from hawt_tools.launcher import package_prefix
 
     if path.exists():
@@ -141,7 +142,7 @@ def _start_recorder(path: Path) -> subprocess.Popen:
     if prefix is None or not executable.is_file():
         raise RuntimeError("hawt_bag's record executable is not installed (run scripts/setup.sh)")
     recorder = subprocess.Popen([str(executable), "-o", str(path)], stdin=subprocess.DEVNULL,
-                                start_new_session=True)
+                                start_new_session=True, env={**os.environ, LAUNCHER_PID: str(os.getpid())})
     deadline = time.monotonic() + 20.0
     while not path.exists():
         if recorder.poll() is not None:

@@ -8,22 +8,25 @@ included) and remappings itself.
 import importlib.metadata
 import logging
 import os
+import shutil
 import signal
 import subprocess
 import sys
 import tempfile
 import threading
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence, TextIO, Tuple
+from typing import Callable, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, TextIO, Tuple
 
+import psutil
 import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
 
 from rclpy.task import Future
 
-from hawt_core.stop_signals import stop_signals
+from hawt_core.stop_signals import LAUNCHER_PID, stop_signals
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
 from hawt_tools.node_parameters import typed_override
 from hawt_node.node_main import first_done, run_nodes
@@ -40,6 +43,9 @@ __all__ = [
 ]
 
 Overrides = Dict[str, List[Tuple[str, str]]]
+
+FOLDER_PREFIX = "hawt_launch_"
+"""Name prefix of a launcher's temporary folder (then its process id)."""
 
 
 class LaunchFailure(RuntimeError):
@@ -81,6 +87,21 @@ def parse_overrides(graph: Graph, texts: Sequence[str]) -> Overrides:
         spec = graph.node(node)
         overrides.setdefault(spec.label, []).append((parameter, value))
     return overrides
+
+
+@contextmanager
+def parameter_folder() -> Iterator[str]:
+    """A temporary folder for the nodes' parameter files, named after this launcher's process id.
+
+    A launcher killed with SIGKILL cannot remove its folder; the next launch removes every such
+    folder whose launcher no longer runs.
+    """
+    for stale in Path(tempfile.gettempdir()).glob(f"{FOLDER_PREFIX}*_*"):
+        pid = stale.name[len(FOLDER_PREFIX):].split("_")[0]
+        if pid.isdigit() and not psutil.pid_exists(int(pid)):
+            shutil.rmtree(stale, ignore_errors=True)
+    with tempfile.TemporaryDirectory(prefix=f"{FOLDER_PREFIX}{os.getpid()}_") as folder:
+        yield folder
 
 
 def launcher_parameters(graph: Graph, recorded: bool) -> Dict[str, object]:
@@ -187,7 +208,8 @@ class ProcessGraph:
             self._say(process.spec.label, raw.decode(errors="replace").rstrip("\n"))
 
     def _start(self, process: _Process) -> None:
-        env = {**os.environ, "PYTHONUNBUFFERED": "1", **self.environment, **dict(process.spec.env)}
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", LAUNCHER_PID: str(os.getpid()), **self.environment,
+               **dict(process.spec.env)}
         process.popen = subprocess.Popen(process.command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                          stdin=subprocess.DEVNULL, env=env, start_new_session=True)
         process.pump = threading.Thread(target=self._pump, args=(process,), daemon=True)
@@ -235,7 +257,7 @@ class ProcessGraph:
             ``on_exit: shutdown`` finishes, every node has finished, a node dies, or SIGINT/SIGTERM).
         """
         with stop_signals(lambda *_: self.request_stop(0, "interrupted", (logging.WARNING, "interrupted"))), \
-                tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
+                parameter_folder() as parameter_dir:
             processes = [
                 _Process(spec, [str(exe), *spec.arguments,
                                 *ros_arguments(spec, self.overrides, Path(parameter_dir), self.global_parameters)])
@@ -326,7 +348,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
     classes = [node_class(graph, spec) for spec in graph.nodes]
     for spec in graph.nodes:
         executable_path(graph, spec)
-    with tempfile.TemporaryDirectory(prefix="hawt_launch_") as parameter_dir:
+    with parameter_folder() as parameter_dir:
         def make_nodes() -> list:
             return [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
                     for spec, node_class in zip(graph.nodes, classes)]

@@ -16,6 +16,7 @@ from hawt_controllers.rosco_input import read_settings, rosco_files
 from hawt_core.parameter_table import ParameterError
 from hawt_core.plant_description import PlantDescription
 from hawt_plant.model import TurbineOutput
+from hawt_plant.turbine import nrel_5mw
 from hawt_tools.cli import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import RunRecord, build_run
@@ -241,3 +242,21 @@ def test_a_library_failing_in_the_lockstep_graph_is_reported_and_the_safety_syst
     assert channels["pitch"].max() <= math.pi / 2 + 1e-9
     command = analysis.run.pitch_command
     assert np.all(np.isfinite(command["pitch"])) and command["pitch"].max() <= math.pi / 2 + 1e-9
+
+
+@pytest.mark.ros
+def test_rosco_holds_the_plant_in_the_realtime_graph(tmp_path, hawt_cli):
+    """mode:=realtime (the plant steps on the wall clock and nobody waits): steady 18 m/s, 15 s; ROSCO's collective
+    commands reach the plant and hold it within 2 % of rated rotor speed and power over the last 5 s."""
+    bag = tmp_path / "realtime.mcap"
+    result = subprocess.run([*hawt_cli, "launch", "rosco", "mode:=realtime", "wind_speed:=18.0", "duration:=15",
+                             "--record", str(bag)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    analysis = analyze_bag(bag)
+    assert not [e for e in analysis.run.events if e["kind"] in ("watchdog", "controller_failed")]
+    channels = analysis.run.channels
+    last = channels["time"] > channels["time"][-1] - 5.0
+    assert last.sum() > 100
+    turbine = nrel_5mw().description(0.01)
+    assert np.mean(channels["rotor_speed"][last]) == pytest.approx(turbine.rated_rotor_speed, rel=0.02)
+    assert np.mean(channels["electrical_power"][last]) == pytest.approx(turbine.rated_power, rel=0.02)

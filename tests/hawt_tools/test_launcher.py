@@ -4,12 +4,15 @@ import math
 import re
 import signal
 import subprocess
+import tempfile
 import time
 from pathlib import Path
 
 import psutil
 import pytest
 from launched_graph import LaunchedGraph
+
+from hawt_bag.reader import BagReader
 
 pytestmark = pytest.mark.ros
 
@@ -249,3 +252,22 @@ def test_hawt_list_shows_the_running_nodes_and_topics_with_types(hawt_cli, tmp_p
     assert any(line.split()[:2] == ["/t/loads", "hawt_msgs/msg/BladeLoads"] and "(1 pub, 1 sub)" in line
                for line in lines)
     assert any(line.split()[:2] == ["/t/relayed", "hawt_msgs/msg/BladeLoads"] for line in lines)
+
+
+def test_a_launcher_killed_with_sigkill_leaves_no_node_a_finished_bag_and_no_folder_after_the_next_launch(
+        hawt_cli, tmp_path):
+    """kill -9 of hawt launch --record: every node and the recorder see their parent gone and stop, the recorder
+    finishing its bag; the parameter folder the killed launcher could not remove goes with the next launch."""
+    bag = tmp_path / "killed.mcap"
+    launcher = _start(hawt_cli, _graph(tmp_path), tmp_path / "r.json", "--record", str(bag))
+    children = _wait_for_children(launcher, 4)  # three nodes and the recorder
+    folder = next(Path(tempfile.gettempdir()).glob(f"hawt_launch_{launcher.pid}_*"))
+    launcher.kill()
+    launcher.wait()
+    psutil.wait_procs(children, timeout=60)
+    assert not [c.pid for c in children if c.is_running() and c.status() != psutil.STATUS_ZOMBIE]
+    with BagReader(bag) as reader:
+        assert reader.has_summary, "the bag has its summary: the recorder finished it"
+    assert folder.exists()
+    assert _launch(hawt_cli, _graph(tmp_path), tmp_path / "again.json", "-p", "sink.expect:=5").returncode == 0
+    assert not folder.exists()
