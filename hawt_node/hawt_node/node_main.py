@@ -104,9 +104,10 @@ def _stop_on_signals() -> Iterator[Future]:
 
 
 def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequence[Node]], Optional[Future]],
-              args: Optional[List[str]] = None, timeout: Optional[float] = None) -> None:
+              args: Optional[List[str]] = None, timeout: Optional[float] = None) -> str:
     """Create the nodes and spin them until ``ending(nodes)`` completes, a signal comes, ``timeout`` passes or
-    the process that started this one (the launcher) dies.
+    the process that started this one (the launcher) dies; returns which: ``done``, ``signal``, ``timeout`` or
+    ``parent_gone``.
 
     Then the published messages are flushed (:func:`wait_for_acknowledgements`) and the
     nodes destroyed. The default context is used, with this module's signal handling. A
@@ -119,13 +120,17 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
         nodes = make_nodes()
         executor = make_executor()
         try:
-            spin_nodes(executor, nodes, _first_of([f for f in (stop, ending(nodes)) if f is not None]), timeout,
+            ended = ending(nodes)
+            spin_nodes(executor, nodes, _first_of([f for f in (stop, ended) if f is not None]), timeout,
                        launcher_gone)
+            reason = ("signal" if stop.done() else "done" if ended is not None and ended.done()
+                      else "parent_gone" if launcher_gone() else "timeout")
             wait_for_acknowledgements(nodes)
         finally:
             executor.shutdown()
             for node in nodes:
                 node.destroy_node()
+    return reason
 
 
 def run_node(node_class: NodeFactory, args: Optional[List[str]] = None) -> None:

@@ -89,15 +89,15 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     try:
         if view is not None:
             viewer = subprocess.Popen(view, stdin=subprocess.DEVNULL, start_new_session=True)
+        if recorder is not None:  # deaths, respawns and stops from outside into the bag
+            from hawt_tools.launch_events import LaunchEvents
+
+            events = LaunchEvents(spec.full_namespace for spec in graph.nodes)
         if composed:
             if priority:
                 set_priority(priority)
-            code = run_composed(graph, overrides, duration, global_parameters)
+            code = run_composed(graph, overrides, duration, global_parameters, events)
         else:
-            if recorder is not None:  # deaths, respawns and stops from outside into the bag
-                from hawt_tools.launch_events import LaunchEvents
-
-                events = LaunchEvents(spec.full_namespace for spec in graph.nodes)
             environment = {PRIORITY_VARIABLE: str(priority)} if priority else {}
             code = ProcessGraph(graph, overrides, global_parameters, environment=environment,
                                 events=events).run(duration)

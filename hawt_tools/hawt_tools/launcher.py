@@ -339,11 +339,12 @@ def node_class(graph: Graph, spec: NodeSpec) -> type:
 
 
 def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] = None,
-                 global_parameters: Mapping[str, object] = ()) -> int:
+                 global_parameters: Mapping[str, object] = (),
+                 events: Optional[Callable[[str, int, str, str], None]] = None) -> int:
     """Run every node of the graph in this process on one executor; returns the exit code.
 
     Stops when a node with ``on_exit: shutdown`` is done, after ``duration`` wall
-    seconds, or on SIGINT/SIGTERM.
+    seconds, or on SIGINT/SIGTERM; the last two are reported to ``events`` (as ProcessGraph does).
     """
     classes = [node_class(graph, spec) for spec in graph.nodes]
     for spec in graph.nodes:
@@ -355,5 +356,13 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
 
         def ending(nodes) -> Optional[Future]:
             return first_done([n for n, s in zip(nodes, graph.nodes) if s.shutdown_on_exit])
-        run_nodes(make_nodes, ending, timeout=duration)
+        ended = run_nodes(make_nodes, ending, timeout=duration)
+    stop = {"signal": (logging.WARNING, "interrupted", "interrupted"),
+            "timeout": (logging.INFO, "wall_clock_stop", f"wall-clock --duration of {duration or 0:g} s reached")
+            }.get(ended)
+    if stop is not None:
+        level, kind, reason = stop
+        for namespace in sorted({spec.full_namespace for spec in graph.nodes}) if events is not None else ():
+            events(namespace, level, kind, f"hawt launch stopped the graph: {reason}")
+        print(f"[hawt launch] stopped: {reason}", flush=True)
     return 0

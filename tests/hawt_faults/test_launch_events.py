@@ -29,10 +29,12 @@ def test_a_node_that_dies_is_an_error_event_in_the_bag_at_the_plants_step(tmp_pa
     assert died["detail"] == "node /died/mbc died unexpectedly (killed by SIGKILL); stopping the graph"
 
 
-def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path):
+@pytest.mark.parametrize("composed", [False, True], ids=["processes", "composed"])
+def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path, composed):
+    """Separate processes or --composed (every node in the launcher's process): the stop is in the bag."""
     bag = tmp_path / "stopped.mcap"
     with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "20", "--record",
-                        str(bag)]) as graph:
+                        str(bag), *(["--composed"] if composed else [])]) as graph:
         assert graph.finish() == 0, graph.tail()
     recording = read_recording(bag, "stopped")
     (stop,) = recording.events_of("wall_clock_stop")
