@@ -174,14 +174,19 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     channels.update({name: loads.fields[name][load_rows] for name in _LOAD_FIELDS})
     channels.update({name: state.fields[name][state_rows] for name in _STATE_FIELDS if name in state.fields})
     counts = {loads_topic: len(loads), state_topic: len(state)}
-    command, flag_names = _pitch_command(reader, topic_in(namespace, PITCH_COMMAND), counts, progress)
+    command, flag_names, malformed = _pitch_command(reader, topic_in(namespace, PITCH_COMMAND), counts, progress,
+                                                    channels["pitch"].shape[1])
+    warnings += malformed
     events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts, steps, time)
     return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings)
 
 
-def _pitch_command(reader: BagReader, topic: str, counts: dict, progress) -> tuple[Optional[dict], dict]:
+def _pitch_command(reader: BagReader, topic: str, counts: dict, progress,
+                   blades: int) -> tuple[Optional[dict], dict, tuple[str, ...]]:
+    """The commands by step, the flag names of the message type, and a warning naming the malformed messages (a
+    pitch or individual of another length than ``blades``), which are counted and skipped."""
     if topic not in reader.topic_names():
-        return None, {}
+        return None, {}, ()
     progress(f"reading {topic}")
     columns = read_topic_columns(reader, topic, ("header.stamp", "step", "pitch", "collective", "individual",
                                                  "generator_torque", "flags"))
@@ -190,12 +195,24 @@ def _pitch_command(reader: BagReader, topic: str, counts: dict, progress) -> tup
     definition = parse_schema(schema.data.decode(), schema.name)[short_type_name(schema.name)]
     flag_names = {int(value): name for name, value in definition.constants.items() if name.startswith("FLAG_")}
     if not len(columns):
-        return None, flag_names
-    rows = _by_step(columns)
-    command = {name: columns.fields[name][rows] for name in ("step", "pitch", "collective", "individual",
-                                                             "generator_torque", "flags")}
-    command["time"] = columns.stamp()[rows]
-    return command, flag_names
+        return None, flag_names, ()
+    fields, warnings = {**columns.fields, "time": columns.stamp()}, ()
+    sizes = [np.array([len(row) for row in fields[name]]) for name in ("pitch", "individual")]
+    wellformed = (sizes[0] == blades) & (sizes[1] == blades)
+    if not wellformed.all():
+        bad = np.flatnonzero(~wellformed)
+        warnings = (f"{topic}: {bad.size} malformed message(s) skipped (pitch and individual must hold {blades} "
+                    f"values; the first at step {int(fields['step'][bad[0]])} holds {int(sizes[0][bad[0]])} and "
+                    f"{int(sizes[1][bad[0]])})",)
+        fields = {name: values[wellformed] for name, values in fields.items()}
+        fields.update({name: np.stack(fields[name]).astype(np.float64) if len(fields[name]) else
+                       np.empty((0, blades)) for name in ("pitch", "individual")})
+        if not len(fields["step"]):
+            return None, flag_names, warnings
+    _, rows = np.unique(fields["step"], return_index=True)  # the first message of each step
+    command = {name: fields[name][rows] for name in ("step", "pitch", "collective", "individual",
+                                                     "generator_torque", "flags", "time")}
+    return command, flag_names, warnings
 
 
 def _events(reader: BagReader, topic: str, counts: dict, steps: np.ndarray, times: np.ndarray) -> list:

@@ -8,8 +8,11 @@ import pytest
 from hawt_analysis.run_analysis import analyze_bag
 from hawt_analysis.summary import summarize
 from hawt_analysis.synthetic_run import synthetic_channels
+from hawt_bag.cdr_columns import encode_messages
 from hawt_bag.column_writing import plant_topics, write_topics
 from hawt_bag.errors import BagError
+from hawt_bag.interface_files import schema_text
+from hawt_bag.msg_definition import parse_schema, short_type_name
 from hawt_bag.reader import BagReader
 from hawt_bag.plant_run import load_plant_run
 from hawt_bag.writer import BagWriter
@@ -170,3 +173,25 @@ def test_the_commanded_pitch_rate_is_the_largest_change_from_one_step_to_the_nex
         write_topics(writer, plant_topics(channels, ""))
     command = analyze_bag(bag).summary["pitch_command"]
     assert command["max_rate_rad_s"]["max"] == pytest.approx(np.deg2rad(8.0), rel=1e-9)
+
+
+def test_a_malformed_command_is_counted_reported_and_skipped_not_the_whole_command_section(hawt_cli, tmp_path):
+    """One pitch command of 2 values among 2001 of 3 (a rogue or broken publisher): analyze still gives the commanded
+    pitch of every step and says, in one warning, how many messages it skipped and the first one's step."""
+    channels = synthetic_channels(duration=20.0, sample_rate=100.0, seed=2)
+    topics = plant_topics(channels, "")
+    command = next(t for t in topics if t.topic == "/control/pitch_command")
+    short = {name: np.asarray(column)[500:501, :2] if name == "pitch" else np.asarray(column)[500:501]
+             for name, column in command.columns.items()}
+    definitions = parse_schema(schema_text(command.type_name), command.type_name)
+    payload, = encode_messages(definitions, short_type_name(command.type_name), short, 1)
+    bag = tmp_path / "malformed.mcap"
+    with BagWriter(bag) as writer:
+        write_topics(writer, topics)
+        writer.write(writer.topics[command.topic], int(command.log_time[500]) + 1, payload)
+    analysis = analyze_bag(bag)
+    assert analysis.summary["pitch_command"]["steps"] == channels["time"].size
+    assert analysis.summary["warnings"] == ["/control/pitch_command: 1 malformed message(s) skipped (pitch and "
+                                            "individual must hold 3 values; the first at step 500 holds 2 and 3)"]
+    result = _run(hawt_cli, "analyze", str(bag))
+    assert result.returncode == 0 and "1 malformed message(s) skipped" in result.stderr
