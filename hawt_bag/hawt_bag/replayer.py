@@ -15,6 +15,11 @@ selected topics' messages are grouped by their ``step`` field; group k is publis
 message with ``step == k`` on the trigger topic (``control/pitch_command`` for the
 controllers, ``relayed`` for the example relay), then goes on with k + 1. Timing is
 then the graph's own, so the same inputs give the same outputs on any machine load.
+
+A topic the player publishes that another node publishes too (a replay into a running
+graph) mixes the recorded messages with the live ones, in the graph and in any recording
+of it: the player says so once per topic, naming the other publisher, as soon as its
+graph shows one (it looks every ``FOREIGN_CHECK_PERIOD`` and once at the end).
 """
 import threading
 import time
@@ -44,7 +49,10 @@ from .msg_definition import parse_schema, short_type_name
 from .playback_clock import PlaybackClock
 from .reader import BagMessage, BagReader, TopicInfo
 
-__all__ = ["Player", "ReplayOptions", "ReplayResult", "parse_remaps", "replay"]
+__all__ = ["FOREIGN_CHECK_PERIOD", "Player", "ReplayOptions", "ReplayResult", "parse_remaps", "replay"]
+
+FOREIGN_CHECK_PERIOD = 0.5
+"""Wall time [s] between two looks for another publisher on a replayed topic."""
 
 _SPIN = 300_000
 """The last 0.3 ms before a message is due are waited by polling the clock, not by sleeping [ns]."""
@@ -139,12 +147,15 @@ class _Control:
 
 
 class Player(Node):
-    """Publishers for the bag's topics, ``/clock``, and the ``paused``/``rate``/``~/play_next`` controls."""
+    """Publishers for the bag's topics, ``/clock``, and the ``paused``/``rate``/``~/play_next`` controls;
+    ``warn`` hears of another publisher on a replayed topic."""
 
     def __init__(self, topics: dict[str, TopicInfo], options: ReplayOptions, control: _Control,
-                 **node_kwargs) -> None:
+                 warn: Callable[[str], None] = lambda _: None, **node_kwargs) -> None:
         super().__init__(options.node_name, **node_kwargs)
         self.control = control
+        self.warn = warn
+        self.mixed: set = set()
         remaps = {_absolute(a): _absolute(b) for a, b in options.remaps}
         self.outputs = {topic: self.create_publisher(message_class(info.type), remaps.get(topic, topic), _qos(info))
                         for topic, info in topics.items()}
@@ -156,6 +167,19 @@ class Player(Node):
         self.add_on_set_parameters_callback(self._check)
         self.add_post_set_parameters_callback(self._apply)
         self.create_subscription(Empty, "~/play_next", self._play_next, 10)
+        self.create_timer(FOREIGN_CHECK_PERIOD, self.look_for_other_publishers)
+
+    def look_for_other_publishers(self) -> None:
+        """Warn of each replayed topic that another node publishes too (once per topic)."""
+        own = self.get_fully_qualified_name()
+        for publisher in self.outputs.values():
+            topic = publisher.topic_name
+            others = sorted({f"{i.node_namespace.rstrip('/')}/{i.node_name}" for i in
+                             self.get_publishers_info_by_topic(topic)} - {own}) if topic not in self.mixed else []
+            if others:
+                self.mixed.add(topic)
+                self.warn(f"{topic} is also published by {', '.join(others)}: the replayed messages mix with "
+                          "that graph's own (in it and in any recording of it)")
 
     @staticmethod
     def _check(parameters: List[Parameter]) -> SetParametersResult:
@@ -316,8 +340,9 @@ def _stepped(player: Player, groups, options: ReplayOptions, result: ReplayResul
 
 
 def replay(path, options: ReplayOptions = ReplayOptions(), ros_args: Optional[List[str]] = None,
-           report: Callable[[str], None] = print) -> ReplayResult:
-    """Replay a bag until its end (or Ctrl-C/SIGTERM; forever with ``loop``).
+           report: Callable[[str], None] = print, warn: Callable[[str], None] = lambda _: None) -> ReplayResult:
+    """Replay a bag until its end (or Ctrl-C/SIGTERM; forever with ``loop``); ``warn`` hears of a replayed topic
+    that another node publishes too.
 
     Raises
     ------
@@ -342,7 +367,7 @@ def replay(path, options: ReplayOptions = ReplayOptions(), ros_args: Optional[Li
         result = ReplayResult()
         stop_handler = lambda *_: control.notify(lambda: setattr(control, "stop", True))  # noqa: E731
         with stop_signals(stop_handler), rclpy.init(args=ros_args, signal_handler_options=SignalHandlerOptions.NO):
-            player = Player({t: known[t] for t in wanted}, options, control)
+            player = Player({t: known[t] for t in wanted}, options, control, warn)
             executor = SingleThreadedExecutor()
             executor.add_node(player)
             spinner = threading.Thread(target=executor.spin, daemon=True)
@@ -359,6 +384,7 @@ def replay(path, options: ReplayOptions = ReplayOptions(), ros_args: Optional[Li
                 else:
                     _timed(player, reader, wanted, start, options, result)
                 wait_for_acknowledgements([player])  # the last messages reach their readers before the exit
+                player.look_for_other_publishers()  # a last look, for a replay shorter than the period
             finally:
                 executor.shutdown()
                 spinner.join(timeout=2.0)

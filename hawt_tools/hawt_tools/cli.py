@@ -198,7 +198,8 @@ def _cmd_replay(args: argparse.Namespace) -> int:
                             clock_hz=args.clock, remaps=parse_remaps(args.remap), start_paused=args.start_paused,
                             wait_for_subscribers=args.wait_for_subscribers, wait_timeout=args.wait_timeout,
                             step_trigger=args.step_trigger, step_timeout=args.step_timeout)
-    result = replay(args.bag, options)
+    result = replay(args.bag, options,
+                    warn=lambda text: print(f"hawt replay: warning: {text}", file=sys.stderr, flush=True))
     print(f"replayed {result.published} messages" + (f" in {result.steps} steps" if args.step_trigger else ""))
     return 0
 

@@ -83,7 +83,7 @@ def test_replay_at_rate_one_keeps_the_recorded_spacing(processes, probe, tmp_pat
     replay = processes.hawt("replay", str(bag), "--wait-for-subscribers")
     out, err = replay.communicate(timeout=60)
     assert replay.returncode == 0, err
-    assert f"replayed {n} messages" in out
+    assert f"replayed {n} messages" in out and "warning" not in err  # nobody else publishes /timed/loads
     times = np.array([t for t, _ in arrivals.items])
     assert times.size == n
     spacing = np.diff(times)
@@ -166,3 +166,23 @@ def test_paused_replay_plays_one_message_per_play_next_and_resumes_on_the_parame
     assert replay.returncode == 0, err
     assert future.result().results[0].successful
     assert len(arrivals.items) == n
+
+
+def test_a_replay_into_a_topic_a_running_graph_publishes_says_so_in_one_warning(processes, probe, tmp_path):
+    """The probe publishes /mixed/loads itself (a running graph's plant): the replay still runs, and says on stderr,
+    once, that its messages mix with that node's."""
+    bag = tmp_path / "mixed.mcap"
+    n, period = 60, 20_000_000
+    columns = {"step": np.arange(n, dtype=np.uint64)}
+    with BagWriter(bag) as writer:
+        write_topics(writer, [TopicData("/mixed/loads", "hawt_msgs/msg/BladeLoads", columns,
+                                        5_000_000_000 + period * np.arange(n))])
+    live = probe.node.create_publisher(BladeLoads, "/mixed/loads", 10)
+    arrivals = _Arrivals(probe, "/mixed/loads")
+    replay = processes.hawt("replay", str(bag), "--wait-for-subscribers")
+    out, err = replay.communicate(timeout=60)
+    assert replay.returncode == 0, err
+    assert f"replayed {n} messages" in out and arrivals.items
+    assert err.splitlines() == ["hawt replay: warning: /mixed/loads is also published by /bag_test_probe: the "
+                                "replayed messages mix with that graph's own (in it and in any recording of it)"]
+    probe.node.destroy_publisher(live)
