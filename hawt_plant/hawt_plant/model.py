@@ -181,7 +181,8 @@ class TurbineModel:
         self._setup_constants()
         self._relaxation = np.array(self._config.bem_relaxation)  # 0-d: see _ONE
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
-        self._shadow = TowerShadow.from_tower(turbine.tower) if self._config.tower_shadow else None
+        self._shadow = TowerShadow.from_tower(turbine.tower, turbine.rotor.downwind) if self._config.tower_shadow \
+            else None
         self._output: TurbineOutput
         self.reset_to_operating_point()
 
@@ -483,7 +484,9 @@ class TurbineModel:
         half_rho = 0.5 * t.environment.air_density
         self._g = g = t.environment.gravity
         self._blade_offsets = 2.0 * math.pi * np.arange(b) / b
-        cone, tilt = rotor.cone_angle, rotor.shaft_tilt
+        # A downwind rotor's cone, tilt and overhang point away from the tower (turbine module notes).
+        side = -1.0 if rotor.downwind else 1.0
+        cone, tilt = side * rotor.cone_angle, side * rotor.shaft_tilt
         cb, sb, ct, st = math.cos(cone), math.sin(cone), math.cos(tilt), math.sin(tilt)
         self._cos_cone, self._sin_cone, self._cos_tilt, self._sin_tilt = cb, sb, ct, st
         span = aero.span
@@ -492,8 +495,8 @@ class TurbineModel:
         radius = s_abs * cb  # distance from the shaft axis (deflection neglected)
         # Dynamic pressure to element load: 1/2 rho c dr, per blade element.
         self._pressure_to_load = np.tile(half_rho * aero.chord * aero.width, (b, 1))
-        self._apex_x = xa = -rotor.overhang * ct  # rotor apex relative to the tower top
-        self._apex_z_top = za = t.nacelle.shaft_above_tower_top + rotor.overhang * st
+        self._apex_x = xa = -side * rotor.overhang * ct  # rotor apex relative to the tower top
+        self._apex_z_top = za = t.nacelle.shaft_above_tower_top + side * rotor.overhang * st
         self._tower_height = t.tower.height
         # Blade: lumped element masses for the loads, continuous integrals for the modes.
         blade = blade_modal_properties(t)

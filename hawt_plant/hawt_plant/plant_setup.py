@@ -17,7 +17,7 @@ __all__ = ["PARAMETERS", "check_parameters", "make_plant"]
 
 PARAMETERS = (
     ParameterSpec("turbine_file", "", "turbine definition YAML, or a packaged turbine's name: nrel_5mw, "
-                  "nrel_5mw_two_bladed ('' = the packaged NREL 5 MW)", read_only=True),
+                  "nrel_5mw_two_bladed, nrel_5mw_two_bladed_downwind ('' = the packaged NREL 5 MW)", read_only=True),
     ParameterSpec("dt", 0.01, "plant step (100 Hz by default)", "s", minimum=1e-3, maximum=0.1, read_only=True),
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",

@@ -1,4 +1,4 @@
-"""Tower shadow of an upwind rotor: potential flow around the tower (a doublet in uniform flow)."""
+"""Tower shadow: potential flow around the tower (a doublet in uniform flow) and, behind it, its wake."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -7,7 +7,10 @@ import numpy as np
 
 from hawt_plant.turbine import Tower
 
-__all__ = ["TowerShadow", "potential_flow_disturbance"]
+__all__ = ["TowerShadow", "WAKE_DEFICIT_LIMIT", "potential_flow_disturbance", "wake_deficit"]
+
+WAKE_DEFICIT_LIMIT = -0.5
+"""Largest wake deficit (AeroDyn: "to avoid excessive flow reversal behind the tower")."""
 
 # Constants of the per-step formulas as 0-d arrays: numpy 2 combines an array of a few dozen
 # elements with a 0-d array about twice as fast as with a Python float.
@@ -48,6 +51,38 @@ def potential_flow_disturbance(x: np.ndarray, y: np.ndarray, radius: np.ndarray)
     return q * (y2 - x2), _MINUS_TWO * q * x * y
 
 
+def wake_deficit(x: np.ndarray, y: np.ndarray, radius: np.ndarray, drag_coefficient: float) -> np.ndarray:
+    """Velocity deficit in the tower's wake, per unit free-stream speed (Powles' model).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Downwind and lateral distance of the point from the tower centreline [m].
+    radius : ndarray
+        Tower radius at the point's height [m]; 0 gives no deficit.
+    drag_coefficient : float
+        Tower drag coefficient C_d [-].
+
+    Returns
+    -------
+    du : ndarray
+        ``u = U (1 + du)``: ``du = -C_d / sqrt(r) cos^2(pi/2 y / sqrt(r))`` with ``x, y`` in
+        tower radii and ``r = sqrt(x^2 + y^2)``, for ``x > 0`` and ``|y| < sqrt(r)``, else 0;
+        at least WAKE_DEFICIT_LIMIT.
+
+    Notes
+    -----
+    AeroDyn's ``TwrShadow = 1`` (OpenFAST AeroDyn theory, "Tower shadow models"), the shadow
+    model of downwind rotors; points inside the tower are evaluated on its surface (r >= 1).
+    """
+    safe = np.where(radius > 0.0, radius, 1.0)
+    xr, yr = x / safe, y / safe
+    root = np.sqrt(np.maximum(np.sqrt(xr * xr + yr * yr), 1.0))
+    inside = (xr > 0.0) & (np.abs(yr) < root) & (radius > 0.0)
+    deficit = -drag_coefficient / root * np.cos(0.5 * np.pi * yr / root) ** 2
+    return np.where(inside, np.maximum(deficit, WAKE_DEFICIT_LIMIT), 0.0)
+
+
 @dataclass(frozen=True, eq=False)
 class TowerShadow:
     """Tower shadow applied by the rotor model to points upwind of and below the tower top.
@@ -60,19 +95,27 @@ class TowerShadow:
         Tower radius at those heights [m].
     top_height : float
         Tower-top height [m]; there is no tower above it.
+    downwind : bool
+        The rotor is behind the tower: its blades cross the tower's wake.
+    drag_coefficient : float
+        Tower drag coefficient [-], for the wake.
 
     Notes
     -----
     Fratini (2019) §3.2.3 applies eq. 3.44 only in the "tower-shadow zone" 90° < psi < 270°
     (seed000_fratini.md AC-11). Here the zone is where the tower physically is: points below
-    the tower top and upwind of its centreline (x < 0); elsewhere the disturbance is zero.
-    The disturbance scales the local free-stream speed rather than the hub speed V_h, so it
-    also acts on sheared and turbulent inflow.
+    the tower top and, for an upwind rotor, upwind of its centreline (x < 0); elsewhere the
+    disturbance is zero. For a downwind rotor the potential flow acts on both sides and the
+    wake deficit (:func:`wake_deficit`) behind the tower, as AeroDyn's ``TwrPotent = 1`` with
+    ``TwrShadow = 1``. The disturbance scales the local free-stream speed rather than the hub
+    speed V_h, so it also acts on sheared and turbulent inflow.
     """
 
     elevation: np.ndarray
     radius: np.ndarray
     top_height: float
+    downwind: bool = False
+    drag_coefficient: float = 1.0
 
     def __post_init__(self) -> None:
         # The outline up to just below the top, then no tower: interpolation in it with 0 to the
@@ -84,15 +127,20 @@ class TowerShadow:
                                               np.append(self.radius[keep], radius_below)))
 
     @classmethod
-    def from_tower(cls, tower: Tower) -> "TowerShadow":
-        """The shadow of a turbine's tower (its aerodynamic outline and height)."""
-        return cls(tower.outline_elevation, tower.outline_diameter / 2.0, tower.height)
+    def from_tower(cls, tower: Tower, downwind: bool = False) -> "TowerShadow":
+        """The shadow of a turbine's tower (its aerodynamic outline, height and drag) on an up- or downwind rotor."""
+        return cls(tower.outline_elevation, tower.outline_diameter / 2.0, tower.height, downwind,
+                   tower.drag_coefficient)
 
     def disturbance(self, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Relative velocity change ``(du, dv)`` at points ``(x, y, z)`` [m] relative to the tower base.
 
-        See :func:`potential_flow_disturbance`; zero above the tower top and downwind of the
-        tower centreline.
+        See :func:`potential_flow_disturbance` and :func:`wake_deficit`; zero above the tower top
+        and, for an upwind rotor, downwind of the tower centreline.
         """
-        elevation, radius = self._outline
-        return potential_flow_disturbance(x, y, np.interp(z, elevation, radius, right=0.0) * (x < _ZERO))
+        elevation, outline = self._outline
+        radius = np.interp(z, elevation, outline, right=0.0)
+        if not self.downwind:
+            return potential_flow_disturbance(x, y, radius * (x < _ZERO))
+        du, dv = potential_flow_disturbance(x, y, radius)
+        return du + wake_deficit(x, y, radius, self.drag_coefficient), dv

@@ -8,7 +8,10 @@ key of the first problem it finds in a :class:`TurbineDefinitionError`.
 
 Sign conventions of the format (they differ from ElastoDyn's): ``cone_angle`` > 0 tilts the
 blades upwind, ``shaft_tilt`` > 0 raises the rotor apex, ``overhang`` > 0 puts the apex
-upwind of the tower centreline.
+upwind of the tower centreline. ``rotor.position: downwind`` (default ``upwind``) puts the
+rotor behind the tower: the same three numbers then point away from the tower, i.e. downwind
+(apex downwind of the tower, blades coned downwind, the downwind apex raised); the rotor still
+turns clockwise seen from upwind.
 """
 from __future__ import annotations
 
@@ -39,6 +42,7 @@ __all__ = [
     "load_turbine",
     "nrel_5mw",
     "nrel_5mw_two_bladed",
+    "nrel_5mw_two_bladed_downwind",
     "PACKAGED_TURBINES",
     "turbine_from",
 ]
@@ -145,6 +149,9 @@ class Rotor:
         [kg]
     hub_inertia : float
         Hub inertia about the shaft [kg m^2].
+    downwind : bool
+        The rotor is behind the tower; cone, tilt and overhang then point away from the tower,
+        downwind (module notes).
     """
 
     number_of_blades: int
@@ -155,6 +162,7 @@ class Rotor:
     overhang: float
     hub_mass: float
     hub_inertia: float
+    downwind: bool = False
 
 
 @dataclass(frozen=True)
@@ -200,6 +208,9 @@ class Tower:
         Structural damping ratios [-].
     outline_elevation, outline_diameter : ndarray, shape (A,)
         Outer diameter [m] against height [m], for the tower shadow.
+    drag_coefficient : float
+        Tower drag coefficient [-] (AeroDyn TwrCd), for the wake behind the tower that a downwind
+        rotor's blades cross.
     """
 
     height: float
@@ -213,6 +224,7 @@ class Tower:
     ss_damping_ratio: float
     outline_elevation: np.ndarray
     outline_diameter: np.ndarray
+    drag_coefficient: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -364,7 +376,13 @@ def nrel_5mw_two_bladed() -> Turbine:
     return load_turbine(_PACKAGED / "nrel_5mw" / "two_bladed.yaml")
 
 
-PACKAGED_TURBINES = {"nrel_5mw": nrel_5mw, "nrel_5mw_two_bladed": nrel_5mw_two_bladed}
+def nrel_5mw_two_bladed_downwind() -> Turbine:
+    """The two-bladed variant with its rotor downwind of the tower (``turbines/nrel_5mw/two_bladed_downwind.yaml``)."""
+    return load_turbine(_PACKAGED / "nrel_5mw" / "two_bladed_downwind.yaml")
+
+
+PACKAGED_TURBINES = {"nrel_5mw": nrel_5mw, "nrel_5mw_two_bladed": nrel_5mw_two_bladed,
+                     "nrel_5mw_two_bladed_downwind": nrel_5mw_two_bladed_downwind}
 """Turbines shipped with the package, by the name a ``turbine_file`` parameter may give instead of a path."""
 
 
@@ -420,17 +438,21 @@ def load_turbine(path: str | Path) -> Turbine:
     )
 
 
-def _derived(path: Path, data: Any) -> Any:
-    """``data`` merged onto the definition its ``derived_from`` names (one level: the base derives from none)."""
+def _derived(path: Path, data: Any, seen: tuple[str, ...] = ()) -> Any:
+    """``data`` merged onto the definition its ``derived_from`` names, which may derive from another (no cycle)."""
     if not isinstance(data, dict) or "derived_from" not in data:
         return data
     base_name = data["derived_from"]
     if not isinstance(base_name, str) or not base_name or Path(base_name).name != base_name:
         raise TurbineDefinitionError(f"{path.name}: derived_from: expected a file name in the same folder, "
                                      f"found {base_name!r}")
-    base = _read_yaml(path.parent / base_name)
-    if not isinstance(base, dict) or "derived_from" in base:
-        raise TurbineDefinitionError(f"{path.name}: derived_from: {base_name} must be a full definition")
+    seen = (*seen, path.name)
+    if base_name in seen:
+        raise TurbineDefinitionError(f"{path.name}: derived_from: {base_name} derives from it again "
+                                     f"({' -> '.join((*seen, base_name))})")
+    base = _derived(path.parent / base_name, _read_yaml(path.parent / base_name), seen)
+    if not isinstance(base, dict):
+        raise TurbineDefinitionError(f"{path.name}: derived_from: {base_name} must be a definition (a mapping)")
 
     def merged(below: Any, above: Any) -> Any:
         if isinstance(below, dict) and isinstance(above, dict):
@@ -481,7 +503,11 @@ class _Section:
             raise self.error(key, "expected a non-empty string")
         return value
 
-    def number(self, key: str, low: float | None = None, high: float | None = None, strict: bool = True) -> float:
+    def number(self, key: str, low: float | None = None, high: float | None = None, strict: bool = True,
+               default: float | None = None) -> float:
+        """The number at ``key`` within the bounds; ``default`` if given and the key is absent."""
+        if default is not None and key not in self._data:
+            return default
         value = self.raw(key)
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise self.error(key, f"expected a finite number, found {value!r}")
@@ -490,6 +516,13 @@ class _Section:
         if high is not None and value > high:
             raise self.error(key, f"expected a value <= {high}, found {value}")
         return float(value)
+
+    def choice(self, key: str, choices: tuple[str, ...], default: str) -> str:
+        """One of ``choices`` at ``key`` (``default`` if the key is absent)."""
+        value = self._data.get(key, default)
+        if value not in choices:
+            raise self.error(key, f"expected one of {', '.join(choices)}, found {value!r}")
+        return value
 
     def integer(self, key: str, low: int) -> int:
         value = self.raw(key)
@@ -537,6 +570,7 @@ def _rotor(s: _Section) -> Rotor:
         overhang=s.number("overhang"),
         hub_mass=s.number("hub_mass", low=0.0, strict=False),
         hub_inertia=s.number("hub_inertia", low=0.0, strict=False),
+        downwind=s.choice("position", ("upwind", "downwind"), default="upwind") == "downwind",
     )
 
 
@@ -621,6 +655,7 @@ def _tower(s: _Section) -> Tower:
         ss_damping_ratio=s.number("ss_damping_ratio", low=0.0, high=1.0, strict=False),
         outline_elevation=elevation,
         outline_diameter=s.array("outline_diameter", length=elevation.size, positive=True),
+        drag_coefficient=s.number("drag_coefficient", low=0.0, strict=False, default=1.0),
     )
 
 

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from hawt_plant.tower_shadow import TowerShadow, potential_flow_disturbance
+from hawt_plant.tower_shadow import TowerShadow, potential_flow_disturbance, wake_deficit
 from hawt_plant.turbine import nrel_5mw
 
 
@@ -54,3 +54,30 @@ def test_radius_follows_the_aerodyn_outline():
     shadow = TowerShadow.from_tower(nrel_5mw().tower)
     du, _ = shadow.disturbance(np.array([-10.0]), np.zeros(1), np.zeros(1))
     assert du[0] == pytest.approx(-0.09)
+
+
+@pytest.mark.parametrize("x, y, expected", [
+    (9.0, 0.0, -1.0 / 3.0),                                 # centreline: -Cd / sqrt(x)
+    (9.0, 1.5, -math.cos(0.5 * math.pi * 1.5 / math.hypot(9.0, 1.5) ** 0.5) ** 2 / math.hypot(9.0, 1.5) ** 0.5),
+    (9.0, 3.2, 0.0),                                        # outside the wake, |y| > sqrt(r)
+    (2.0, 0.0, -0.5),                                       # -1/sqrt(2) limited to -0.5
+    (-9.0, 0.0, 0.0),                                       # upwind of the tower
+])
+def test_the_wake_deficit_is_powles_model_of_aerodyn(x, y, expected):
+    """AeroDyn TwrShadow = 1: u = -Cd / sqrt(r) cos^2(pi/2 y / sqrt(r)), x, y in tower radii, behind the tower."""
+    radius = 2.0
+    assert wake_deficit(np.array(x * radius), np.array(y * radius), np.array(radius), 1.0) == pytest.approx(expected)
+    assert wake_deficit(np.array(x * radius), np.array(y * radius), np.array(0.0), 1.0) == 0.0
+
+
+def test_a_downwind_rotor_sees_the_wake_behind_the_tower_and_an_upwind_one_does_not():
+    """Behind the tower a downwind rotor's shadow is the potential flow plus the wake; an upwind rotor's is nothing."""
+    tower = nrel_5mw().tower
+    upwind, downwind = TowerShadow.from_tower(tower), TowerShadow.from_tower(tower, downwind=True)
+    x, y, z = np.array([8.0]), np.array([0.0]), np.array([60.0])
+    radius = np.interp(60.0, tower.outline_elevation, tower.outline_diameter) / 2.0
+    assert upwind.disturbance(x, y, z)[0] == 0.0
+    du, _ = downwind.disturbance(x, y, z)
+    assert du == pytest.approx(potential_flow_disturbance(x, y, radius)[0] + wake_deficit(x, y, radius, 1.0))
+    assert du < -0.3
+    assert downwind.disturbance(-x, y, z)[0] == pytest.approx(upwind.disturbance(-x, y, z)[0])
