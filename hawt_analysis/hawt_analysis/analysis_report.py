@@ -1,8 +1,9 @@
 """What a person reads of ``hawt analyze`` / ``hawt compare``: text tables and a report folder.
 
 Tables show display units (MN·m, °, °/s, rpm, MW); the JSON beside them stays SI.
-A report folder holds ``index.html`` (the table, then the figures of
-`hawt_analysis.plots`), the PNGs and ``summary.json`` / ``comparison.json``.
+A report folder holds ``index.html`` (the table, the blade-root moment's harmonics as an
+HTML table, then the figures of `hawt_analysis.plots`), the PNGs and ``summary.json`` /
+``comparison.json``.
 """
 import html
 import json
@@ -15,8 +16,10 @@ import numpy as np
 
 from hawt_bag.errors import BagError
 
-__all__ = ["analysis_text", "comparison_text", "headline_text", "write_analysis_report", "write_comparison_report",
-           "write_html_page"]
+from .comparison import change_percent, compare_summaries
+
+__all__ = ["analysis_text", "comparison_text", "harmonic_table", "headline_text", "write_analysis_report",
+           "write_comparison_report", "write_html_page"]
 
 _MN = 1e-6
 _DEG = 180.0 / math.pi
@@ -161,15 +164,40 @@ def headline_text(comparison: Mapping) -> str:
     return "\n".join(lines)
 
 
-def write_html_page(path: Path, title: str, text: str, images: Sequence[Path], data_files: Sequence[str]) -> Path:
-    """One report page: the title, ``text`` as preformatted text, links to the data files beside it and the
-    images (PNGs in the same folder, each headed by its file name); returns ``path``."""
+def harmonic_table(comparison: Mapping) -> str:
+    """The harmonic amplitudes of the blade-root out-of-plane moment as an HTML table under its heading [kN·m]: one
+    row per harmonic nP, one column per run of ``comparison`` (`compare_summaries`; a comparison of one summary has
+    one column), each cell the mean of the blades' amplitudes and, after the first run, its change against the
+    first; empty without that channel."""
+    blades = {name: entry for name, entry in comparison["harmonics"].items() if name.startswith("root_moment_oop_")}
+    if not blades:
+        return ""
+    amplitude = np.mean([entry["amplitude"] for entry in blades.values()], axis=0)  # (runs, harmonics)
+    head = "".join(f"<th>{html.escape(label)}</th>" for label in comparison["labels"])
+    rows = []
+    for n, per_run in zip(next(iter(blades.values()))["n"], amplitude.T.tolist()):
+        cells = "".join(f"<td>{_fmt(value, 1e-3)}{_change(change) if k else ''}</td>"
+                        for k, (value, change) in enumerate(zip(per_run, change_percent(per_run))))
+        rows.append(f"<tr><th>{n}P</th>{cells}</tr>")
+    return (f"<h2>harmonics of the blade-root out-of-plane moment</h2>\n<table>\n<caption>amplitude of the periodic "
+            f"part, mean of the {len(blades)} blades [kN·m]</caption>\n<tr><th>harmonic</th>{head}</tr>\n"
+            + "\n".join(rows) + "\n</table>")
+
+
+_STYLE = ("table{border-collapse:collapse;margin:1em 0}caption{text-align:left;font-size:small}"
+          "th,td{border:1px solid #bbb;padding:2px 10px}td{text-align:right;font-family:monospace}")
+
+
+def write_html_page(path: Path, title: str, text: str, images: Sequence[Path], data_files: Sequence[str],
+                    tables: Sequence[str] = ()) -> Path:
+    """One report page: the title, ``text`` as preformatted text, links to the data files beside it, the HTML
+    ``tables`` and the images (PNGs in the same folder, each headed by its file name); returns ``path``."""
     figures = "\n".join(f'<h2>{html.escape(p.stem.replace("_", " "))}</h2>\n<img src="{html.escape(p.name)}" '
                         f'alt="{html.escape(p.stem)}" style="max-width:100%">' for p in images)
     links = ", ".join(f'<a href="{html.escape(name)}">{html.escape(name)}</a>' for name in data_files)
-    page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title></head>\n"
-            f"<body>\n<h1>{html.escape(title)}</h1>\n<pre>{html.escape(text)}</pre>\n"
-            f"<p>All numbers in SI units: {links}</p>\n{figures}\n</body></html>\n")
+    page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>"
+            f"<style>{_STYLE}</style></head>\n<body>\n<h1>{html.escape(title)}</h1>\n<pre>{html.escape(text)}</pre>\n"
+            f"<p>All numbers in SI units: {links}</p>\n{''.join(tables)}\n{figures}\n</body></html>\n")
     path.write_text(page, encoding="utf-8")
     return path
 
@@ -184,19 +212,22 @@ def _folder(directory: os.PathLike) -> Path:
 
 
 def write_analysis_report(analysis, directory: os.PathLike) -> Path:
-    """Write ``index.html``, the PNGs of `hawt_analysis.plots.write_report` and ``summary.json``; return the index."""
+    """Write ``index.html`` (with the harmonic table), the PNGs of `hawt_analysis.plots.write_report` and
+    ``summary.json``; return the index."""
     from .plots import write_report
 
     directory = _folder(directory)
     images = write_report(analysis.run.channels, analysis.summary, directory)
     (directory / "summary.json").write_text(json.dumps(analysis.summary, indent=1))
     return write_html_page(directory / "index.html", f"hawt analyze: {analysis.path.name}",
-                           analysis_text(analysis.summary), images, ["summary.json"])
+                           analysis_text(analysis.summary), images, ["summary.json"],
+                           [harmonic_table(compare_summaries([analysis.summary], [analysis.path.name]))])
 
 
 def write_comparison_report(comparison: Mapping, directory: os.PathLike, analyses: Sequence = ()) -> Path:
-    """Write ``index.html``, ``comparison.png`` and ``comparison.json`` and, given the runs' analyses (in the
-    comparison's order), their time series and spectra overlaid; return the index."""
+    """Write ``index.html`` (with the harmonic table), ``del.png``, ``comparison.png`` and ``comparison.json`` and,
+    given the runs' analyses (in the comparison's order), their time series and spectra overlaid; return the
+    index."""
     from .plots import write_comparison_report as plot
 
     directory = _folder(directory)
@@ -205,4 +236,4 @@ def write_comparison_report(comparison: Mapping, directory: os.PathLike, analyse
                   {label: a.run.events for label, a in zip(labels, analyses)})
     (directory / "comparison.json").write_text(json.dumps(comparison, indent=1))
     return write_html_page(directory / "index.html", f"hawt compare: {', '.join(comparison['labels'])}",
-                           comparison_text(comparison), images, ["comparison.json"])
+                           comparison_text(comparison), images, ["comparison.json"], [harmonic_table(comparison)])

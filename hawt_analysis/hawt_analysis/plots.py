@@ -1,11 +1,12 @@
 """Figures of ``hawt analyze --report`` and ``hawt compare --report`` (PNG files).
 
 Only drawing lives here; the numbers come from `summary` and `comparison`.
-Figures are built on ``matplotlib.figure.Figure`` and rendered by Agg, without
-pyplot, so nothing changes matplotlib's global backend. Axes show display units
+Each ``plot_*`` function returns a ``matplotlib.figure.Figure``, built without
+pyplot, so nothing changes matplotlib's global backend; `write_report` and
+`write_comparison_report` render them by Agg into PNG files. Axes show display units
 (MN·m, °, rpm, MW) with the unit in the label; the JSON stays SI.
 """
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
 
@@ -13,6 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from .comparison import compare_summaries
 from .record import PER_BLADE_CHANNELS, Record, make_record
 from .spectra import power_spectrum, rotor_harmonic_frequencies
 from .summary import FATIGUE_CHANNELS, AnalysisOptions
@@ -60,16 +62,18 @@ def _fields(record: Record, names: tuple[str, ...]) -> list[tuple[str, np.ndarra
 
 
 def _save(figure: Figure, path: Path) -> Path:
+    """Render ``figure`` into the PNG file ``path`` (its folder made if missing); return the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path, dpi=110)
     return path
 
 
-def plot_time_series(channels: Mapping[str, ArrayLike], path: Path) -> Path:
+def plot_time_series(channels: Mapping[str, ArrayLike], events: Sequence[Mapping] = ()) -> Figure:
     """Time series of rotor speed, power, pitch and the load channels, one panel per field.
 
-    Per-blade fields draw one line per blade. Returns the written PNG path.
+    Per-blade fields draw one line per blade; the ``events`` (``time``, ``kind``) of MARKED_EVENTS are vertical
+    lines, labelled by kind.
     """
     record = make_record(channels)
     names = ("rotor_speed", "electrical_power", "pitch") + tuple(name for name, _ in FATIGUE_CHANNELS)
@@ -85,20 +89,34 @@ def plot_time_series(channels: Mapping[str, ArrayLike], path: Path) -> Path:
             ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
-    return _save(figure, path)
+    _mark_events(axes, events, "black")
+    return figure
 
 
 def _line_label(name: str, column: int) -> str:
     return f"blade {column + 1}" if name in PER_BLADE_CHANNELS else name
 
 
-def plot_spectra(
-    channels: Mapping[str, ArrayLike], path: Path, options: AnalysisOptions = AnalysisOptions()
-) -> Path:
+def _plot_psd(ax, values: np.ndarray, sample_rate: float, options: AnalysisOptions, upper: float, label: str) -> None:
+    """The Welch PSD of ``values`` on a log axis up to ``upper`` [Hz] (so that the axis scales to what is shown)."""
+    spectrum = power_spectrum(values, sample_rate, options.psd_segment_duration)
+    shown = spectrum.frequency <= upper
+    ax.semilogy(spectrum.frequency[shown], spectrum.density[shown], lw=0.7, label=label)
+
+
+def _mark_harmonics(axes: Sequence, harmonics: Sequence[int], frequencies: np.ndarray) -> None:
+    """Dashed lines at the rotor harmonics' frequencies on every axis, labelled nP above it."""
+    for ax in axes:
+        for n, frequency in zip(harmonics, frequencies):
+            ax.axvline(frequency, color="grey", ls="--", lw=0.6)
+            ax.annotate(f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small", va="bottom")
+
+
+def plot_spectra(channels: Mapping[str, ArrayLike], options: AnalysisOptions = AnalysisOptions()) -> Figure:
     """Welch PSDs of the load channels and pitch with the rotor harmonics nP marked.
 
     One panel per field (blades overlaid); dashed lines at n·Ω̄/(2π) for the
-    harmonics of ``options``. Returns the written PNG path.
+    harmonics of ``options``.
     """
     record = make_record(channels)
     fields = _fields(record, tuple(name for name, _ in FATIGUE_CHANNELS) + ("pitch",))
@@ -108,71 +126,70 @@ def plot_spectra(
     upper = 1.25 * highest if highest > 0.0 else 0.5 * record.sample_rate
     figure = Figure(figsize=(10, 2.0 * max(len(fields), 1) + 0.6), layout="constrained")
     axes = figure.subplots(max(len(fields), 1), 1, sharex=True, squeeze=False)[:, 0]
+    _mark_harmonics(axes, options.harmonics, harmonic_frequencies)
     for ax, (name, values) in zip(axes, fields):
         factor, quantity, unit = _DISPLAY[name]
         for column in range(values.shape[1]):
-            spectrum = power_spectrum(
-                factor * values[:, column], record.sample_rate, options.psd_segment_duration
-            )
-            ax.semilogy(spectrum.frequency, spectrum.density, lw=0.7, label=_line_label(name, column))
-        for n, frequency in zip(options.harmonics, harmonic_frequencies):
-            ax.axvline(frequency, color="grey", ls="--", lw=0.6)
-            ax.annotate(
-                f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small", va="bottom"
-            )
+            _plot_psd(ax, factor * values[:, column], record.sample_rate, options, upper, _line_label(name, column))
         ax.set_ylabel(f"PSD {quantity}\n[{unit}²/Hz]")
         if values.shape[1] > 1:
             ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
         ax.grid(alpha=0.3, which="both")
     axes[-1].set_xlim(0.0, upper)
     axes[-1].set_xlabel("frequency [Hz]")
-    return _save(figure, path)
+    return figure
 
 
-def plot_del_bars(summary: Mapping, path: Path) -> Path:
-    """Horizontal bars of the DEL of each load channel [MN·m], labelled with m. Returns the PNG path."""
-    names = list(summary["del"])
-    values = [1e-6 * summary["del"][name]["value"] for name in names]
-    labels = [f"{name} (m={summary['del'][name]['m']:g})" for name in names]
-    figure = Figure(figsize=(8, 0.4 * len(names) + 1.2), layout="constrained")
-    ax = figure.subplots()
-    ax.barh(labels, values, color="tab:blue")
-    ax.invert_yaxis()
-    ax.set_xlabel("damage-equivalent load, 1 Hz [MN·m]")
-    ax.grid(alpha=0.3, axis="x")
-    return _save(figure, path)
-
-
-def plot_comparison(comparison: Mapping, path: Path) -> Path:
-    """Grouped bars of the change against the first run [%]: DELs and pitch activity.
-
-    Returns the written PNG path.
-    """
-    rows = [(f"DEL {name}", entry["change_percent"]) for name, entry in comparison["del"].items()]
-    if comparison["pitch"] is not None:
-        rows += [
-            (f"pitch {metric}", entry["change_percent"]) for metric, entry in comparison["pitch"].items()
-        ]
-    runs = comparison["labels"][1:]
-    figure = Figure(figsize=(9, 0.35 * len(rows) * max(len(runs), 1) + 1.5), layout="constrained")
-    ax = figure.subplots()
+def _grouped_bars(ax, names: Sequence[str], values: Sequence[Sequence[float]], runs: Sequence[str],
+                  fmt: str) -> None:
+    """Horizontal bars on ``ax``: one group per name (top to bottom), one bar per run (``values[k]`` of run k, NaN
+    for none), each labelled with its value by ``fmt``."""
     height = 0.8 / max(len(runs), 1)
-    positions = np.arange(len(rows))
+    positions = np.arange(len(names))
     for k, label in enumerate(runs):
-        changes = [np.nan if change[k + 1] is None else change[k + 1] for _, change in rows]
-        bars = ax.barh(positions + k * height, changes, height=height, label=label)
-        ax.bar_label(bars, fmt="%+.1f", fontsize="x-small", padding=2)
-    ax.set_yticks(positions + 0.5 * height * (len(runs) - 1), [name for name, _ in rows])
+        bars = ax.barh(positions + k * height, values[k], height=height, label=label)
+        ax.bar_label(bars, fmt=fmt, fontsize="x-small", padding=2)
+    ax.set_yticks(positions + 0.5 * height * (len(runs) - 1), names)
     ax.invert_yaxis()
-    ax.axvline(0.0, color="black", lw=0.8)
     low, high = ax.get_xlim()
-    pad = 0.12 * (high - low)
-    ax.set_xlim(low - pad, high + pad)
-    ax.set_xlabel(f"change against {comparison['reference']} [%]")
+    pad = 0.12 * (high - low)  # room for the value labels
+    ax.set_xlim(low - pad if low < 0.0 else low, high + pad)
     ax.grid(alpha=0.3, axis="x")
-    if runs:
+
+
+def plot_del_bars(comparison: Mapping) -> Figure:
+    """Grouped bars of the DELs [MN·m]: one group per load channel (labelled with its Wöhler exponent m), one bar
+    per run of ``comparison`` (`compare_summaries`; a comparison of one summary draws one bar per channel)."""
+    names, runs = list(comparison["del"]), comparison["labels"]
+    values = [[1e-6 * comparison["del"][name]["value"][k] for name in names] for k in range(len(runs))]
+    figure = Figure(figsize=(9, 0.3 * len(names) * len(runs) + 1.2), layout="constrained")
+    ax = figure.subplots()
+    _grouped_bars(ax, [f"{name} (m={comparison['del'][name]['m']:g})" for name in names], values, runs, "%.3g")
+    ax.set_xlabel("damage-equivalent load, 1 Hz [MN·m]")
+    if len(runs) > 1:
         ax.legend(fontsize="small")
-    return _save(figure, path)
+    return figure
+
+
+def plot_comparison(comparison: Mapping) -> Figure:
+    """Grouped bars of the change against the first run [%], the DELs on one axis and the pitch activity on
+    another (each axis scaled to its own changes)."""
+    runs = comparison["labels"][1:]
+    panels = [("DEL", comparison["del"])]
+    if comparison["pitch"] is not None:
+        panels.append(("pitch activity", comparison["pitch"]))
+    sizes = [len(entries) for _, entries in panels]
+    figure = Figure(figsize=(9, 0.35 * sum(sizes) * max(len(runs), 1) + 1.3 * len(panels)), layout="constrained")
+    axes = figure.subplots(len(panels), 1, squeeze=False, height_ratios=sizes)[:, 0]
+    for ax, (quantity, entries) in zip(axes, panels):
+        changes = [[np.nan if entry["change_percent"][k] is None else entry["change_percent"][k]
+                    for entry in entries.values()] for k in range(1, len(runs) + 1)]
+        ax.axvline(0.0, color="black", lw=0.8)
+        _grouped_bars(ax, list(entries), changes, runs, "%+.1f")
+        ax.set_xlabel(f"{quantity}: change against {comparison['reference']} [%]")
+    if runs:
+        axes[0].legend(fontsize="small")
+    return figure
 
 
 def write_report(
@@ -181,14 +198,14 @@ def write_report(
     directory: Path,
     options: AnalysisOptions = AnalysisOptions(),
 ) -> list[Path]:
-    """Write ``time_series.png``, ``spectra.png`` and ``del.png`` into ``directory``, and for a two-bladed rotor
-    Zalkind & Pao's Fig. 8 (``main_bearing_fig8.png``, `hawt_analysis.two_bladed`); return their paths."""
+    """Write ``time_series.png`` (the summary's ``events`` marked, if it has them), ``spectra.png`` and ``del.png``
+    into ``directory``, and for a two-bladed rotor Zalkind & Pao's Fig. 8 (``main_bearing_fig8.png``,
+    `hawt_analysis.two_bladed`); return their paths."""
     directory = Path(directory)
-    images = [
-        plot_time_series(channels, directory / "time_series.png"),
-        plot_spectra(channels, directory / "spectra.png", options),
-        plot_del_bars(summary, directory / "del.png"),
-    ]
+    figures = {"time_series.png": plot_time_series(channels, summary.get("events") or ()),
+               "spectra.png": plot_spectra(channels, options),
+               "del.png": plot_del_bars(compare_summaries([summary], ["run"]))}
+    images = [_save(figure, directory / name) for name, figure in figures.items()]
     if summary.get("n_blades") == 2 and {"hub_tilt_moment", "hub_yaw_moment"} <= set(channels):
         from .two_bladed import main_bearing_history, plot_fig8
 
@@ -200,9 +217,23 @@ COMPARED_FIELDS = ("rotor_speed", "pitch", "root_moment_oop", "hub_tilt_moment",
                    "tower_base_fa_moment")
 """What the overlays of several runs show (per-blade fields: blade 1)."""
 
-MARKED_EVENTS = ("switch", "watchdog", "controller_failed", "contribution_lost", "contribution_returned",
+MARKED_EVENTS = ("switch", "watchdog", "intruder", "controller_failed", "contribution_lost", "contribution_returned",
                  "node_died", "node_respawn", "invalid_input")
-"""Event kinds the time-series overlay marks."""
+"""Event kinds the time series mark."""
+
+
+def _mark_events(axes: Sequence, events: Sequence[Mapping], colour: str) -> None:
+    """Dotted vertical lines in ``colour`` on every axis at the times of the ``events`` of MARKED_EVENTS, labelled
+    on the first axis with their kinds (events at one time: one line, its label each kind once)."""
+    kinds: dict[float, dict[str, None]] = {}
+    for event in events:
+        if event["kind"] in MARKED_EVENTS and event.get("time") is not None:
+            kinds.setdefault(event["time"], {})[event["kind"]] = None
+    for time, names in kinds.items():
+        for ax in axes:
+            ax.axvline(time, color=colour, ls=":", lw=0.8)
+        axes[0].annotate(", ".join(names), (time, 1.0), xycoords=("data", "axes fraction"), fontsize="x-small",
+                         rotation=90, ha="right", va="top", color=colour)
 
 
 def _compared(runs: Mapping[str, Mapping[str, ArrayLike]], names: tuple[str, ...]):
@@ -212,36 +243,29 @@ def _compared(runs: Mapping[str, Mapping[str, ArrayLike]], names: tuple[str, ...
         yield label, record, {name: values[:, 0] for name, values in _fields(record, names)}
 
 
-def plot_compared_time_series(runs: Mapping[str, Mapping[str, ArrayLike]], events: Mapping[str, list],
-                              path: Path) -> Path:
+def plot_compared_time_series(runs: Mapping[str, Mapping[str, ArrayLike]], events: Mapping[str, list]) -> Figure:
     """Rotor speed, pitch, blade-1 root moment, hub and tower loads of every run overlaid on one time axis, each
-    run's events of MARKED_EVENTS as vertical lines in its colour. Returns the PNG path."""
+    run's events of MARKED_EVENTS as vertical lines in its colour, labelled by kind."""
     figure = Figure(figsize=(10, 1.7 * len(COMPARED_FIELDS) + 0.6), layout="constrained")
     axes = dict(zip(COMPARED_FIELDS, figure.subplots(len(COMPARED_FIELDS), 1, sharex=True, squeeze=False)[:, 0]))
     for k, (label, record, fields) in enumerate(_compared(runs, COMPARED_FIELDS)):
         colour = f"C{k}"
         for name, values in fields.items():
             axes[name].plot(record.time, _DISPLAY[name][0] * values, lw=0.6, color=colour, label=label)
-        for event in events.get(label, ()):
-            if event["kind"] in MARKED_EVENTS and event.get("time") is not None:
-                for ax in axes.values():
-                    ax.axvline(event["time"], color=colour, ls=":", lw=0.8)
-                axes[COMPARED_FIELDS[0]].annotate(event["kind"], (event["time"], 1.0),
-                                                  xycoords=("data", "axes fraction"), fontsize="x-small",
-                                                  rotation=90, va="top", color=colour)
+        _mark_events(list(axes.values()), events.get(label, ()), colour)
     for name, ax in axes.items():
         factor, quantity, unit = _DISPLAY[name]
         ax.set_ylabel(f"{quantity}{' 1' if name in PER_BLADE_CHANNELS else ''} [{unit}]")
         ax.grid(alpha=0.3)
     axes[COMPARED_FIELDS[-1]].set_xlabel("time [s]")
     axes[COMPARED_FIELDS[0]].legend(loc="lower right", fontsize="small", ncols=len(runs))
-    return _save(figure, path)
+    return figure
 
 
-def plot_compared_spectra(runs: Mapping[str, Mapping[str, ArrayLike]], path: Path,
-                          options: AnalysisOptions = AnalysisOptions()) -> Path:
+def plot_compared_spectra(runs: Mapping[str, Mapping[str, ArrayLike]],
+                          options: AnalysisOptions = AnalysisOptions()) -> Figure:
     """Welch PSDs of the blade-1 root moment, hub tilt/yaw and tower-base fore-aft moment of every run overlaid,
-    the rotor harmonics nP of the first run's mean speed marked. Returns the PNG path."""
+    the rotor harmonics nP of the first run's mean speed marked."""
     names = COMPARED_FIELDS[2:]
     figure = Figure(figsize=(10, 2.0 * len(names) + 0.6), layout="constrained")
     axes = dict(zip(names, figure.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]))
@@ -250,14 +274,9 @@ def plot_compared_spectra(runs: Mapping[str, Mapping[str, ArrayLike]], path: Pat
         if upper is None:
             frequencies = rotor_harmonic_frequencies(float(record.scalars["rotor_speed"].mean()), options.harmonics)
             upper = 1.25 * frequencies.max()
-            for ax in axes.values():
-                for n, frequency in zip(options.harmonics, frequencies):
-                    ax.axvline(frequency, color="grey", ls="--", lw=0.6)
-                    ax.annotate(f"{n}P", (frequency, 1.0), xycoords=("data", "axes fraction"), fontsize="small",
-                                va="bottom")
+            _mark_harmonics(list(axes.values()), options.harmonics, frequencies)
         for name, values in fields.items():
-            spectrum = power_spectrum(_DISPLAY[name][0] * values, record.sample_rate, options.psd_segment_duration)
-            axes[name].semilogy(spectrum.frequency, spectrum.density, lw=0.7, label=label)
+            _plot_psd(axes[name], _DISPLAY[name][0] * values, record.sample_rate, options, upper, label)
     for name, ax in axes.items():
         _, quantity, unit = _DISPLAY[name]
         ax.set_ylabel(f"PSD {quantity}{' 1' if name in PER_BLADE_CHANNELS else ''}\n[{unit}²/Hz]")
@@ -265,17 +284,17 @@ def plot_compared_spectra(runs: Mapping[str, Mapping[str, ArrayLike]], path: Pat
     axes[names[0]].legend(loc="upper right", fontsize="small")
     axes[names[-1]].set_xlim(0.0, upper)
     axes[names[-1]].set_xlabel("frequency [Hz]")
-    return _save(figure, path)
+    return figure
 
 
 def write_comparison_report(comparison: Mapping, directory: Path,
                             runs: Mapping[str, Mapping[str, ArrayLike]] = MappingProxyType({}),
                             events: Mapping[str, list] = MappingProxyType({})) -> list[Path]:
-    """Write ``comparison.png`` (changes against the first run) into ``directory`` and, given the runs' channels
-    by label (and their events), ``compared_time_series.png`` and ``compared_spectra.png``; return the paths."""
-    directory = Path(directory)
-    paths = [plot_comparison(comparison, directory / "comparison.png")]
+    """Write ``del.png`` (each run's DELs) and ``comparison.png`` (changes against the first run) into ``directory``
+    and, given the runs' channels by label (and their events), ``compared_time_series.png`` and
+    ``compared_spectra.png``; return the paths."""
+    figures = {"del.png": plot_del_bars(comparison), "comparison.png": plot_comparison(comparison)}
     if runs:
-        paths += [plot_compared_time_series(runs, events, directory / "compared_time_series.png"),
-                  plot_compared_spectra(runs, directory / "compared_spectra.png")]
-    return paths
+        figures |= {"compared_time_series.png": plot_compared_time_series(runs, events),
+                    "compared_spectra.png": plot_compared_spectra(runs)}
+    return [_save(figure, Path(directory) / name) for name, figure in figures.items()]

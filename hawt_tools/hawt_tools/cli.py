@@ -706,7 +706,7 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("bags", nargs="+", metavar="FILE.mcap|CAMPAIGN_DIR",
                          help="bags, or the output folders of hawt campaign (their lifetime DELs and AEP)")
     compare.add_argument("--json", action="store_true", help="print the comparison as JSON")
-    compare.add_argument("--report", metavar="DIR", help="write index.html, comparison.png and comparison.json")
+    compare.add_argument("--report", metavar="DIR", help="write index.html, plots and comparison.json into DIR")
     compare.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when a bag holds several")
     compare.set_defaults(run=_cmd_compare)
 

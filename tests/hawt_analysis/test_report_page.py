@@ -1,0 +1,106 @@
+"""Specification of the report pages of hawt analyze / hawt compare (hawt_analysis.analysis_report): index.html."""
+from html.parser import HTMLParser
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from hawt_analysis.analysis_report import write_analysis_report, write_comparison_report
+from hawt_analysis.comparison import compare_summaries
+from hawt_analysis.summary import summarize
+from hawt_analysis.synthetic_run import synthetic_channels
+
+
+class Page(HTMLParser):
+    """What a test reads of a page: the rows of its tables (cell texts), its caption, its images and links."""
+
+    def __init__(self, text: str):
+        super().__init__()
+        self.rows, self.captions, self.images, self.links = [], [], [], []
+        self._cell = self._caption = None
+        self.feed(text)
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if tag == "tr":
+            self.rows.append([])
+        elif tag in ("td", "th"):
+            self._cell = ""
+        elif tag == "caption":
+            self._caption = ""
+        elif tag == "img":
+            self.images.append(attrs["src"])
+        elif tag == "a":
+            self.links.append(attrs["href"])
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th"):
+            self.rows[-1].append(self._cell)
+            self._cell = None
+        elif tag == "caption":
+            self.captions.append(self._caption)
+            self._caption = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+        if self._caption is not None:
+            self._caption += data
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """Run "a" and run "b", whose blade-root out-of-plane moments are half a's: every harmonic −50 %."""
+    run = synthetic_channels(duration=40.0, seed=5)
+    return {"a": run, "b": {**run, "root_moment_oop": 0.5 * run["root_moment_oop"]}}
+
+
+def _analysis(label: str, channels: dict) -> SimpleNamespace:
+    """What the report writers read of a `hawt_analysis.run_analysis.BagAnalysis`."""
+    return SimpleNamespace(path=Path(label), run=SimpleNamespace(channels=channels, events=[]),
+                           summary=summarize(channels))
+
+
+def _blade_mean_kn_m(channels: dict) -> np.ndarray:
+    """1P-6P amplitudes of M_oop, mean of the three blades [kN·m], from the summary's harmonics."""
+    harmonics = summarize(channels)["harmonics"]
+    return 1e-3 * np.mean([harmonics[f"root_moment_oop_{blade}"]["amplitude"] for blade in (1, 2, 3)], axis=0)
+
+
+def test_the_compare_page_has_the_blade_root_harmonics_as_a_table_one_column_per_run(runs, tmp_path):
+    """One row per harmonic 1P-6P, one column per run: the blades' mean amplitude in kN·m, the second run's with its
+    change against the first."""
+    analyses = [_analysis(label, channels) for label, channels in runs.items()]
+    comparison = compare_summaries([analysis.summary for analysis in analyses], list(runs))
+    page = Page(write_comparison_report(comparison, tmp_path, analyses).read_text(encoding="utf-8"))
+    first, second = _blade_mean_kn_m(runs["a"]), _blade_mean_kn_m(runs["b"])
+    assert page.rows == [["harmonic", "a", "b"]] + [[f"{n}P", f"{a:.4g}", f"{b:.4g} (-50.0%)"]
+                                                   for n, a, b in zip(range(1, 7), first, second)]
+    assert page.captions == ["amplitude of the periodic part, mean of the 3 blades [kN·m]"]
+    assert 1900 < first[0] < 2100  # the synthetic run's 2 MN·m 1P
+
+
+def test_the_analyze_page_has_the_harmonic_table_with_one_column(runs, tmp_path):
+    """hawt analyze's page: the same table, one column named after the bag, no change."""
+    page = Page(write_analysis_report(_analysis("run.mcap", runs["a"]), tmp_path).read_text(encoding="utf-8"))
+    assert page.rows == [["harmonic", "run.mcap"]] + [[f"{n}P", f"{a:.4g}"]
+                                                     for n, a in zip(range(1, 7), _blade_mean_kn_m(runs["a"]))]
+
+
+@pytest.mark.parametrize("page", ["analyze", "compare"])
+def test_every_image_and_link_of_the_page_is_a_file_beside_it(runs, tmp_path, page):
+    """The figures (the DEL bars first on the compare page, then the changes) and the JSON link name files that
+    were written into the report folder."""
+    analyses = [_analysis(label, channels) for label, channels in runs.items()]
+    if page == "analyze":
+        index = write_analysis_report(analyses[1], tmp_path)
+        expected = ["time_series.png", "spectra.png", "del.png"], ["summary.json"]
+    else:
+        comparison = compare_summaries([analysis.summary for analysis in analyses], list(runs))
+        index = write_comparison_report(comparison, tmp_path, analyses)
+        expected = ["del.png", "comparison.png", "compared_time_series.png", "compared_spectra.png"], \
+            ["comparison.json"]
+    parsed = Page(index.read_text(encoding="utf-8"))
+    assert (parsed.images, parsed.links) == expected
+    assert all((tmp_path / name).is_file() for name in parsed.images + parsed.links)
