@@ -10,7 +10,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("hawt_core", "hawt_node", "hawt_plant", "hawt_controllers", "hawt_analysis", "hawt_bag", "hawt_tools")
 ROS_MODULES = {
-    "hawt_node": {"node_main", "events", "parameters", "qos", "recording", "writer_matching"},
+    "hawt_node": {"node_main", "events", "parameters", "qos", "recording", "writer_matching", "command_senders"},
     "hawt_plant": {"plant_node", "description_node"},
     "hawt_controllers": {"controller_node", "cpc_node", "ipc_node", "blade_sine_node", "mbc_node",
                          "controller_manager_node", "switch_listener", "repetitive_ipc_node",

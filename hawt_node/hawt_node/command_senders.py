@@ -11,7 +11,8 @@ that the second reader has not received yet is taken on the next look
 (:meth:`CommandSenders.take` says so: the owner looks again a moment later).
 
 A GID is named through the ROS graph (``get_publishers_info_by_topic``: node name and
-namespace of each publisher, with its GID). A publisher is allowed when its node's fully
+namespace of each publisher, with its GID; ``_NODE_NAME_UNKNOWN_`` until the publisher's
+node has announced itself, which can trail the endpoint's discovery). A publisher is allowed when its node's fully
 qualified name is one of ``sources`` (names relative to the owner's namespace, e.g.
 ``mbc``, or absolute). A sample from a GID the graph does not list yet (its node's
 announcement can trail the data by a moment) waits (:attr:`CommandSenders.waiting`) until
@@ -29,12 +30,14 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 
-__all__ = ["CommandSenders", "READER_DEPTH", "Sample", "UNKNOWN_GRACE", "qualified_names"]
+__all__ = ["CommandSenders", "READER_DEPTH", "Sample", "UNKNOWN_GRACE", "UNKNOWN_NODE", "qualified_names"]
 
 READER_DEPTH = 100
 """Samples the hidden reader keeps until they are taken."""
 
-UNKNOWN_GRACE = 2.0
+UNKNOWN_NODE = "_NODE_NAME_UNKNOWN_"
+"""The node name the ROS graph (rmw_dds_common) gives an endpoint whose node it has not heard of yet."""
+UNKNOWN_GRACE = 10.0
 """Wall time [s] a sample waits for the graph to name its publisher; then it is an unnamed intruder's."""
 
 
@@ -103,8 +106,8 @@ class CommandSenders:
     def _name(self, gid: bytes) -> Optional[str]:
         if gid not in self._names:
             for info in self.node.get_publishers_info_by_topic(self.topic):
-                key = bytes(info.endpoint_gid)
-                self._names[key] = f"{info.node_namespace.rstrip('/')}/{info.node_name}"
+                if info.node_name != UNKNOWN_NODE:  # the endpoint is known before its node: ask again later
+                    self._names[bytes(info.endpoint_gid)] = f"{info.node_namespace.rstrip('/')}/{info.node_name}"
         return self._names.get(gid)
 
     def close(self) -> None:
