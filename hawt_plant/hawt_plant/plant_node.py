@@ -112,8 +112,9 @@ class PlantNode(Node):
         self.looks = LOOKS
         self.received = 0
         self.intruders: dict[bytes, int] = {}
-        self._look_again = self.create_timer(LOOK_AGAIN, self._take_commands)
-        self._look_again.cancel()
+        if self.senders is not None:
+            self._look_again = self.create_timer(LOOK_AGAIN, self._take_commands)
+            self._look_again.cancel()
         self.recorded_until: Optional[float] = None
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
         self.held = self.finishing = False

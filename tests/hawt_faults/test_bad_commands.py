@@ -30,11 +30,14 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
                             (lambda k: PitchCommand(step=k + 10_000, pitch=FEATHERED, generator_torque=4e4),
                              "step ahead of the plant")):
         injector.publish_until(command, lambda: injector.reported("invalid_input", reason), run.launcher, reason)
-    for _ in range(2):
+    for burst in (1, 2):
         burst_end = injector.plant_step + 100
         while injector.plant_step < burst_end:
             injector.commands.publish(PitchCommand(step=injector.plant_step - 50, pitch=FEATHERED, generator_torque=0.0))
             injector.spin(0.005)
+        # the plant has reported this burst, and 1.5 s (more than stale_burst_gap) pass before the next one
+        injector.wait_while_launched(lambda: sum(e.kind == "stale_input" for e in injector.events) >= burst,
+                                     run.launcher, f"the report of stale burst {burst}")
         injector.wait_for_step(burst_end + 150, run.launcher)
     run.finish()
 
