@@ -19,7 +19,8 @@ Realtime answers each collective with the latest contributions at the azimuth
 extrapolated to the moment of sending.
 
 A contributor that stops answering (its process died: nothing for step k within
-``input_timeout`` in lockstep, nothing for ``stale_steps`` in realtime) is "lost": its last
+``input_timeout`` in lockstep — ``start_timeout`` for the first step, while nodes still start —,
+nothing for ``stale_steps`` in realtime) is "lost": its last
 contribution fades to zero over ``fade_time`` while the others go on, the command is
 flagged FLAG_STALE_IPC and a ``contribution_lost`` event says so; when it answers again
 (respawned) it is followed again (``contribution_returned``). A missing collective is never
@@ -76,6 +77,9 @@ PARAMETERS = (
                   "(wall clock) after the plant's loads is lost (keep it below the plant's command_timeout; a "
                   "busy machine can delay a live node by a fraction of a second)", "s", minimum=0.01,
                   maximum=60.0),
+    ParameterSpec("start_timeout", 20.0, "lockstep: input_timeout of the first step, while the nodes are still "
+                  "starting (discovery, the schedule); keep it below the plant's startup_timeout", "s", minimum=0.01,
+                  maximum=600.0),
     ParameterSpec("fade_time", 2.0, "time over which a lost contributor's last contribution fades to zero", "s",
                   minimum=0.0, maximum=600.0),
     ParameterSpec("latency", 0.0, "realtime: extra time the command takes to reach the plant, added to the "
@@ -195,11 +199,13 @@ class MbcNode(Node):
             return  # no step pending, or its collective is missing (never skipped: the plant's safety system acts)
         if self.answer.last is not None and self.answer.last.step >= self.loads.step:
             return
-        if time.monotonic() - self.loads_received < self.values["input_timeout"]:
+        # before the first command the nodes are still starting (discovery, the schedule): start_timeout, as the
+        # plant waits startup_timeout for its first command
+        timeout = self.values["input_timeout" if self.answer.last is not None else "start_timeout"]
+        if time.monotonic() - self.loads_received < timeout:
             return
         for topic in sorted(self._publishing_topics(self.loads.step) - inputs.keys() - self.lost.keys()):
-            self._lose(topic, self.loads.step, f"nothing for step {self.loads.step} within "
-                                               f"{self.values['input_timeout']:g} s")
+            self._lose(topic, self.loads.step, f"nothing for step {self.loads.step} within {timeout:g} s")
         complete = self._require(self.loads.step)
         if complete is not None:
             self._command(complete[COLLECTIVE])
