@@ -221,3 +221,41 @@ def test_the_schedule_is_published_in_one_message_once_the_controllers_it_names_
     switch, = schedule.switches
     assert (switch.step, list(switch.activate), list(switch.activate_interfaces)) == (5, ["/cn/ipc_b"],
                                                                                         ["harmonic/1"])
+
+
+def test_a_contributor_still_starting_at_the_first_step_is_waited_for_not_lost(graph):
+    """mbc with cpc and an ipc_h1 that waits for a schedule nobody has published yet: step 0 goes unanswered by
+    ipc_h1 for longer than input_timeout (0.2 s here), which is not a loss while no command has gone out (the nodes
+    are starting: start_timeout); once ipc_h1 answers, step 0's command includes it and no contribution_lost."""
+    import time
+
+    from hawt_controllers.cpc_node import CollectivePitchNode
+    from hawt_controllers.mbc_node import MbcNode
+    from hawt_msgs.msg import ControllerSchedule, PitchCommand
+    from hawt_core.topics import PITCH_COMMAND, SCHEDULE
+
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    commands = []
+    plant.create_subscription(PitchCommand, PITCH_COMMAND, commands.append, CONTROL_LOOP_HISTORY)
+    add(CollectivePitchNode(context=context, cli_args=_arguments()))
+    ipc = add(IpcNode(context=context, cli_args=_arguments(await_schedule=True, ramp_time=0.0)
+                      + ["-r", "__node:=ipc_h1"]))
+    mbc = add(MbcNode(context=context, cli_args=_arguments(controllers="[cpc, ipc_h1]", input_timeout=0.2)))
+    spin_until(lambda: ipc.switches is not None and mbc.assembler is not None and mbc.expected <= mbc.announced
+               and plant.loads.get_subscription_count() >= 3, "the graph configured")
+
+    def send_step_0() -> None:
+        plant.state.publish(TurbineState(step=0, generator_speed=122.9, generator_torque=43093.0))
+        plant.send(0)
+
+    send_step_0()
+    spin_until(lambda: mbc.loads is not None, "mbc has step 0")
+    spin_until(lambda: time.monotonic() - mbc.loads_received > 0.5, "more than input_timeout without ipc_h1")
+    assert commands == [] and not any(e.kind == "contribution_lost" for e in plant.events)
+    plant.create_publisher(ControllerSchedule, SCHEDULE, LATCHED).publish(ControllerSchedule())
+    spin_until(lambda: ipc.switches.has_schedule, "ipc_h1 has the schedule")
+    send_step_0()  # the plant resends an unanswered step
+    spin_until(lambda: commands, "step 0's command")
+    assert commands[0].step == 0 and any(abs(v) > 0.0 for v in commands[0].individual)
+    assert not any(e.kind == "contribution_lost" for e in plant.events)
