@@ -45,14 +45,16 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path, composed):
 
 def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribution_returns(tmp_path):
     """The ipc graph's ipc_h1 SIGKILLed: reported, lost by mbc (its contribution fades), started again 1 s later,
-    answering again; the run completes."""
+    answering again; the run completes. 120 s simulated: the respawned process (1 s delay, then Python's start,
+    discovery, configure) must come back before the plant ends, which took more than the 8 s of wall time a 30 s
+    run left once in a fresh-clone CI run."""
     bag = tmp_path / "respawned.mcap"
-    assert _run_killing(bag, "respawned", 30, "ipc_h1") == 0
+    assert _run_killing(bag, "respawned", 120, "ipc_h1") == 0
     recording = read_recording(bag, "respawned")
     (respawn,) = recording.events_of("node_respawn")
     (lost,) = recording.events_of("contribution_lost")
     (returned,) = recording.events_of("contribution_returned")
     assert "/respawned/ipc_h1 ended (killed by SIGKILL); respawning in 1 s" in respawn["detail"]
     assert "control/ipc/h1" in lost["detail"] and "control/ipc/h1" in returned["detail"]
-    assert respawn["step"] <= lost["step"] < returned["step"] < 3000
+    assert respawn["step"] <= lost["step"] < returned["step"] < 12000
     assert recording.events_of("finished")
