@@ -113,9 +113,9 @@ class PlantRun:
     warnings: tuple[str, ...] = ()
 
 
-def _by_step(columns: TopicColumns) -> np.ndarray:
+def _by_step(steps: np.ndarray) -> np.ndarray:
     """Row indices ordered by step, first message of each step (a step recorded twice counts once)."""
-    _, first = np.unique(columns.fields["step"], return_index=True)
+    _, first = np.unique(steps, return_index=True)
     return first
 
 
@@ -155,7 +155,7 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     loads = _required(reader, loads_topic, _LOAD_FIELDS)
     progress(f"reading {state_topic}")
     state = _required(reader, state_topic, _STATE_FIELDS)
-    load_rows, state_rows = _by_step(loads), _by_step(state)
+    load_rows, state_rows = _by_step(loads.fields["step"]), _by_step(state.fields["step"])
     steps, in_loads, in_state = np.intersect1d(loads.fields["step"][load_rows], state.fields["step"][state_rows],
                                                return_indices=True)
     first, last = max(step_ranges(steps), key=lambda run: run[1] - run[0], default=(0, -1))
@@ -209,7 +209,7 @@ def _pitch_command(reader: BagReader, topic: str, counts: dict, progress,
                        np.empty((0, blades)) for name in ("pitch", "individual")})
         if not len(fields["step"]):
             return None, flag_names, warnings
-    _, rows = np.unique(fields["step"], return_index=True)  # the first message of each step
+    rows = _by_step(fields["step"])
     command = {name: fields[name][rows] for name in ("step", "pitch", "collective", "individual",
                                                      "generator_torque", "flags", "time")}
     return command, flag_names, warnings

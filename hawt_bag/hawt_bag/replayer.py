@@ -39,7 +39,7 @@ from std_msgs.msg import Empty
 
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_core.stop_signals import stop_signals
-from hawt_node.command_senders import UNKNOWN_NODE
+from hawt_node.command_senders import publisher_names
 from hawt_node.node_main import wait_for_acknowledgements
 
 from .cdr_columns import FieldReader
@@ -175,9 +175,8 @@ class Player(Node):
         own = self.get_fully_qualified_name()
         for publisher in self.outputs.values():
             topic = publisher.topic_name
-            others = sorted({f"{i.node_namespace.rstrip('/')}/{i.node_name}" for i in
-                             self.get_publishers_info_by_topic(topic) if i.node_name != UNKNOWN_NODE} - {own}) \
-                if topic not in self.mixed else []  # (a node not named yet is named at a later look)
+            # (a node the graph does not name yet is named at a later look)
+            others = sorted(set(publisher_names(self, topic).values()) - {own}) if topic not in self.mixed else []
             if others:
                 self.mixed.add(topic)
                 self.warn(f"{topic} is also published by {', '.join(others)}: the replayed messages mix with "

@@ -4,20 +4,19 @@ Every hawt node spins on rclpy's EventsExecutor, which hands a subscription call
 message alone: a callback that asks for the ``MessageInfo`` (and the publisher GID in it)
 fails under it (rclpy 9.1.2). :class:`CommandSenders` gets the GID another way. A second
 subscription on the same topic, with the same QoS, belongs to a hidden node that no
-executor spins; the owner's own subscription is only the doorbell. When it rings,
-:meth:`CommandSenders.take` takes every sample waiting in the second subscription with
-``take_message``, which does return the message info. A sample the doorbell announces
-that the second reader has not received yet is taken on the next look
-(:meth:`CommandSenders.take` says so: the owner looks again a moment later).
+executor spins; the owner's own subscription is only the doorbell. When it rings
+(:meth:`CommandSenders.rang`), :meth:`CommandSenders.take` takes every sample waiting in the
+second subscription with ``take_message``, which does return the message info; while
+:attr:`CommandSenders.look_again` holds (the announced sample has not reached the second
+reader yet, or a sample waits for its sender's name) the owner calls it again a moment later.
 
-A GID is named through the ROS graph (``get_publishers_info_by_topic``: node name and
-namespace of each publisher, with its GID; ``_NODE_NAME_UNKNOWN_`` until the publisher's
-node has announced itself, which can trail the endpoint's discovery). A publisher is allowed when its node's fully
-qualified name is one of ``sources`` (names relative to the owner's namespace, e.g.
-``mbc``, or absolute). A sample from a GID the graph does not list yet (its node's
-announcement can trail the data by a moment) waits (:attr:`CommandSenders.waiting`) until
-the graph names it, for ``UNKNOWN_GRACE`` seconds at most; then it is handed out as from an
-unnamed intruder.
+A GID is named through the ROS graph (:func:`publisher_names`: node name and namespace of
+each publisher, with its GID; ``_NODE_NAME_UNKNOWN_`` until the publisher's node has
+announced itself, which can trail the endpoint's discovery). A publisher is allowed when its
+node's fully qualified name is one of ``sources`` (names relative to the owner's namespace,
+e.g. ``mbc``, or absolute). A sample from a publisher the graph does not name yet waits until
+it does, for ``UNKNOWN_GRACE`` seconds at most; then it is handed out as an unnamed
+intruder's.
 
 What this does not stop (README, Safety and security): a process that names its node like
 the source, in the same namespace, is the source as far as the graph can tell; only DDS
@@ -30,7 +29,8 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 
-__all__ = ["CommandSenders", "READER_DEPTH", "Sample", "UNKNOWN_GRACE", "UNKNOWN_NODE", "qualified_names"]
+__all__ = ["CommandSenders", "LOOKS", "READER_DEPTH", "Sample", "UNKNOWN_GRACE", "UNKNOWN_NODE", "publisher_names",
+           "qualified_names"]
 
 READER_DEPTH = 100
 """Samples the hidden reader keeps until they are taken."""
@@ -39,6 +39,8 @@ UNKNOWN_NODE = "_NODE_NAME_UNKNOWN_"
 """The node name the ROS graph (rmw_dds_common) gives an endpoint whose node it has not heard of yet."""
 UNKNOWN_GRACE = 10.0
 """Wall time [s] a sample waits for the graph to name its publisher; then it is an unnamed intruder's."""
+LOOKS = 50
+"""Looks for a sample the doorbell announced before giving up on it (it was taken with an earlier one)."""
 
 
 @dataclass(frozen=True)
@@ -50,6 +52,13 @@ class Sample:
     sender: Optional[str]
     """The sending node's fully qualified name (None: the graph did not name this publisher within UNKNOWN_GRACE)."""
     allowed: bool
+
+
+def publisher_names(node: Node, topic: str) -> Dict[bytes, str]:
+    """The fully qualified node name of each publisher of ``topic`` that ``node``'s graph names, by its GID (a
+    publisher whose node has not announced itself yet, ``_NODE_NAME_UNKNOWN_``, is left out)."""
+    return {bytes(info.endpoint_gid): f"{info.node_namespace.rstrip('/')}/{info.node_name}"
+            for info in node.get_publishers_info_by_topic(topic) if info.node_name != UNKNOWN_NODE}
 
 
 def qualified_names(names: Sequence[str], namespace: str) -> frozenset:
@@ -73,17 +82,23 @@ class CommandSenders:
         self._reader = self._reader_node.create_subscription(message_type, self.topic, lambda _: None, reader_qos)
         self._names: Dict[bytes, str] = {}
         self._unnamed: List[Tuple[Any, bytes, float]] = []
-        self.received = 0
-        """Samples taken from the reader so far."""
+        self._received = self._received_at_ring = 0
+        self._looks = LOOKS
+
+    def rang(self) -> None:
+        """The doorbell rang: a sample is on its way to the reader."""
+        self._received_at_ring, self._looks = self._received, 0
 
     @property
-    def waiting(self) -> bool:
-        """Whether samples wait for the graph to name their publisher (look again shortly)."""
-        return bool(self._unnamed)
+    def look_again(self) -> bool:
+        """Whether :meth:`take` should be called again shortly: the announced sample has not reached the reader
+        yet (at most LOOKS looks), or samples wait for the graph to name their publisher."""
+        return (self._received == self._received_at_ring and self._looks < LOOKS) or bool(self._unnamed)
 
     def take(self) -> List[Sample]:
         """The samples received, oldest first, each with its sender; those of a publisher the graph does not name yet
         wait (at most UNKNOWN_GRACE) and come out of a later call."""
+        self._looks += 1
         with self._reader.handle:
             while True:
                 taken = self._reader.handle.take_message(self._reader.msg_type, self._reader.raw)
@@ -92,7 +107,7 @@ class CommandSenders:
                 message, info = taken
                 gid = bytes(info["publisher_gid"]["data"]) if info.get("publisher_gid") else b""
                 self._unnamed.append((message, gid, time.monotonic()))
-                self.received += 1
+                self._received += 1
         samples, unnamed = [], []
         for message, gid, arrived in self._unnamed:
             sender = self._name(gid)
@@ -105,9 +120,7 @@ class CommandSenders:
 
     def _name(self, gid: bytes) -> Optional[str]:
         if gid not in self._names:
-            for info in self.node.get_publishers_info_by_topic(self.topic):
-                if info.node_name != UNKNOWN_NODE:  # the endpoint is known before its node: ask again later
-                    self._names[bytes(info.endpoint_gid)] = f"{info.node_namespace.rstrip('/')}/{info.node_name}"
+            self._names.update(publisher_names(self.node, self.topic))
         return self._names.get(gid)
 
     def close(self) -> None:

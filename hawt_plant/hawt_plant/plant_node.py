@@ -65,8 +65,6 @@ __all__ = ["PlantNode", "PARAMETERS", "main"]
 
 LOOK_AGAIN = 0.001
 """Wall time [s] after which the plant looks again for a command that was announced but not taken yet."""
-LOOKS = 50
-"""Looks for an announced command before the plant stops looking (it was taken with an earlier one)."""
 
 
 def _stamp(seconds: float) -> Time:
@@ -109,8 +107,6 @@ class PlantNode(Node):
         self.senders = CommandSenders(self, PitchCommand, PITCH_COMMAND, CONTROL_LOOP, sources) if sources else None
         self.create_subscription(PitchCommand, PITCH_COMMAND,
                                  self._on_command if self.senders is None else self._ring, CONTROL_LOOP)
-        self.looks = LOOKS
-        self.received = 0
         self.intruders: dict[bytes, int] = {}
         if self.senders is not None:
             self._look_again = self.create_timer(LOOK_AGAIN, self._take_commands)
@@ -230,15 +226,12 @@ class PlantNode(Node):
 
     def _ring(self, _: PitchCommand) -> None:
         """A command has arrived: take it, and whatever else waits, with its sender (hawt_node.command_senders)."""
-        self.looks = 0
-        self.received = self.senders.received
+        self.senders.rang()
         self._take_commands()
 
     def _take_commands(self) -> None:
         samples = self.senders.take()
-        self.looks += 1
-        announced = self.senders.received == self.received and self.looks < LOOKS  # not in the reader yet
-        if announced or self.senders.waiting:  # look again shortly
+        if self.senders.look_again:
             self._look_again.reset()
         else:
             self._look_again.cancel()

@@ -104,6 +104,14 @@ def parameter_folder() -> Iterator[str]:
         yield folder
 
 
+def _report_event(events: Optional[Callable[[str, int, str, str], None]], namespaces: Iterable[str], level: int,
+                  kind: str, detail: str) -> None:
+    """Give ``events`` (hawt_tools.launch_events, if any) one event for each namespace, once each."""
+    if events is not None:
+        for namespace in sorted(set(namespaces)):
+            events(namespace, level, kind, detail)
+
+
 def launcher_parameters(graph: Graph, recorded: bool) -> Dict[str, object]:
     """The parameters ``hawt launch`` gives every node (a node that does not declare one ignores it).
 
@@ -223,11 +231,6 @@ class ProcessGraph:
         if self._stop_reason is None:
             self._stop_reason, self._stop_event = (code, reason), event
 
-    def _report(self, namespaces: Iterable[str], level: int, kind: str, detail: str) -> None:
-        if self.events is not None:
-            for namespace in sorted(set(namespaces)):
-                self.events(namespace, level, kind, detail)
-
     def _on_exit(self, process: _Process, now: float) -> None:
         spec, code = process.spec, process.popen.returncode
         process.finished = True
@@ -237,14 +240,15 @@ class ProcessGraph:
             line = f"{spec.label} ended ({_describe_exit(code)}); respawning in {spec.respawn_delay:g} s " \
                    f"(respawn {process.retries})"
             self._say("hawt launch", line)
-            self._report([spec.full_namespace], logging.WARNING, "node_respawn", line)
+            _report_event(self.events, [spec.full_namespace], logging.WARNING, "node_respawn", line)
         elif code == 0:
             self._say("hawt launch", f"{spec.label} finished")
             if spec.shutdown_on_exit:
                 self.request_stop(0, f"{spec.label} finished (on_exit: shutdown)")
         else:
             reason = f"node {spec.label} died unexpectedly ({_describe_exit(code)})"
-            self._report([spec.full_namespace], logging.ERROR, "node_died", f"{reason}; stopping the graph")
+            _report_event(self.events, [spec.full_namespace], logging.ERROR, "node_died",
+                          f"{reason}; stopping the graph")
             self.request_stop(1, reason)
 
     def run(self, duration: Optional[float] = None) -> int:
@@ -267,8 +271,8 @@ class ProcessGraph:
                     self._start(process)
                 self._supervise(processes, duration)
                 if self._stop_event is not None:
-                    self._report((spec.full_namespace for spec in self.graph.nodes), *self._stop_event,
-                                 f"hawt launch stopped the graph: {self._stop_reason[1]}")
+                    _report_event(self.events, (spec.full_namespace for spec in self.graph.nodes), *self._stop_event,
+                                  f"hawt launch stopped the graph: {self._stop_reason[1]}")
             finally:
                 self._stop_all(processes)
         code, reason = self._stop_reason or (0, "")
@@ -362,7 +366,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
             }.get(ended)
     if stop is not None:
         level, kind, reason = stop
-        for namespace in sorted({spec.full_namespace for spec in graph.nodes}) if events is not None else ():
-            events(namespace, level, kind, f"hawt launch stopped the graph: {reason}")
+        _report_event(events, (spec.full_namespace for spec in graph.nodes), level, kind,
+                f"hawt launch stopped the graph: {reason}")
         print(f"[hawt launch] stopped: {reason}", flush=True)
     return 0
