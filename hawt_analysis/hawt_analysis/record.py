@@ -53,6 +53,9 @@ SCALAR_CHANNELS = (
     "tower_base_ss_moment",
     "yaw_bearing_tilt_moment",
     "yaw_bearing_yaw_moment",
+    "effective_wind_mean",
+    "effective_wind_cos",
+    "effective_wind_sin",
     "hub_rotating_y_moment",
     "hub_rotating_z_moment",
 )

@@ -40,7 +40,8 @@ def synthetic_channels(
     + 0.4 MN·m cos 3ψ_i + turbulence; M_ip,i = 1 MN·m + 5 MN·m sin ψ_i (gravity)
     + turbulence; θ_i = 0.1 rad + 0.02 rad cos(ψ_i + 0.3) + turbulence; hub tilt
     and yaw are Σ M_oop,i cos ψ_i and Σ M_oop,i sin ψ_i; the yaw bearing's add 2.4 m × thrust
-    and −0.087 × aero torque. The derived ``hub_rotating_*`` channels are left to the record. Turbulence is white
+    and −0.087 × aero torque; the blade-effective wind is 14.7 m/s (mean) and 1.1 m/s (cos) with
+    turbulence. The derived ``hub_rotating_*`` channels are left to the record. Turbulence is white
     noise through a 2nd-order Butterworth low-pass at 1 Hz, scaled to unit
     standard deviation.
     """
@@ -85,4 +86,7 @@ def synthetic_channels(
         "root_moment_oop": oop,
         "root_moment_ip": ip,
         "pitch": pitch,
+        "effective_wind_mean": 14.7 + 1.4 * turbulence(),
+        "effective_wind_cos": 1.1 + 0.5 * turbulence(),
+        "effective_wind_sin": 0.5 * turbulence(),
     }

@@ -32,7 +32,8 @@ _LOAD_FIELDS = ("azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "
 _STATE_FIELDS = ("generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust",
                  "hub_wind_speed", "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp",
                  "tower_top_ss_disp", "hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment",
-                 "tower_base_ss_moment", "yaw_bearing_tilt_moment", "yaw_bearing_yaw_moment")
+                 "tower_base_ss_moment", "yaw_bearing_tilt_moment", "yaw_bearing_yaw_moment", "effective_wind_mean",
+                 "effective_wind_cos", "effective_wind_sin")
 """TurbineState fields that are channels of `hawt_analysis.record` (all but header and step); a bag
 recorded before a field was added lacks it, and the run has no such channel."""
 

@@ -112,6 +112,10 @@ class TurbineOutput:
     Zalkind & Pao (hub and main bearing at one point); yaw-bearing moments: about the inertial y
     (tilt) and z (yaw) axes at the tower top (OpenFAST YawBrMyp, YawBrMzp, the tower top's small
     rotation neglected); tower-base moments: about y and x at the base (TwrBsMyt, TwrBsMxt).
+    ``effective_wind_*``: the blade-effective wind [m/s], the longitudinal wind (shear, tower shadow and
+    turbulence included) at 3/4 of the tip radius along each blade, where Selvam et al. (2009, §2.1) let the
+    wind act on a blade, in multi-blade coordinates of harmonic 1 (DESIGN.md §3: mean (1/B) Σ u_i, cos
+    (2/B) Σ u_i cos ψ_i, sin (2/B) Σ u_i sin ψ_i): the truth beside a wind estimator's (issue 16).
     """
 
     time: float
@@ -136,13 +140,16 @@ class TurbineOutput:
     yaw_bearing_yaw_moment: float
     tower_base_fa_moment: float
     tower_base_ss_moment: float
+    effective_wind_mean: float
+    effective_wind_cos: float
+    effective_wind_sin: float
 
 
 STATE_FIELDS = (
     "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust", "hub_wind_speed",
     "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp", "hub_tilt_moment",
     "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment", "yaw_bearing_tilt_moment",
-    "yaw_bearing_yaw_moment",
+    "yaw_bearing_yaw_moment", "effective_wind_mean", "effective_wind_cos", "effective_wind_sin",
 )
 """The :class:`TurbineOutput` fields that the plant publishes on ``plant/state`` (``TurbineState``)."""
 
@@ -493,6 +500,8 @@ class TurbineModel:
         self._hub_radius = rh = rotor.hub_radius
         s_abs = rh + span
         radius = s_abs * cb  # distance from the shaft axis (deflection neglected)
+        # Blade-effective wind: the elements' wind interpolated to 3/4 of the tip radius along the blade.
+        self._effective_weights = np.array([np.interp(0.75 * rotor.tip_radius, s_abs, e) for e in np.eye(n)])
         # Dynamic pressure to element load: 1/2 rho c dr, per blade element.
         self._pressure_to_load = np.tile(half_rho * aero.chord * aero.width, (b, 1))
         self._apex_x = xa = -side * rotor.overhang * ct  # rotor apex relative to the tower top
@@ -911,7 +920,16 @@ class TurbineModel:
             yaw_bearing_yaw_moment=bearing_yaw,
             tower_base_fa_moment=base_fa,
             tower_base_ss_moment=base_ss,
+            **self._effective_wind(),
         )
+
+    def _effective_wind(self) -> dict:
+        """The blade-effective wind in multi-blade coordinates of harmonic 1 (see TurbineOutput)."""
+        b = self._b
+        per_blade = np.dot(self._inflow_operands[:b], self._effective_weights)
+        cos, sin, total = np.dot(self._trig, per_blade).tolist()  # rows cos ψ_i, sin ψ_i, 1
+        return {"effective_wind_mean": total / b, "effective_wind_cos": 2.0 / b * cos,
+                "effective_wind_sin": 2.0 / b * sin}
 
 
 def _bounded_induction(phi: np.ndarray, sin_phi: np.ndarray, cos_phi: np.ndarray, cl: np.ndarray,

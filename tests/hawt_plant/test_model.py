@@ -18,7 +18,7 @@ TURBINE_STATE_FIELDS = [
     "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust", "hub_wind_speed",
     "tower_top_fa_accel", "tower_top_ss_accel", "tower_top_fa_disp", "tower_top_ss_disp", "hub_tilt_moment",
     "hub_yaw_moment", "tower_base_fa_moment", "tower_base_ss_moment", "yaw_bearing_tilt_moment",
-    "yaw_bearing_yaw_moment",
+    "yaw_bearing_yaw_moment", "effective_wind_mean", "effective_wind_cos", "effective_wind_sin",
 ]
 
 
@@ -133,6 +133,25 @@ def test_shear_gives_dominant_1p_in_oop_with_steady_mbc_components(turbine):
     for component in (cosine, sine):
         means = np.array([component[revolution == k].mean() for k in range(revolution.max() + 1)])
         assert np.ptp(means) < 0.02 * np.abs(means).mean()
+
+
+def test_the_blade_effective_wind_is_the_sheared_wind_at_three_quarters_radius_in_mbc(turbine):
+    """Selvam's blade-effective wind u_i (the wind at 3/4 R) in power-law shear, no tilt or tower shadow:
+    u_i = U (z_i/H)^α at z_i = z_apex + r cos ψ_i, r = 0.75 R cos(cone), in the MBC of DESIGN.md §3 at every
+    step (the 3P ripple of the cos/sin included: three blades sample a profile that is not a pure 1P)."""
+    model = TurbineModel(variant(turbine, tilt=False), PowerLawWind(11.4, shear_exponent=0.2),
+                         ModelConfig(tower_shadow=False))
+    model.reset_to_operating_point(rotor_speed=RATED_SPEED, pitch=0.0)
+    run = simulate(model, 200)
+    r = 0.75 * turbine.rotor.tip_radius * math.cos(turbine.rotor.cone_angle)
+    apex = turbine.tower.height + turbine.nacelle.shaft_above_tower_top
+    psi = run["azimuth"][:, None] + 2 * math.pi * np.arange(3) / 3
+    u = 11.4 * ((apex + r * np.cos(psi)) / 90.0) ** 0.2
+    cos, sin = mbc_1p(u, run["azimuth"])
+    assert np.allclose(run["effective_wind_mean"], u.mean(axis=1), rtol=1e-3)
+    assert np.allclose(run["effective_wind_cos"], cos, atol=1e-2)
+    assert np.allclose(run["effective_wind_sin"], sin, atol=1e-2)
+    assert np.ptp(cos) > 0.2  # the ripple is resolved, not averaged away
 
 
 def test_tower_shadow_adds_3p_to_the_rotor_mean_oop(turbine):
