@@ -24,10 +24,11 @@ from scipy.optimize import minimize_scalar
 from hawt_plant.linearization import PeriodicLinearization, linearize_model
 
 from .coleman_coupling import offset_from_dc_response
+from .collective import BaselineCollectiveConfig, gain_correction_factor
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
 __all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
-           "decoupling_offset",
+           "collective_loop_gain", "decoupling_offset", "stability_margins",
            "labelled_modes", "tilt_yaw_response", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
 
 
@@ -147,8 +148,51 @@ def tilt_yaw_response(model: LinearModel, omega: ArrayLike, pitch: str = "comman
         c, d = model.c[np.ix_(moments, rest)], model.c[np.ix_(moments, held)]
     else:
         raise ValueError(f"pitch: expected 'command' or 'angle', found {pitch!r}")
+    return _frequency_response(a, b, c, d, omega)
+
+
+def _frequency_response(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, omega: ArrayLike) -> np.ndarray:
+    """c (jω I - a)^-1 b + d at ``omega`` [rad/s], shape (len(omega), outputs, inputs)."""
     identity = np.eye(a.shape[0])
     return np.array([c @ np.linalg.solve(1j * w * identity - a, b) + d for w in np.atleast_1d(omega)])
+
+
+def collective_loop_gain(model: ColemanModel, config: BaselineCollectiveConfig, omega: ArrayLike) -> np.ndarray:
+    """L(jω) at ``omega`` [rad/s] (> 0) of the baseline collective pitch loop (Jonkman et al. 2009 ch. 7,
+    hawt_controllers.collective) at the model's operating point, broken at the pitch command:
+
+        L(s) = -GK(θ_op) (K_P + K_I/s) ω_c/(s + ω_c) P(s),
+
+    P the model's pitch_command_collective -> generator_speed [rad/s per rad]: the PI on the low-passed generator
+    speed, gain-scheduled at the operating pitch θ_op, in the convention of negative feedback (the PI pitches to
+    feather on a positive speed error, which slows the rotor: L > 0 at low frequency). The generator torque is
+    held, as in the model (the region-3 torque law's loop is open), and the law is taken in continuous time."""
+    m = model.model
+    column, row = m.inputs.index("pitch_command_collective"), m.outputs.index("generator_speed")
+    plant = _frequency_response(m.a, m.b[:, [column]], m.c[[row]], m.d[[row]][:, [column]], omega)[:, 0, 0]
+    s = 1j * np.atleast_1d(omega)
+    corner = config.generator_speed_corner_frequency
+    schedule = gain_correction_factor(model.pitch, config.gain_doubling_pitch)
+    return -schedule * (config.proportional_gain + config.integral_gain / s) * corner / (s + corner) * plant
+
+
+def _crossings(values: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """``loop`` interpolated linearly where ``values`` changes sign between samples."""
+    k = np.flatnonzero(np.sign(values[:-1]) * np.sign(values[1:]) < 0)
+    t = values[k] / (values[k] - values[k + 1])
+    return loop[k] + t * (loop[k + 1] - loop[k])
+
+
+def stability_margins(loop: ArrayLike) -> Tuple[float, float]:
+    """The gain margin [-] and the phase margin [rad] of a loop gain L(jω) (negative feedback, 1 + L) sampled on a
+    fine, increasing frequency grid: the smallest 1/|L| where L crosses the negative real axis and the smallest
+    ∠L + π (in (-π, π]) where |L| crosses 1, each crossing interpolated between its samples; inf where none."""
+    loop = np.asarray(loop)
+    phase = _crossings(loop.imag, loop)
+    phase = phase[phase.real < 0.0]
+    gain = _crossings(np.abs(loop) - 1.0, loop)
+    return (float(np.min(1.0 / np.abs(phase))) if phase.size else math.inf,
+            float(np.min(np.angle(-gain))) if gain.size else math.inf)
 
 
 def _rotation(offset: float) -> np.ndarray:

@@ -4,7 +4,9 @@
 Fig. 4): the Kalman filter predicts the turbine state x̂ and the cos/sin blade-effective wind û from
 the 1P cos/sin blade-root moments, the LQR feeds back -K x̂, and the feedforward adds -G_inv(H û).
 :func:`closed_loop_response` gives the frequency responses Selvam compares (§4, Figs 6-7): from the
-cos/sin wind to the cos/sin moments, with no IPC, with the conventional integrator IPC and with FB-FF.
+cos/sin wind to the cos/sin moments, with no IPC, with the conventional integrator IPC and with FB-FF, and
+to the law's cos/sin pitch (the pitch activity of the notes' check 20); :func:`rotor_speed_response` the
+wind's effect on the rotor speed with the law closed on the whole Coleman model (check 21).
 """
 from __future__ import annotations
 
@@ -13,10 +15,12 @@ from typing import Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.signal import cont2discrete
 
-from .lqg_design import _MOMENT_UNIT, _PITCH_UNIT, LqgDesign
+from .lqg_design import _MOMENT_UNIT, _PITCH_UNIT, CONTROLLED, DISTURBANCES, MEASURED, DiscreteModel, LqgDesign
+from .mbc3 import LinearModel
 
-__all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integrator_ipc"]
+__all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integrator_ipc", "rotor_speed_response"]
 
 
 class LqgIpc:
@@ -69,17 +73,22 @@ def integrator_ipc(integral_gain: float, phase_offset: float, dt: float) -> Tupl
     return np.eye(2), gain * np.eye(2), rotation, np.zeros((2, 2))
 
 
-def _feedback(design: LqgDesign, controller: Tuple[np.ndarray, ...]) -> Tuple[np.ndarray, ...]:
-    """The plant's wind -> moments in closed loop with ``controller`` (a, b, c, d) from y to θ."""
-    p = design.plant
+def _feedback(plant: DiscreteModel, controller: Tuple[np.ndarray, ...],
+              output: Tuple[np.ndarray, ...]) -> Tuple[np.ndarray, ...]:
+    """The plant's wind -> ``output`` in closed loop with ``controller`` (a, b, c, d) from y to θ: states [x; ξ]
+    (plant, controller); ``output`` (c_z, d_zθ, d_zu) is z = c_z x + d_zθ θ + d_zu u."""
+    p = plant
     ak, bk, ck, dk = controller
-    q = ak.shape[0]
     if np.any(dk) and np.any(p.d_theta):
         raise ValueError("an algebraic loop: both the plant and the controller have feedthrough")
-    a = np.block([[p.a + p.b_theta @ dk @ p.c, p.b_theta @ ck], [bk @ p.c, ak]])
-    b = np.vstack((p.b_u + p.b_theta @ dk @ p.d_u, bk @ p.d_u))
-    c = np.hstack((p.c, np.zeros((p.c.shape[0], q))))
-    return a, b, c, p.d_u
+    n, q = p.a.shape[0], ak.shape[0]
+    theta_state, theta_wind = np.hstack((dk @ p.c, ck)), dk @ p.d_u  # θ = theta_state [x; ξ] + theta_wind u
+    into = np.vstack((p.b_theta, bk @ p.d_theta))  # where θ enters [x; ξ]
+    a = np.block([[p.a, np.zeros((n, q))], [bk @ p.c, ak]]) + into @ theta_state
+    b = np.vstack((p.b_u, bk @ p.d_u)) + into @ theta_wind
+    c_z, d_ztheta, d_zu = output
+    return (a, b, np.hstack((c_z, np.zeros((c_z.shape[0], q)))) + d_ztheta @ theta_state,
+            d_zu + d_ztheta @ theta_wind)
 
 
 def _lqg_controller(design: LqgDesign) -> Tuple[np.ndarray, ...]:
@@ -95,22 +104,73 @@ def _lqg_controller(design: LqgDesign) -> Tuple[np.ndarray, ...]:
     return a, b, c, np.zeros((c.shape[0], b.shape[1]))
 
 
-def closed_loop_response(design: LqgDesign, omega: ArrayLike, controller: str = "lqg",
-                         integral_gain: float = 0.0, phase_offset: float = 0.0) -> np.ndarray:
-    """Frequency response [MN m per m/s] from (u_cos, u_sin) to (M_cos, M_sin) at ``omega`` [rad/s], shape
-    (len(omega), 2, 2): ``controller`` "none" (open loop), "integrator" (:func:`integrator_ipc`) or "lqg"."""
-    p = design.plant
+def _controller(design: LqgDesign, controller: str, integral_gain: float,
+                phase_offset: float) -> Tuple[np.ndarray, ...]:
+    """The law ``controller`` as a discrete system (a, b, c, d) from (M_cos, M_sin) [MN m] to (θ_cos, θ_sin) [deg]:
+    "none" (no IPC: zero), "integrator" (:func:`integrator_ipc`) or "lqg" (the design's FB-FF)."""
     if controller == "none":
-        a, b, c, d = p.a, p.b_u, p.c, p.d_u
-    elif controller == "integrator":
-        a, b, c, d = _feedback(design, integrator_ipc(integral_gain, phase_offset, p.dt))
-    elif controller == "lqg":
-        a, b, c, d = _feedback(design, _lqg_controller(design))
-    else:
-        raise ValueError(f"controller: expected none, integrator or lqg, found {controller!r}")
+        return np.zeros((0, 0)), np.zeros((0, len(MEASURED))), np.zeros((len(CONTROLLED), 0)), \
+            np.zeros((len(CONTROLLED), len(MEASURED)))
+    if controller == "integrator":
+        return integrator_ipc(integral_gain, phase_offset, design.plant.dt)
+    if controller == "lqg":
+        return _lqg_controller(design)
+    raise ValueError(f"controller: expected none, integrator or lqg, found {controller!r}")
+
+
+def _response(system: Tuple[np.ndarray, ...], omega: ArrayLike, dt: float) -> np.ndarray:
+    """The discrete system's (a, b, c, d) frequency response at ``omega`` [rad/s], shape (len(omega), outputs,
+    inputs); ValueError for an unstable system (it has none)."""
+    a, b, c, d = system
+    radius = float(np.max(np.abs(np.linalg.eigvals(a)), initial=0.0))
+    if radius >= 1.0:
+        raise ValueError(f"the closed loop is unstable (spectral radius {radius:.6f}): it has no frequency response")
     identity = np.eye(a.shape[0])
-    return np.array([c @ np.linalg.solve(np.exp(1j * w * p.dt) * identity - a, b) + d
-                     for w in np.atleast_1d(omega)])
+    return np.array([c @ np.linalg.solve(np.exp(1j * w * dt) * identity - a, b) + d for w in np.atleast_1d(omega)])
+
+
+def closed_loop_response(design: LqgDesign, omega: ArrayLike, controller: str = "lqg",
+                         integral_gain: float = 0.0, phase_offset: float = 0.0, output: str = "moments") -> np.ndarray:
+    """Frequency response from (u_cos, u_sin) to ``output`` at ``omega`` [rad/s], shape (len(omega), 2, 2), on the
+    design's plant closed with ``controller`` "none", "integrator" (:func:`integrator_ipc`) or "lqg".
+
+    ``output`` "moments": (M_cos, M_sin) [MN m per m/s], Selvam's Figs 6-7; "pitch": the law's (θ_cos, θ_sin)
+    [deg per m/s], the pitch activity of his check 20 (zero with no IPC).
+    """
+    p = design.plant
+    outputs = {"moments": (p.c, p.d_theta, p.d_u),
+               "pitch": (np.zeros((len(CONTROLLED), p.a.shape[0])), np.eye(len(CONTROLLED)),
+                         np.zeros((len(CONTROLLED), p.b_u.shape[1])))}
+    if output not in outputs:
+        raise ValueError(f"output: expected moments or pitch, found {output!r}")
+    law = _controller(design, controller, integral_gain, phase_offset)
+    return _response(_feedback(p, law, outputs[output]), omega, p.dt)
+
+
+def _whole_plant(model: LinearModel, dt: float) -> Tuple[DiscreteModel, Tuple[np.ndarray, ...]]:
+    """Every state of ``model`` at ``dt`` [s] (zero-order hold) in lqg_design's units, with the design's measured
+    and controlled channels and the collective and cos/sin wind as the disturbance; and its rotor speed [rad/s]
+    as an output (c_z, d_zθ, d_zu)."""
+    rows = [model.outputs.index(n) for n in MEASURED + ("rotor_speed",)]
+    columns = [model.inputs.index(n) for n in CONTROLLED + ("wind_collective",) + DISTURBANCES]
+    inputs = np.array([_PITCH_UNIT] * len(CONTROLLED) + [1.0] * (len(DISTURBANCES) + 1))
+    outputs = np.array([1.0 / _MOMENT_UNIT] * len(MEASURED) + [1.0])[:, None]
+    a, b, c, d, _ = cont2discrete((model.a, model.b[:, columns] * inputs, model.c[rows] * outputs,
+                                   model.d[np.ix_(rows, columns)] * inputs * outputs), dt, method="zoh")
+    m, k = len(CONTROLLED), len(MEASURED)
+    return DiscreteModel(a, b[:, :m], b[:, m:], c[:k], d[:k, :m], d[:k, m:], dt), (c[k:], d[k:, :m], d[k:, m:])
+
+
+def rotor_speed_response(model: LinearModel, design: LqgDesign, omega: ArrayLike, controller: str = "lqg",
+                         integral_gain: float = 0.0, phase_offset: float = 0.0) -> np.ndarray:
+    """Frequency response [rad/s per m/s] from (u_collective, u_cos, u_sin) to the rotor speed at ``omega``
+    [rad/s], shape (len(omega), 1, 3): the whole Coleman model ``model`` (every state, not only
+    :func:`hawt_controllers.lqg_design.design_states`) at the design's dt, with ``controller`` (as in
+    :func:`closed_loop_response`) closed on its cos/sin channels (Selvam's check 21: IPC must not change the
+    speed's response). The collective pitch and the generator torque are held, as in the design model."""
+    plant, speed = _whole_plant(model, design.plant.dt)
+    return _response(_feedback(plant, _controller(design, controller, integral_gain, phase_offset), speed), omega,
+                     plant.dt)
 
 
 def frequency_response_figure(design: LqgDesign, path, rotor_speed: float, integral_gain: float,
