@@ -15,7 +15,10 @@ A concrete controller fills in:
   :class:`~hawt_core.parameter_table.ParameterError` naming the parameter; the law's
   own validation is the one source of ranges beyond the table);
 - :meth:`claims`, :meth:`update`, and optionally :meth:`reconfigure`, :meth:`on_activate`
-  and :meth:`on_deactivate` for bumpless transfer.
+  and :meth:`on_deactivate` for bumpless transfer;
+- optionally ``ESTIMATE`` (topic kind and hawt_msgs message type) and :meth:`estimate`: what the
+  controller estimates, published by every engine after each update on
+  ``control/<controller>/<kind>`` (hawt_core.topics.estimate_topic), active or not.
 
 Inputs are duck-typed so that a ROS message and the plant model's output serve alike:
 ``loads`` has ``azimuth``, ``rotor_speed``, ``root_moment_oop``, ``root_moment_ip`` and
@@ -145,6 +148,7 @@ class Controller:
     PARAMETERS: ClassVar[Tuple[ParameterSpec, ...]] = ()
     INPUTS: ClassVar[Tuple[str, ...]] = ("blade_loads",)
     SWITCHABLE: ClassVar[bool] = True
+    ESTIMATE: ClassVar[Optional[Tuple[str, str]]] = None
 
     def __init__(self, values: Mapping[str, Any], plant: PlantDescription) -> None:
         self.values = resolve_values(self.PARAMETERS, values)
@@ -197,6 +201,10 @@ class Controller:
 
     def on_deactivate(self, ramp_time: Optional[float]) -> None:
         """Start ramping the contribution out over ``ramp_time`` [s] (None: the controller's default)."""
+
+    def estimate(self) -> Mapping[str, Any]:
+        """The fields (but header and step) of this step's ``ESTIMATE`` message, after :meth:`update`."""
+        raise NotImplementedError
 
     def ramp_time(self) -> float:
         """The default ramp time [s] of a switch (0 if the controller has none)."""

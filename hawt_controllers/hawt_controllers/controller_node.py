@@ -34,6 +34,7 @@ What the base does for every controller (ros2_controllers' ``forward_controllers
 import math
 from typing import Any, ClassVar, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
+import hawt_msgs.msg
 from hawt_msgs.msg import BladeLoads, ControllerState, ControlEvent, TurbineState
 from hawt_msgs.msg import PlantDescription as PlantDescriptionMessage
 from hawt_msgs.srv import SwitchControllers
@@ -48,7 +49,8 @@ from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, ParameterSpec, check_values
 from hawt_core.plant_description import PlantDescription
 from hawt_core.step_sync import StepAnswer, StepJoin
-from hawt_core.topics import BLADE_LOADS, PLANT_DESCRIPTION, RECORDER_NODE, SWITCH_CONTROLLERS, TURBINE_STATE
+from hawt_core.topics import (BLADE_LOADS, PLANT_DESCRIPTION, RECORDER_NODE, SWITCH_CONTROLLERS, TURBINE_STATE,
+                              estimate_topic)
 from hawt_node.events import EventPublisher
 from hawt_node.parameters import accepted, declare_parameters, rejection
 from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, LATCHED
@@ -109,11 +111,12 @@ class ControllerNode(LifecycleNode):
         self.following: List[Any] = []
         self.made: List[Any] = []
         self.publishers_by_topic: Dict[str, Any] = {}
+        self.estimate: Optional[Tuple[Any, MatchedWriterGate]] = None  # publisher and its gate
         self.switches: Optional[SwitchListener] = None
         self.internal = False
-        recorder = RECORDER_NODE if self.values["wait_for_recorder"] else None
+        self.recorder = RECORDER_NODE if self.values["wait_for_recorder"] else None
         self.answer = StepAnswer(MatchedWriterGate(self, self.publishers_by_topic, self._publish, self.events,
-                                                   recorder=recorder).send)
+                                                   recorder=self.recorder).send)
         self.join = StepJoin(self.CONTROLLER.INPUTS)
         self.manager = self.create_client(SwitchControllers, SWITCH_CONTROLLERS)
         self.create_subscription(PlantDescriptionMessage, PLANT_DESCRIPTION, self._on_description, LATCHED)
@@ -147,6 +150,12 @@ class ControllerNode(LifecycleNode):
             if topic not in self.publishers_by_topic:
                 self.publishers_by_topic[topic] = self.create_publisher(message_type(interface), topic,
                                                                         CONTROL_LOOP_HISTORY)
+        if self.CONTROLLER.ESTIMATE is not None and self.estimate is None:
+            kind, type_name = self.CONTROLLER.ESTIMATE
+            topic = estimate_topic(self.get_name(), kind)
+            publisher = self.create_publisher(getattr(hawt_msgs.msg, type_name), topic, CONTROL_LOOP_HISTORY)
+            self.estimate = publisher, MatchedWriterGate(self, {topic: publisher}, publisher.publish, self.events,
+                                                         recorder=self.recorder)
         for name in self.CONTROLLER.INPUTS:
             kind, topic = _INPUT_TOPICS[name]
             self.made.append(self.create_subscription(kind, topic, lambda m, n=name: self._input(n, m),
@@ -343,6 +352,12 @@ class ControllerNode(LifecycleNode):
                         + ("last output held" if held else "no output yet"), step=step, stamp=header.stamp)
             if not held:
                 return
+        elif self.estimate is not None:
+            publisher, gate = self.estimate
+            message = publisher.msg_type(header=header, step=step)
+            for name, value in self.core.estimate().items():
+                setattr(message, name, value)
+            gate.send(message)
         self.answer.send(_Answer(step, header, contributions), publish=step < self.publish_until)
 
     def _publish(self, answer: _Answer) -> None:

@@ -28,6 +28,7 @@ from hawt_controllers.switching import (ControllerInfo, Switch, SwitchRefused, p
                                         ramp_steps)
 from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, resolve_values
+from hawt_core.topics import estimate_topic
 from hawt_plant.model import STATE_FIELDS
 from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
 from hawt_plant.plant_setup import make_plant
@@ -45,9 +46,13 @@ class RunRecord:
     """What a run published, by topic, one row per step (columns of hawt_bag.column_writing)."""
 
     rows: Dict[str, List[dict]] = field(default_factory=dict)
+    types: Dict[str, str] = field(default_factory=dict)
+    """Message type of a topic that is not one of the loop's (``_TYPES``), e.g. a controller's estimate."""
 
-    def add(self, topic: str, row: dict) -> None:
+    def add(self, topic: str, row: dict, type_name: Optional[str] = None) -> None:
         self.rows.setdefault(topic, []).append(row)
+        if type_name is not None:
+            self.types[topic] = type_name
 
 
 @dataclass
@@ -151,8 +156,12 @@ class InProcessRun:
         collective: Optional[CollectiveContribution] = None
         weighted: List[Tuple[Contribution, float]] = []
         for controller in self.controllers:
-            contributions, _ = update_or_hold(controller.core, k, out, out, controller.last)
+            contributions, refusal = update_or_hold(controller.core, k, out, out, controller.last)
             controller.last = contributions
+            if record is not None and refusal is None and controller.core.ESTIMATE is not None:
+                kind, type_name = controller.core.ESTIMATE
+                topic = estimate_topic(controller.name.rsplit("/", 1)[-1], kind)
+                record.add(topic, {"step": k, **controller.core.estimate()}, type_name)
             if k >= controller.publish_until:
                 continue
             for contribution in contributions:
@@ -201,7 +210,7 @@ def write_run(run: InProcessRun, record: RunRecord, path: Path) -> Dict[str, int
         nanoseconds = np.round(steps * dt * 1e9).astype(np.int64)
         columns["step"] = steps.astype(np.uint64)
         columns["header.stamp.sec"], columns["header.stamp.nanosec"] = nanoseconds // 10**9, nanoseconds % 10**9
-        kind = _TYPES.get(relative, "HarmonicPitch")
+        kind = record.types.get(relative) or _TYPES.get(relative, "HarmonicPitch")
         topics.append(TopicData(topic_in(run.namespace, relative), f"hawt_msgs/msg/{kind}", columns, nanoseconds))
     if run.events:
         rows = run.events

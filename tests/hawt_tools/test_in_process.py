@@ -57,7 +57,7 @@ def test_node_parameters_agree_with_rcl_for_any_order_of_wildcard_and_named_file
 def test_hawt_run_equals_the_lockstep_graph_in_every_field_at_every_step(hawt_cli, tmp_path, graph, arguments,
                                                                           seconds):
     """Turbulence: plant/blade_loads, plant/state and control/pitch_command of `hawt run` and of the lockstep ROS
-    graph (one process per node) are equal in every field at every step."""
+    graph (one process per node) are equal in every field at every step; so is lqg_ipc's wind estimate."""
     common = [graph, "wind_type:=turbulent", f"duration:={seconds}", "seed:=3", *arguments]
     launched, ran = tmp_path / "launched.mcap", tmp_path / "ran.mcap"
     for command, path in (("launch", launched), ("run", ran)):
@@ -65,6 +65,8 @@ def test_hawt_run_equals_the_lockstep_graph_in_every_field_at_every_step(hawt_cl
                                 timeout=600)
         assert result.returncode == 0, result.stderr[-2000:]
     topics = ("/wt1/plant/blade_loads", "/wt1/plant/state", "/wt1/control/pitch_command")
+    if graph == "lqg":
+        topics += ("/wt1/control/lqg_ipc/wind_estimate",)
     assert all(len(rows["step"]) == seconds * 100 for rows in rows_by_step(launched, topics).values())
     assert step_differences(launched, ran, topics) == []
     if graph == "switching":  # the schedule switched something: IPC, 4P and the blade sine moved the blades
