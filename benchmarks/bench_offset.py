@@ -1,8 +1,12 @@
 """IPC-1P with and without Disario's azimuth offset on the NREL 5 MW, closed loop (issue 15 item 4).
 
-The model: the first-order blade K/(τs + 1) whose DC-decoupling offset equals the offset measured
+The models: the first-order blade K/(τs + 1) whose DC-decoupling offset equals the offset measured
 on the plant at 18 m/s (``hawt coupling``), in the Coleman frame (hawt_controllers.coleman_coupling):
-RGA11 at the 1P loop's crossover without and with the offset (Disario: 0.9052 -> 0.9997 at 0.47 rad/s).
+RGA11 at the 1P loop's crossover without and with the offset (Disario: 0.9052 -> 0.9997 at 0.47 rad/s);
+and the plant's linear model at 18 m/s (``hawt linearize``, config/linear_nrel5mw.npz) closed with the
+two loops below (hawt_controllers.ipc_design.loop_analysis, Disario §5-3-2): the crossover and phase
+margin, RGA11 at the crossover, the sensitivity's largest singular value (its peak, and at 1P) and where
+its singular values reach -3 dB (Disario: a region [0.38, 0.65] rad/s without the offset, 0.47 with it).
 
 The runs: ``hawt run ipc`` with only ipc_h1 active, as designed with the offset and with its
 integral gain divided by cos ψ without it (Disario's gain compensation: the same crossover, his
@@ -24,7 +28,9 @@ import yaml
 from hawt_analysis.fatigue import damage_equivalent_load
 from hawt_analysis.spectra import power_spectrum
 from hawt_controllers.coleman_coupling import coleman_plant, first_order, relative_gain_array
-from hawt_controllers.ipc_design import DEFAULT_FILE, coupling_survey
+from hawt_controllers.ipc_design import DEFAULT_FILE, coupling_survey, loop_analysis
+from hawt_controllers.linear_models import load_models
+from hawt_controllers.lqg_controller import DEFAULT_MODELS
 from hawt_plant.turbine import nrel_5mw
 from hawt_tools.cli import find_graph
 from hawt_tools.graph_file import load_graph
@@ -79,11 +85,18 @@ def main(argv: Sequence[str] = None) -> None:
     offset, rotor_speed = point.offset, point.response.rotor_speed
     rga = model_rga(offset, rotor_speed)
     print(f"measured 1P offset at 18 m/s: {math.degrees(offset):.1f} deg (first-order tau "
-          f"{point.time_constant:.3f} s); model RGA11 at the {CROSSOVER:.2f} rad/s crossover: {rga['without']:.4f} without, {rga['with']:.4f} with "
-          "(Disario: 0.9052 -> 0.9997 at 0.47 rad/s)")
+          f"{point.time_constant:.3f} s); first-order model RGA11 at the {CROSSOVER:.2f} rad/s crossover: "
+          f"{rga['without']:.4f} without, {rga['with']:.4f} with (Disario: 0.9052 -> 0.9997 at 0.47 rad/s)")
     designed = yaml.safe_load(DEFAULT_FILE.read_text())["/**/ipc_h1"]["ros__parameters"]
     cases = {"without offset": (0.0, designed["integral_gain"] / math.cos(offset)),
              "with offset": (designed["phase_offset"], designed["integral_gain"])}
+    model = next(m for m in load_models(DEFAULT_MODELS) if m.wind_speed == 18.0)
+    for name, (phase, gain) in cases.items():
+        a = loop_analysis(model, 1, gain, phase, 0.01)
+        print(f"linear model at 18 m/s, {name}: crossover {a.crossover:.3f} rad/s, phase margin "
+              f"{math.degrees(a.phase_margin):.1f} deg, RGA11 there {a.rga:.4f}; sensitivity: largest singular value "
+              f"{a.peak:.2f} at {a.peak_frequency:.2f} rad/s, {a.at_1p:.2f} at 1P ({model.rotor_speed:.3f} rad/s), "
+              f"-3 dB at {a.bandwidth[0]:.3f}-{a.bandwidth[1]:.3f} rad/s")
     results = {}
     for name, (phase, gain) in cases.items():
         per_seed = [closed_loop(phase, gain, seed, args.duration) for seed in args.seeds]

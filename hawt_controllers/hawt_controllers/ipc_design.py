@@ -1,17 +1,25 @@
-"""IPC tuning from the plant itself: measured harmonic response, integral gains, phase offsets, schedule.
+"""IPC tuning from the plant itself: harmonic response, integral gains, phase offsets, schedule.
 
-For each operating point (wind speed) and harmonic n, the turbine model
-(:mod:`hawt_plant.model`) runs open loop at its steady operating point in uniform
-wind with a constant demand ``(c_n, s_n) = (A, 0)`` remodulated on the blades
-(DESIGN.md §3). After the transient, the change of the MBC components of the
-out-of-plane root moments against a run without demand is the plant's response
-in the non-rotating frame: a gain ``k = dM/dθ`` [N·m/rad] (negative: pitching to
-feather unloads the blade) and a rotation ``φ`` of the (cos, sin) plane that the
-remodulation's phase offset ``φ_n`` undoes (Disario: azimuth offset measured on the
-plant). The integral gain follows van Engelen's recipe
-(:func:`hawt_controllers.ipc_tuning.design_integral_gain`: ~0.1 Hz crossover with
-the loop delay and the pre-filter), and the gain schedule over collective pitch
-keeps the loop gain ``k_i k`` constant across the operating points.
+For each operating point (wind speed) and harmonic n the design needs the plant's response in the
+non-rotating frame to a constant demand ``(c_n, s_n)`` remodulated on the blades (DESIGN.md §3): a gain
+``k = dM/dθ`` [N·m/rad] (negative: pitching to feather unloads the blade) and a rotation ``φ`` of the
+(cos, sin) plane that the remodulation's phase offset ``φ_n`` undoes (Disario: the azimuth offset). Two
+routes give them:
+
+- the model route (:func:`model_harmonic_response`): the plant's Coleman-frame linear model at the
+  wind speed (``hawt linearize``, :mod:`hawt_controllers.linear_models`), its nP plant P_n(0) at DC
+  (:func:`harmonic_response`: the 1P model gives every harmonic of a three-bladed rotor);
+- the measured route (:func:`measure_harmonic_response`): the turbine model (:mod:`hawt_plant.model`)
+  open loop at its steady operating point in uniform wind, with and without the demand.
+
+The design takes the model route where a linear model exists at every design wind speed and prints the
+measured route beside it as the cross-check. The integral gain follows van Engelen's recipe
+(:func:`hawt_controllers.ipc_tuning.design_integral_gain`: ~0.1 Hz crossover with the pre-filter); on the
+model route the crossover and phase margin the loop really has are computed on the model's frequency
+response (:func:`loop_crossover`, the actuator and the law's discretisation inside). The gain schedule over
+collective pitch keeps the loop gain ``k_i k`` constant across the operating points.
+:func:`loop_analysis` closes the designed loop on the linear model (Disario ch. 5: RGA at the crossover,
+the sensitivity's singular values).
 
 Run ``python -m hawt_controllers.ipc_design`` to print the design and write the
 parameter file the ``ipc`` graph uses, and the retuned 1P controller of the ``switching``
@@ -23,24 +31,31 @@ import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import yaml
+from numpy.typing import ArrayLike
+from scipy.optimize import brentq
 
 from hawt_controllers.coleman_coupling import offset_from_dc_response, relative_gain_array
 from hawt_controllers.controller import HarmonicContribution
 from hawt_controllers.ipc import HarmonicIpcConfig, design_prefilter
-from hawt_controllers.ipc_tuning import design_integral_gain
+from hawt_controllers.ipc_tuning import IntegralGainDesign, design_integral_gain
 from hawt_controllers.limits import PitchLimits
+from hawt_controllers.linear_models import ColemanModel, load_models, tilt_yaw_response
 from hawt_controllers.loop_assembly import LoopAssembler
+from hawt_controllers.lqg_controller import DEFAULT_MODELS
+from hawt_controllers.lqg_design import _MOMENT_UNIT, _PITCH_UNIT
+from hawt_controllers.lqg_ipc import integrator_ipc
 from hawt_controllers.mbc import mbc_forward
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import Turbine, nrel_5mw
 
-__all__ = ["HarmonicResponse", "CouplingPoint", "measure_harmonic_response", "coupling_survey", "design", "retuned",
-           "main"]
+__all__ = ["HarmonicResponse", "CouplingPoint", "LoopAnalysis", "measure_harmonic_response", "harmonic_response",
+           "model_harmonic_response", "loop_response", "loop_crossover", "loop_analysis", "coupling_survey", "design",
+           "retuned", "main"]
 
 DEFAULT_FILE = Path(__file__).resolve().parent.parent / "config" / "ipc_nrel5mw.yaml"
 RETUNED_FILE = DEFAULT_FILE.with_name("ipc_nrel5mw_retuned.yaml")
@@ -94,28 +109,201 @@ def measure_harmonic_response(turbine: Turbine, wind_speed: float, harmonic: int
     return HarmonicResponse(wind_speed, harmonic, collective, rotor_speed, gain, phase)
 
 
-def design(turbine: Turbine, harmonics: Sequence[int], wind_speeds: Sequence[float], reference_speed: float,
-           bandwidth: float, loop_delay: float, dt: float) -> Dict[str, dict]:
-    """Parameters of each ipc_h{n} node: gain at ``reference_speed``, phase offset, schedule over pitch."""
-    nodes = {}
-    for n in harmonics:
-        responses: List[HarmonicResponse] = [measure_harmonic_response(turbine, v, n, dt=dt) for v in wind_speeds]
-        reference = min(responses, key=lambda r: abs(r.wind_speed - reference_speed))
-        prefilter = design_prefilter(HarmonicIpcConfig(harmonic=n), dt)
-        gain = design_integral_gain(reference.sensitivity, bandwidth, loop_delay, prefilter)
-        ordered = sorted(responses, key=lambda r: r.collective_pitch)
-        nodes[f"/**/ipc_h{n}"] = {"ros__parameters": {
-            "harmonic": n,
+def _state_space_response(system: Tuple[np.ndarray, ...], points: ArrayLike) -> np.ndarray:
+    """c (pI − a)⁻¹ b + d of the system (a, b, c, d) at every complex point p (s = jω, or z = e^{jωdt} for a
+    discrete system), shape (len(points), outputs, inputs)."""
+    a, b, c, d = system
+    identity = np.eye(a.shape[0])
+    return np.array([c @ np.linalg.solve(p * identity - a, b) + d for p in np.atleast_1d(points)])
+
+
+def harmonic_response(model: ColemanModel, harmonic: int, omega: ArrayLike) -> np.ndarray:
+    """P_n(jω): the frequency response [N m/rad] in the frame of harmonic n, from the cos/sin nP pitch command
+    (c_n, s_n), remodulated without phase offset, to the cos/sin nP demodulation of the blade-root out-of-plane
+    moments (hawt_controllers.mbc), of a three-bladed rotor's Coleman-frame model, at ``omega`` [rad/s], shape
+    (len(omega), 2, 2).
+
+    The Coleman model holds only the collective and the 1P cyclic coordinates, but on three blades every
+    harmonic is one of them at a multiple of 3P. With m = round(n/3) and the demand z = c_n + j s_n, harmonic n
+    is a forward cyclic pitch at 3mΩ (n = 3m + 1), a backward one (n = 3m − 1) or a collective one (n = 3m), and
+    the nP demodulation brings the moment back: M_n = g_n(s) z with (our derivation; P the model's cos/sin block,
+    :func:`hawt_controllers.linear_models.tilt_yaw_response`, p_0 the collective pitch command to the collective
+    moment)::
+
+        n = 3m + 1:  g_n(s) = [1, j] P(s − 3jmΩ) [1, −j]ᵀ / 2
+        n = 3m − 1:  g_n(s) = [1, −j] P(s − 3jmΩ) [1, j]ᵀ / 2
+        n = 3m:      g_n(s) = p_0(s − 3jmΩ)
+
+    and P_n = [[g_r, −g_i], [g_i, g_r]] the real form of the complex-coefficient g_n = g_r + j g_i, with
+    g_r(jω) = (g_n(jω) + conj(g_n(−jω))) / 2. For three first-order blades this is Disario's eq. 2-19 with
+    ω0 → nω0 (the tests). Harmonic 1 is the tilt/yaw plant itself, which keeps the part of P(0) that is no
+    rotation (the sheared, shadowed rotor's: 2.6-4.4 % of it at 13-24 m/s); for n > 1 that part only leaves a
+    ripple at 6mΩ, and what the rotor's periodicity couples between harmonics is outside the azimuth-averaged
+    model.
+    """
+    if harmonic < 1:
+        raise ValueError(f"harmonic: expected >= 1, found {harmonic}")
+    omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    if harmonic == 1:
+        return tilt_yaw_response(model.model, omega)
+    shift = 3 * round(harmonic / 3) * model.rotor_speed
+
+    def gain(w: np.ndarray) -> np.ndarray:
+        if harmonic % 3 == 0:
+            m = model.model
+            pitch, moment = m.inputs.index("pitch_command_collective"), m.outputs.index("root_moment_oop_collective")
+            collective = (m.a, m.b[:, [pitch]], m.c[[moment]], m.d[[moment]][:, [pitch]])
+            return _state_space_response(collective, 1j * (w - shift))[:, 0, 0]
+        forward, backward = np.array([1.0, 1j]), np.array([1.0, -1j])
+        left, right = (forward, backward) if harmonic % 3 == 1 else (backward, forward)
+        return left @ tilt_yaw_response(model.model, w - shift) @ right / 2.0
+
+    plus, minus = gain(omega), np.conj(gain(-omega))
+    real, imaginary = (plus + minus) / 2.0, (plus - minus) / 2j
+    return np.stack([np.stack([real, -imaginary], axis=-1), np.stack([imaginary, real], axis=-1)], axis=-2)
+
+
+def model_harmonic_response(model: ColemanModel, harmonic: int) -> HarmonicResponse:
+    """The model route: dM/dθ and the phase rotation of harmonic n from the linear model's P_n(0)
+    (:func:`harmonic_response`) at its operating point.
+
+    The part of P_n(0) that a phase offset can undo is the rotation ρ [[−cos φ, sin φ], [−sin φ, −cos φ]] (the
+    mean of the diagonal and the half difference of the off-diagonal); the offset is its φ, and the gain the
+    mean of the diagonal of P_n(0) R(φ) with that offset, −ρ. (For 1P the column of P(0) alone, which the
+    measured route sees and :func:`hawt_controllers.linear_models.decoupling_offset` uses, gives 0.2° less at
+    18 m/s and a 2.6 % larger gain.)
+    """
+    p = harmonic_response(model, harmonic, [0.0])[0].real
+    cos, sin = (p[0, 0] + p[1, 1]) / 2.0, (p[1, 0] - p[0, 1]) / 2.0
+    return HarmonicResponse(model.wind_speed, harmonic, model.pitch, model.rotor_speed, -math.hypot(cos, sin),
+                            offset_from_dc_response(-cos, -sin))
+
+
+def loop_response(model: ColemanModel, harmonic: int, integral_gain: float, phase_offset: float, dt: float,
+                  omega: ArrayLike) -> np.ndarray:
+    """L(jω): the return ratio of harmonic n's IPC on the linear model, S = (I + L)⁻¹, shape (len(omega), 2, 2).
+
+    L = −P_n(jω) K(e^{jωdt}) F(e^{jωdt}): P_n from the pitch command (:func:`harmonic_response`, the actuator
+    inside), K the integrators through the inverse transform's phase offset at the law's dt
+    (:func:`hawt_controllers.lqg_ipc.integrator_ipc`, forward Euler: a step's delay), F the law's pre-filter
+    (:func:`hawt_controllers.ipc.design_prefilter`); the minus sign because the law pitches to feather on a
+    positive moment.
+    """
+    omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    law = _state_space_response(integrator_ipc(integral_gain, phase_offset, dt), np.exp(1j * omega * dt))
+    prefilter = design_prefilter(HarmonicIpcConfig(harmonic=harmonic), dt)
+    filtered = 1.0 if prefilter is None else prefilter.frequency_response(omega)[:, None, None]
+    return -harmonic_response(model, harmonic, omega) @ law * (filtered * _PITCH_UNIT / _MOMENT_UNIT)
+
+
+def _axis_loop(model: ColemanModel, harmonic: int, integral_gain: float, phase_offset: float, dt: float,
+               omega: ArrayLike) -> np.ndarray:
+    loop = loop_response(model, harmonic, integral_gain, phase_offset, dt, omega)
+    return (loop[:, 0, 0] + loop[:, 1, 1]) / 2.0
+
+
+def loop_crossover(model: ColemanModel, harmonic: int, integral_gain: float, phase_offset: float,
+                   dt: float) -> Tuple[float, float]:
+    """The crossover ω_c [rad/s] of the designed loop on the linear model, where the loop of one axis (the mean
+    of L11 and L22, :func:`loop_response`) first has |L| = 1, and the phase margin π + ∠L(jω_c) [rad]."""
+    grid = np.geomspace(1e-3, 10.0, 200)
+    below = np.abs(_axis_loop(model, harmonic, integral_gain, phase_offset, dt, grid)) < 1.0
+    if below[0] or not below.any():
+        raise ValueError("the loop does not cross over between 1e-3 and 10 rad/s")
+    k = int(np.argmax(below))
+    crossover = brentq(lambda w: abs(_axis_loop(model, harmonic, integral_gain, phase_offset, dt, w)[0]) - 1.0,
+                       grid[k - 1], grid[k], xtol=1e-9)
+    return crossover, float(np.angle(-_axis_loop(model, harmonic, integral_gain, phase_offset, dt, crossover)[0]))
+
+
+@dataclass(frozen=True)
+class LoopAnalysis:
+    """Harmonic n's integrator IPC closed on the linear model (:func:`loop_analysis`; Disario §5-3-2).
+
+    ``crossover`` [rad/s] and ``phase_margin`` [rad] as :func:`loop_crossover`; ``rga`` |RGA11| of the plant
+    with the offset, P_n(jω_c) R(φ), at the crossover (1: tilt and yaw decoupled); ``peak`` the largest singular
+    value of the sensitivity S = (I + L)⁻¹ over frequency, at ``peak_frequency`` [rad/s]; ``at_1p`` the largest
+    at the rotor speed Ω; ``bandwidth`` where the largest and the smallest singular value of S first reach
+    1/√2 [rad/s] (Disario: a region [0.38, 0.65] rad/s without the offset, one 0.47 rad/s with it).
+    """
+
+    crossover: float
+    phase_margin: float
+    rga: float
+    peak: float
+    peak_frequency: float
+    at_1p: float
+    bandwidth: Tuple[float, float]
+
+
+def loop_analysis(model: ColemanModel, harmonic: int, integral_gain: float, phase_offset: float, dt: float,
+                  omega: ArrayLike = np.geomspace(0.01, 10.0, 1501)) -> LoopAnalysis:
+    """:class:`LoopAnalysis` of the loop :func:`loop_response`, the sensitivity sampled at ``omega`` [rad/s]."""
+    omega = np.asarray(omega, dtype=float)
+    crossover, margin = loop_crossover(model, harmonic, integral_gain, phase_offset, dt)
+    loop = loop_response(model, harmonic, integral_gain, phase_offset, dt,
+                         np.append(omega, [crossover, model.rotor_speed]))
+    # RGA is blind to a scalar factor, and L is P_n R(φ) times one: RGA(L) = RGA(P_n R(φ))
+    rga = abs(complex(relative_gain_array(loop[-2])[0, 0]))
+    sigma = np.linalg.svd(np.linalg.inv(np.eye(2) + loop), compute_uv=False)
+    over = sigma[:-2]
+    peak = int(np.argmax(over[:, 0]))
+    level = 1.0 / math.sqrt(2.0)
+    reach = [int(np.argmax(over[:, i] >= level)) for i in (0, 1)]
+    bandwidth = tuple(float(np.interp(level, over[k - 1:k + 1, i], omega[k - 1:k + 1])) for i, k in enumerate(reach))
+    return LoopAnalysis(crossover, margin, rga, float(over[peak, 0]), float(omega[peak]), float(sigma[-1, 0]),
+                        bandwidth)
+
+
+def tune(responses: Sequence[HarmonicResponse], reference_speed: float, bandwidth: float, loop_delay: float,
+         dt: float) -> Tuple[Dict[str, object], IntegralGainDesign]:
+    """The ipc_h{n} parameters from one harmonic's responses over the operating points: van Engelen's integral
+    gain for the crossover ``bandwidth`` [rad/s] at the response nearest ``reference_speed``, its phase offset,
+    and the schedule over collective pitch (factors k_ref/k); and the gain design."""
+    reference = min(responses, key=lambda r: abs(r.wind_speed - reference_speed))
+    prefilter = design_prefilter(HarmonicIpcConfig(harmonic=reference.harmonic), dt)
+    gain = design_integral_gain(reference.sensitivity, bandwidth, loop_delay, prefilter)
+    ordered = sorted(responses, key=lambda r: r.collective_pitch)
+    return {"harmonic": reference.harmonic,
             "integral_gain": float(gain.integral_gain),
             "phase_offset": float(reference.phase),
             "schedule_breakpoints": [float(r.collective_pitch) for r in ordered],
-            "schedule_factors": [float(reference.sensitivity / r.sensitivity) for r in ordered],
-        }}
-        print(f"h{n}: " + "; ".join(f"{r.wind_speed:g} m/s pitch {math.degrees(r.collective_pitch):.1f} deg: "
-                                     f"dM/dtheta {r.sensitivity / 1e6:.2f} MN*m/rad, phase "
-                                     f"{math.degrees(r.phase):.1f} deg" for r in ordered))
-        print(f"h{n}: k_i {gain.integral_gain:.3e} rad/(N*m*s) at {reference_speed:g} m/s, crossover "
-              f"{gain.crossover_frequency / (2 * math.pi):.3f} Hz, phase margin {math.degrees(gain.phase_margin):.1f} deg")
+            "schedule_factors": [float(reference.sensitivity / r.sensitivity) for r in ordered]}, gain
+
+
+def design(turbine: Turbine, harmonics: Sequence[int], wind_speeds: Sequence[float], reference_speed: float,
+           bandwidth: float, loop_delay: float, dt: float, models: Sequence[ColemanModel] = ()) -> Dict[str, dict]:
+    """Parameters of each ipc_h{n} node (:func:`tune`): from the linear ``models`` (the model route) if they hold
+    every wind speed, with the measured route printed beside them; else from the measured route."""
+    at: Dict[float, Optional[ColemanModel]] = {
+        v: next((m for m in models if abs(m.wind_speed - v) < 1e-6), None) for v in wind_speeds}
+    missing = [v for v, m in at.items() if m is None]
+    if models and missing:
+        print("no linear model at " + ", ".join(f"{v:g}" for v in missing) + " m/s: the measured route")
+    nodes = {}
+    for n in harmonics:
+        measured = [measure_harmonic_response(turbine, v, n, dt=dt) for v in wind_speeds]
+        responses = measured if missing else [model_harmonic_response(at[v], n) for v in wind_speeds]
+        parameters, gain = tune(responses, reference_speed, bandwidth, loop_delay, dt)
+        nodes[f"/**/ipc_h{n}"] = {"ros__parameters": parameters}
+        route = "measured" if missing else "linear model"
+        print(f"h{n} ({route}): " + "; ".join(
+            f"{r.wind_speed:g} m/s pitch {math.degrees(r.collective_pitch):.1f} deg: dM/dtheta "
+            f"{r.sensitivity / 1e6:.2f} MN*m/rad, phase {math.degrees(r.phase):.1f} deg" for r in responses))
+        reference = min(responses, key=lambda r: abs(r.wind_speed - reference_speed))
+        if missing:
+            print(f"h{n}: k_i {gain.integral_gain:.3e} rad/(N*m*s) at {reference.wind_speed:g} m/s, crossover "
+                  f"{gain.crossover_frequency / (2 * math.pi):.3f} Hz, phase margin "
+                  f"{math.degrees(gain.phase_margin):.1f} deg (with the loop delay)")
+            continue
+        print(f"h{n} cross-check, the measured static response against the model's: " + "; ".join(
+            f"{m.wind_speed:g} m/s phase {math.degrees(m.phase - r.phase):+.2f} deg, dM/dtheta "
+            f"{100 * (m.sensitivity / r.sensitivity - 1):+.1f} %, pitch "
+            f"{math.degrees(m.collective_pitch - r.collective_pitch):+.2f} deg" for m, r in zip(measured, responses)))
+        crossover, margin = loop_crossover(at[reference.wind_speed], n, gain.integral_gain, reference.phase, dt)
+        print(f"h{n}: k_i {gain.integral_gain:.3e} rad/(N*m*s) at {reference.wind_speed:g} m/s, crossover on the "
+              f"model {crossover / (2 * math.pi):.3f} Hz (designed {bandwidth / (2 * math.pi):.3f}), phase margin "
+              f"{math.degrees(margin):.1f} deg")
     return nodes
 
 
@@ -163,16 +351,17 @@ def retuned(nodes: Dict[str, dict], harmonic: int = 1, gain_factor: float = 1.3)
 
 def _write(path: Path, nodes: Dict[str, dict], what: str, argv: Sequence[str]) -> None:
     header = (f"# {what}, written by `python -m hawt_controllers.ipc_design {' '.join(argv or [])}`.\n"
-              "# Gains, phase offsets and schedules come from the turbine model's measured response (see that "
-              "module).\n")
+              "# Gains, phase offsets and schedules come from the plant's response: its linear models or its "
+              "measured static response (see that module).\n")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(header + yaml.safe_dump(nodes, sort_keys=False))
     print(f"wrote {path}")
 
 
 def main(argv: Sequence[str] = None) -> None:
-    parser = argparse.ArgumentParser(description="Tune the IPC harmonics from the turbine model's measured response "
-                                                 "and write the ipc graph's parameter file.")
+    parser = argparse.ArgumentParser(description="Tune the IPC harmonics from the plant's linear models (the measured "
+                                                 "static response beside them as the cross-check) and write the ipc "
+                                                 "graph's parameter file.")
     parser.add_argument("--harmonics", type=int, nargs="+", default=[1, 2, 3])
     parser.add_argument("--wind-speeds", type=float, nargs="+", default=[13.0, 16.0, 18.0, 20.0, 24.0],
                         help="operating points above rated [m/s]")
@@ -181,6 +370,10 @@ def main(argv: Sequence[str] = None) -> None:
     parser.add_argument("--loop-delay", type=float, default=0.1,
                         help="delay from measurement to pitch [s]: one plant step plus the pitch actuator's lag")
     parser.add_argument("--dt", type=float, default=0.01)
+    parser.add_argument("--linear-models", type=Path, default=DEFAULT_MODELS,
+                        help="the plant's Coleman-frame models (hawt linearize)")
+    parser.add_argument("--measured", action="store_true",
+                        help="the measured static response only, no linear models")
     parser.add_argument("-o", "--output", type=Path, default=DEFAULT_FILE)
     parser.add_argument("--retuned-output", type=Path, default=RETUNED_FILE)
     parser.add_argument("--retuned-only", action="store_true",
@@ -191,7 +384,8 @@ def main(argv: Sequence[str] = None) -> None:
         nodes = yaml.safe_load(args.output.read_text())
     else:
         nodes = design(nrel_5mw(), args.harmonics, args.wind_speeds, args.reference_speed,
-                       2 * math.pi * args.bandwidth_hz, args.loop_delay, args.dt)
+                       2 * math.pi * args.bandwidth_hz, args.loop_delay, args.dt,
+                       () if args.measured else load_models(args.linear_models))
         _write(args.output, nodes, "IPC parameters of the NREL 5 MW", argv)
     _write(args.retuned_output, retuned(nodes), f"The retuned 1P controller, derived from {args.output.name}", argv)
 
