@@ -73,6 +73,10 @@ def analysis_text(summary: Mapping) -> str:
         lines.append("command flags      " + ", ".join(f"{name} {count} steps"
                                                        for name, count in command["flag_steps"].items()))
     lines += _segment_lines(summary.get("segments") or [], summary.get("n_blades") or 3)
+    for name, by_axis in (summary.get("wind_estimate") or {}).items():
+        lines.append(f"wind estimate of {name} against the plant's blade-effective wind (means removed): " + "; ".join(
+            f"{axis} correlation {q['correlation']:.3f}, error RMS {q['error_rms']:.3g} of {q['truth_rms']:.3g} m/s"
+            for axis, q in by_axis.items()))
     events = summary.get("events") or []
     lines += ["", f"events ({len(events)}):" if events else "events: none recorded"]
     lines += [f"  t={e['time']:10.3f} s  step {e['step']:>8}  {_LEVELS.get(e['level'], e['level'])!s:<5} "
@@ -214,10 +218,20 @@ def _folder(directory: os.PathLike) -> Path:
 def write_analysis_report(analysis, directory: os.PathLike) -> Path:
     """Write ``index.html`` (with the harmonic table), the PNGs of `hawt_analysis.plots.write_report` and
     ``summary.json``; return the index."""
-    from .plots import write_report
+    from .plots import _save, write_report
+    from .run_analysis import wind_estimate_qualities
+    from .wind_estimation import AXES, plot_wind_estimate
 
     directory = _folder(directory)
     images = write_report(analysis.run.channels, analysis.summary, directory)
+    run = analysis.run
+    for name, quality in wind_estimate_qualities(run).items():
+        rows = run.wind_estimates[name]["rows"]
+        figure = plot_wind_estimate(run.channels["time"][rows],
+                                    {axis: run.channels[f"effective_wind_{axis}"][rows] for axis in AXES},
+                                    {axis: run.wind_estimates[name][f"wind_{axis}"] for axis in AXES}, quality,
+                                    f"{name}: multi-blade wind estimate against the plant's truth")
+        images.append(_save(figure, directory / f"wind_estimate_{name}.png"))
     (directory / "summary.json").write_text(json.dumps(analysis.summary, indent=1))
     return write_html_page(directory / "index.html", f"hawt analyze: {analysis.path.name}",
                            analysis_text(analysis.summary), images, ["summary.json"],

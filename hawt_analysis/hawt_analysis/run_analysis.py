@@ -1,17 +1,19 @@
 """The numbers of ``hawt analyze`` and ``hawt compare`` for bags: `hawt_analysis` on the recorded topics.
 
 `analyze_bag` reads one turbine's run (`plant_run.load_plant_run`) and returns the
-dict of `hawt_analysis.summary.summarize` (DESIGN §8) with five more keys:
+dict of `hawt_analysis.summary.summarize` (DESIGN §8) with six more keys:
 ``bag`` (file, namespace, messages per topic), ``pitch_command`` (activity of the
 commanded pitch and the steps each PitchCommand flag was set; None without that
 topic), ``events`` (the ``control/events`` timeline), ``segments`` (harmonic
-amplitudes between the steps of controller switches; empty without switches) and
+amplitudes between the steps of controller switches; empty without switches),
+``wind_estimate`` (per controller that publishes one and per axis, its estimate against
+the plant's true blade-effective wind, `hawt_analysis.wind_estimation`; empty without) and
 ``warnings`` (one line each, e.g. steps missing in the plant topics; empty if none).
 """
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Optional, Sequence
+from typing import Callable, Dict, Optional, Sequence
 
 import numpy as np
 
@@ -22,8 +24,9 @@ from hawt_bag.reader import BagReader
 from .comparison import compare_summaries
 from .pitch_activity import pitch_activity
 from .summary import AnalysisOptions, segment_harmonics, summarize
+from .wind_estimation import AXES, EstimateQuality, estimate_quality
 
-__all__ = ["BagAnalysis", "analyze_bag", "compare_bags"]
+__all__ = ["BagAnalysis", "analyze_bag", "compare_bags", "wind_estimate_qualities"]
 
 
 @dataclass(frozen=True)
@@ -90,8 +93,23 @@ def analyze_bag(path: os.PathLike, namespace: Optional[str] = None, options: Ana
     summary["pitch_command"] = _command_summary(run, options)
     summary["events"] = run.events
     summary["segments"] = _switch_segments(run, options)
+    summary["wind_estimate"] = {name: {axis: quality.summary() for axis, quality in by_axis.items()}
+                                for name, by_axis in wind_estimate_qualities(run, options).items()}
     summary["warnings"] = list(run.warnings)
     return BagAnalysis(Path(path), run, summary)
+
+
+def wind_estimate_qualities(run: PlantRun, options: AnalysisOptions = AnalysisOptions()
+                            ) -> Dict[str, Dict[str, EstimateQuality]]:
+    """Per controller that published a wind estimate, per axis (cos, sin): the estimate against the plant's
+    truth at the steps both have (none if the bag's plant/state lacks the truth, recorded before it had it)."""
+    if not {f"effective_wind_{axis}" for axis in AXES} <= set(run.channels):
+        return {}
+    rate = 1.0 / float(np.median(np.diff(run.channels["time"])))
+    return {name: {axis: estimate_quality(run.channels[f"effective_wind_{axis}"][estimate["rows"]],
+                                          estimate[f"wind_{axis}"], rate, options.psd_segment_duration)
+                   for axis in AXES}
+            for name, estimate in run.wind_estimates.items() if estimate["rows"].size >= 3}
 
 
 def _switch_segments(run: PlantRun, options: AnalysisOptions) -> list:

@@ -6,12 +6,12 @@ Topics (DESIGN §5), relative to the turbine's namespace (``/wt1/plant/blade_loa
 plant step, DESIGN §3); ``time`` is the blade loads' ``header.stamp`` [s]. If the plant
 topics miss steps, the longest run of steps both hold is taken, with a warning.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
 
-from hawt_core.topics import BLADE_LOADS, PITCH_COMMAND, TURBINE_STATE
+from hawt_core.topics import BLADE_LOADS, PITCH_COMMAND, TURBINE_STATE, WIND_ESTIMATE
 from hawt_core.topics import EVENTS as CONTROL_EVENTS
 
 from .errors import BagError
@@ -98,6 +98,9 @@ class PlantRun:
         Bit value → name of the PitchCommand ``FLAG_*`` constants.
     events : list of dict
         ``time`` [s], ``step``, ``source``, ``level``, ``kind``, ``detail``, in step order.
+    wind_estimates : dict
+        Controller name → ``rows`` (indices into ``steps``), ``wind_cos``, ``wind_sin`` [m/s]: each
+        controller's hawt_msgs/WindEstimate (``control/<name>/wind_estimate``) at the steps it has.
     counts : dict
         Topic → messages read.
     warnings : tuple of str
@@ -112,6 +115,7 @@ class PlantRun:
     events: list
     counts: dict
     warnings: tuple[str, ...] = ()
+    wind_estimates: dict = field(default_factory=dict)
 
 
 def _by_step(steps: np.ndarray) -> np.ndarray:
@@ -179,7 +183,26 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
                                                     channels["pitch"].shape[1])
     warnings += malformed
     events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts, steps, time)
-    return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings)
+    estimates = _wind_estimates(reader, namespace, steps, counts, progress)
+    return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings,
+                    estimates)
+
+
+def _wind_estimates(reader: BagReader, namespace: str, steps: np.ndarray, counts: dict, progress) -> dict:
+    """Every controller's wind estimate at the run's steps (PlantRun.wind_estimates)."""
+    prefix, suffix = topic_in(namespace, "control/"), "/" + WIND_ESTIMATE
+    found = {}
+    for topic in sorted(reader.topic_names()):
+        if not (topic.startswith(prefix) and topic.endswith(suffix)):
+            continue
+        progress(f"reading {topic}")
+        columns = read_topic_columns(reader, topic, ("step", "wind_cos", "wind_sin"))
+        counts[topic] = len(columns)
+        rows = _by_step(columns.fields["step"])
+        _, at_run, at_topic = np.intersect1d(steps, columns.fields["step"][rows], return_indices=True)
+        found[topic[len(prefix):-len(suffix)]] = {"rows": at_run, **{name: columns.fields[name][rows][at_topic]
+                                                                      for name in ("wind_cos", "wind_sin")}}
+    return found
 
 
 def _pitch_command(reader: BagReader, topic: str, counts: dict, progress,

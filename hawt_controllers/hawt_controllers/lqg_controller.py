@@ -27,6 +27,7 @@ import numpy as np
 from hawt_core.command_interfaces import harmonic_interface
 from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_values
 from hawt_core.plant_description import PlantDescription
+from hawt_core.topics import WIND_ESTIMATE
 
 from .controller import Contribution, Controller, HarmonicContribution, OutputRamp, mean_pitch
 from .exceptions import ConfigurationError
@@ -45,7 +46,7 @@ class LqgIpcController(Controller):
     """Selvam's FB-FF IPC on harmonic 1 (see the module notes)."""
 
     TYPE = "lqg_ipc"
-    ESTIMATE = ("wind_estimate", "WindEstimate")
+    ESTIMATE = (WIND_ESTIMATE, "WindEstimate")
     PARAMETERS = (
         ParameterSpec("linear_models", "", "the plant's linear models (.npz of hawt linearize; empty: the "
                       "NREL 5 MW's)", read_only=True),

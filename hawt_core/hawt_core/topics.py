@@ -4,7 +4,8 @@ namespace per turbine."""
 __all__ = [
     "BLADE_LOADS", "TURBINE_STATE", "COLLECTIVE", "PITCH_COMMAND", "EVENTS", "CLOCK",
     "SWITCH_CONTROLLERS", "LIST_CONTROLLERS", "SWITCHES", "SCHEDULE", "CONTROLLER_STATES", "PLANT_DESCRIPTION",
-    "mbc_topic", "ipc_topic", "blade_pitch_topic", "estimate_topic", "RECORDER_NODE", "RECORDER_PROGRESS",
+    "mbc_topic", "ipc_topic", "blade_pitch_topic", "estimate_topic", "WIND_ESTIMATE", "RECORDER_NODE",
+    "RECORDER_PROGRESS",
     "VIEW_NODE",
 ]
 
@@ -36,6 +37,10 @@ def mbc_topic(harmonic: int) -> str:
 def ipc_topic(harmonic: int) -> str:
     """The pitch demand of the IPC controller of harmonic n: ``control/ipc/h{n}``."""
     return f"control/ipc/h{harmonic}"
+
+
+WIND_ESTIMATE = "wind_estimate"
+"""The kind of a controller's multi-blade wind estimate (hawt_msgs/WindEstimate), for ``estimate_topic``."""
 
 
 def estimate_topic(controller: str, kind: str) -> str:

@@ -58,7 +58,7 @@ def runs():
 
 def _analysis(label: str, channels: dict) -> SimpleNamespace:
     """What the report writers read of a `hawt_analysis.run_analysis.BagAnalysis`."""
-    return SimpleNamespace(path=Path(label), run=SimpleNamespace(channels=channels, events=[]),
+    return SimpleNamespace(path=Path(label), run=SimpleNamespace(channels=channels, events=[], wind_estimates={}),
                            summary=summarize(channels))
 
 
