@@ -8,7 +8,9 @@ them (the estimators of all operating points run, so a change of schedule needs 
 contributes the demand of the law whose operating pitch is nearest the measured mean pitch (gain
 scheduling over the linear models), with phase offset 0: the models' cyclic pitch is the one of the
 plain inverse transform. The random-walk wind states take up the orbit's constant 1P moment (shear),
-as an integrator would. Its estimators are fed its own output after the ramp: what it contributes.
+as an integrator would. Its estimators are told its own output after the ramp (what it contributes) and
+their actuator states follow the measured 1P cos/sin blade pitch: the pitch applied after the loop
+assembler's rate and angle limits, as Selvam's filter must be fed (not the demanded).
 
 Replacing another controller on ``harmonic/1`` (e.g. the integrator IPC), it blends from that one's last
 output to its own over ``ramp_time`` (bumpless); the weights can be set live: the new designs are made
@@ -29,7 +31,7 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_val
 from hawt_core.plant_description import PlantDescription
 from hawt_core.topics import WIND_ESTIMATE
 
-from .controller import Contribution, Controller, HarmonicContribution, OutputRamp, mean_pitch
+from .controller import Contribution, Controller, HarmonicContribution, OutputRamp
 from .exceptions import ConfigurationError
 from .linear_models import load_models
 from .lqg_design import LqgDesign, LqgWeights, design_lqg
@@ -101,9 +103,11 @@ class LqgIpcController(Controller):
 
     def update(self, step: int, loads: Any, state: Any = None) -> Tuple[HarmonicContribution, ...]:
         moments = mbc_forward_sample(loads.root_moment_oop, loads.azimuth, 1)
-        pitch = mean_pitch(loads.pitch)
-        self.active_law = min(range(len(self.pitches)), key=lambda k: abs(self.pitches[k] - pitch))
+        cyclic = mbc_forward_sample(loads.pitch, loads.azimuth, 1)
+        self.active_law = min(range(len(self.pitches)), key=lambda k: abs(self.pitches[k] - cyclic.mean))
         factor = self.ramp.advance()
+        for law in self.laws:  # the pitch the blades have: what was applied, after every limit
+            law.track_actuator(cyclic.cos, cyclic.sin)
         demands = [law.demand(moments.cos, moments.sin) for law in self.laws]
         cos, sin = demands[self.active_law]
         applied = (factor * cos + (1.0 - factor) * self.start[0], factor * sin + (1.0 - factor) * self.start[1])

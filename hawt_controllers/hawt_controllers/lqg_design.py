@@ -40,11 +40,13 @@ from .mbc3 import LinearModel
 
 __all__ = ["DiscreteModel", "LqgDesign", "LqgWeights", "design_lqg", "design_states", "discrete_channels",
            "observability_rank",
-           "controllability_rank", "MEASURED", "CONTROLLED", "DISTURBANCES"]
+           "controllability_rank", "MEASURED", "CONTROLLED", "DISTURBANCES", "ACTUATOR_STATES"]
 
 MEASURED = ("root_moment_oop_cos", "root_moment_oop_sin")
 CONTROLLED = ("pitch_command_cos", "pitch_command_sin")
 DISTURBANCES = ("wind_cos", "wind_sin")
+ACTUATOR_STATES = ("pitch_cos", "pitch_sin", "pitch_rate_cos", "pitch_rate_sin")
+"""The cyclic pitch actuator's states (angle [rad], rate [rad/s]), set from the measured pitch each step."""
 _MOMENT_UNIT = 1e6  # N m per MN m
 _PITCH_UNIT = math.pi / 180.0  # rad per deg
 
@@ -163,6 +165,8 @@ class LqgDesign:
     ff_b: np.ndarray
     ff_c: np.ndarray
     ff_d: np.ndarray
+    actuator: Tuple[int, ...] = ()
+    """Indices of ACTUATOR_STATES in the turbine state."""
 
     @property
     def states(self) -> int:
@@ -218,4 +222,5 @@ def design_lqg(model: LinearModel, dt: float, weights: LqgWeights = LqgWeights()
     if radius >= 1.0:
         raise ConfigurationError("inversion", f"the SDMI inverse is not stable (spectral radius {radius:.6f})")
     ff_a, ff_b, ff_c, ff_d = _series((plant.a, plant.b_u, plant.c, plant.d_u), inverse)
-    return LqgDesign(plant, weights, a_aug, b_aug, c_aug, k_est, k_lqr, inverse, ff_a, ff_b, -ff_c, -ff_d)
+    actuator = tuple(design_states(model).index(name) for name in ACTUATOR_STATES)
+    return LqgDesign(plant, weights, a_aug, b_aug, c_aug, k_est, k_lqr, inverse, ff_a, ff_b, -ff_c, -ff_d, actuator)

@@ -11,7 +11,7 @@ wind's effect on the rotor speed with the law closed on the whole Coleman model 
 from __future__ import annotations
 
 import math
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -31,12 +31,25 @@ class LqgIpc:
         self.estimate = np.zeros(design.a_est.shape[0])
         self.feedforward = np.zeros(design.ff_a.shape[0])
         self._measured = np.zeros(2)
+        self._pitch: Optional[np.ndarray] = None
 
     @property
     def wind(self) -> Tuple[float, float]:
         """The estimated cos/sin blade-effective wind [m/s] (Selvam's û_23^cm)."""
         u = self.estimate[self.design.states:]
         return float(u[0]), float(u[1])
+
+    def track_actuator(self, pitch_cos: float, pitch_sin: float) -> None:
+        """Set the estimated actuator states to this step's measured 1P cos/sin blade pitch [rad] and their rates
+        to its change since the last call: the estimator runs on the pitch the blades have, whatever limited the
+        command on its way (Selvam §3: the filter is fed the applied pitch, not the demanded; the observer form
+        of anti-windup). Call before :meth:`demand`."""
+        pitch = np.array((pitch_cos, pitch_sin))
+        angle, rate = self.design.actuator[:2], self.design.actuator[2:]
+        self.estimate[list(angle)] = pitch
+        if self._pitch is not None:
+            self.estimate[list(rate)] = (pitch - self._pitch) / self.design.plant.dt
+        self._pitch = pitch
 
     def demand(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
         """The cos/sin 1P pitch demand [rad] for this step's cos/sin root moments [N m]; then :meth:`advance`
