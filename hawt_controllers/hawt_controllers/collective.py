@@ -21,6 +21,11 @@ The integrator is a :class:`~hawt_controllers.pi.PIController` holding K_I·∫e
 (output units before GK) with limits [θ_min/GK, θ_max/GK]: that is exactly
 Jonkman's clamp of ∫e to [θ_min/(GK K_I), θ_max/(GK K_I)].
 
+Deviation from the DISCON in normal operation: near rated K_I is reduced (0.5 of Jonkman's at and
+below 1° of pitch, rising to his at 4°, :func:`integral_gain_factor`), which removes the rated-wind
+limit cycle of this plant (issue 13); the law above 4° (about 12.1 m/s) is Jonkman's. The integrator
+holds K_I·∫e in output units, so a change of K_I moves no pitch at once.
+
 Deviations from the DISCON, both outside its normal operation: the torque is
 clamped below at 0 (the DISCON has no lower limit; it only matters for a
 negative filtered speed), and at ω_f <= 0 in region 3 the torque is T_max
@@ -32,7 +37,7 @@ from __future__ import annotations
 
 import enum
 import math
-from dataclasses import dataclass, fields
+from dataclasses import MISSING, dataclass, fields
 from pathlib import Path
 from typing import NamedTuple
 
@@ -52,6 +57,7 @@ __all__ = [
     "DEFAULT_BASELINE_FILE",
     "TorqueRegion",
     "gain_correction_factor",
+    "integral_gain_factor",
     "load_baseline_config",
     "torque_demand",
 ]
@@ -110,6 +116,11 @@ class BaselineCollectiveConfig:
         T_max [N·m] [VS_MaxTq].
     max_torque_rate : float
         |dT/dt| limit [N·m/s] [VS_MaxRat].
+    near_rated_integral_factor : float
+        K_I is multiplied by this at or below ``near_rated_pitch_low``, rising linearly to 1 at
+        ``near_rated_pitch_high`` (:func:`integral_gain_factor`; not in the DISCON: 1 keeps Jonkman's law).
+    near_rated_pitch_low, near_rated_pitch_high : float
+        The pitch [rad] where that ramp starts and ends.
     """
 
     generator_speed_corner_frequency: float
@@ -129,6 +140,9 @@ class BaselineCollectiveConfig:
     region3_min_pitch: float
     max_generator_torque: float
     max_torque_rate: float
+    near_rated_integral_factor: float = 1.0
+    near_rated_pitch_low: float = 0.0
+    near_rated_pitch_high: float = 0.0
 
     def __post_init__(self) -> None:
         self.validate()
@@ -203,6 +217,12 @@ class BaselineCollectiveConfig:
             )
         if self.min_pitch >= self.max_pitch:
             raise ConfigurationError("min_pitch", f"must be < max_pitch ({self.max_pitch}), found {self.min_pitch}")
+        if not 0.0 < self.near_rated_integral_factor <= 1.0:
+            raise ConfigurationError("near_rated_integral_factor",
+                                     f"must be in (0, 1], found {self.near_rated_integral_factor}")
+        if self.near_rated_pitch_high < self.near_rated_pitch_low:
+            raise ConfigurationError("near_rated_pitch_high", f"must be >= near_rated_pitch_low "
+                                     f"({self.near_rated_pitch_low}), found {self.near_rated_pitch_high}")
         if self.region2_start_generator_speed <= self.cut_in_generator_speed:
             raise ConfigurationError(
                 "region2_start_generator_speed",
@@ -246,10 +266,10 @@ def load_baseline_config(path: str | Path = DEFAULT_BASELINE_FILE) -> BaselineCo
     for key in values:
         if key not in names:
             raise ConfigurationError(key, f"unknown parameter in {path}")
-    for name in names:
-        if name not in values:
-            raise ConfigurationError(name, f"missing from {path}")
-    return BaselineCollectiveConfig(**{name: float(values[name]) for name in names})
+    for f in fields(BaselineCollectiveConfig):
+        if f.name not in values and f.default is MISSING:
+            raise ConfigurationError(f.name, f"missing from {path}")
+    return BaselineCollectiveConfig(**{name: float(value) for name, value in values.items()})
 
 
 def gain_correction_factor(pitch: float, gain_doubling_pitch: float) -> float:
@@ -261,6 +281,30 @@ def gain_correction_factor(pitch: float, gain_doubling_pitch: float) -> float:
     0.5
     """
     return 1.0 / (1.0 + pitch / gain_doubling_pitch)
+
+
+def integral_gain_factor(pitch: float, config: BaselineCollectiveConfig) -> float:
+    """The factor on K_I at ``pitch`` [rad]: ``near_rated_integral_factor`` at or below ``near_rated_pitch_low``, 1 at
+    or above ``near_rated_pitch_high``, linear between (not in Jonkman's DISCON).
+
+    Why: near rated the plant's pitch sensitivity is a third of what Jonkman's schedule GK assumes (the Cp peak
+    is at -0.25 deg) and the collective flap puts a right-half-plane zero in pitch -> speed (0.91 rad/s at 11.4
+    m/s); with the constant-power torque the loop's phase margin on the linear model is -7.6 deg at 11.4 m/s
+    and a 0.05 Hz limit cycle grows to 0-2.3 deg of pitch. Halving K_I there gives +13.3 deg (the PI's zero moves
+    below the crossover) and leaves the law unchanged from 4 deg of pitch (about 12.1 m/s) up.
+
+    Examples
+    --------
+    >>> config = load_baseline_config()
+    >>> integral_gain_factor(0.0, config), integral_gain_factor(math.radians(10.0), config)
+    (0.5, 1.0)
+    """
+    low, high, factor = config.near_rated_pitch_low, config.near_rated_pitch_high, config.near_rated_integral_factor
+    if pitch <= low:
+        return factor
+    if pitch >= high:
+        return 1.0
+    return factor + (1.0 - factor) * (pitch - low) / (high - low)
 
 
 def torque_demand(
@@ -428,7 +472,7 @@ class BaselineCollectiveController:
             [speed - c.rated_generator_speed],
             dt,
             kp=c.proportional_gain,
-            ki=c.integral_gain,
+            ki=c.integral_gain * integral_gain_factor(self.pitch_command, c),
             saturation=BoxSaturation(c.min_pitch / gain, c.max_pitch / gain),
         )[0] + extra
         # The rate limit counts from the previous collective command, not from the measured mean

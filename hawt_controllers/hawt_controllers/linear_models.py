@@ -24,7 +24,7 @@ from scipy.optimize import minimize_scalar
 from hawt_plant.linearization import PeriodicLinearization, linearize_model
 
 from .coleman_coupling import offset_from_dc_response
-from .collective import BaselineCollectiveConfig, gain_correction_factor
+from .collective import BaselineCollectiveConfig, gain_correction_factor, integral_gain_factor
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
 __all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
@@ -161,10 +161,10 @@ def collective_loop_gain(model: ColemanModel, config: BaselineCollectiveConfig, 
     """L(jω) at ``omega`` [rad/s] (> 0) of the baseline collective pitch loop (Jonkman et al. 2009 ch. 7,
     hawt_controllers.collective) at the model's operating point, broken at the pitch command:
 
-        L(s) = -GK(θ_op) (K_P + K_I/s) ω_c/(s + ω_c) P(s),
+        L(s) = -GK(θ_op) (K_P + f(θ_op) K_I/s) ω_c/(s + ω_c) P(s),
 
     P the model's pitch_command_collective -> generator_speed [rad/s per rad]: the PI on the low-passed generator
-    speed, gain-scheduled at the operating pitch θ_op, in the convention of negative feedback (the PI pitches to
+    speed, gain-scheduled at the operating pitch θ_op (f: the near-rated factor on K_I), in the convention of negative feedback (the PI pitches to
     feather on a positive speed error, which slows the rotor: L > 0 at low frequency). The generator torque is
     held, as in the model (the region-3 torque law's loop is open), and the law is taken in continuous time."""
     m = model.model
@@ -173,7 +173,8 @@ def collective_loop_gain(model: ColemanModel, config: BaselineCollectiveConfig, 
     s = 1j * np.atleast_1d(omega)
     corner = config.generator_speed_corner_frequency
     schedule = gain_correction_factor(model.pitch, config.gain_doubling_pitch)
-    return -schedule * (config.proportional_gain + config.integral_gain / s) * corner / (s + corner) * plant
+    integral = config.integral_gain * integral_gain_factor(model.pitch, config)
+    return -schedule * (config.proportional_gain + integral / s) * corner / (s + corner) * plant
 
 
 def _crossings(values: np.ndarray, loop: np.ndarray) -> np.ndarray:

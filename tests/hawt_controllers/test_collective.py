@@ -10,6 +10,7 @@ from hawt_controllers.collective import (
     BaselineCollectiveController,
     TorqueRegion,
     gain_correction_factor,
+    integral_gain_factor,
     load_baseline_config,
     torque_demand,
 )
@@ -110,13 +111,19 @@ def test_gain_correction_factor_halves_the_gains_at_theta_k():
 
 @pytest.mark.parametrize("pitch", [0.0, 0.1099965, 0.3])
 def test_pitch_response_to_a_speed_error_is_scaled_by_the_gain_schedule(pitch):
-    """First step after a bumpless start at θ0 with speed error δ: Δθ = GK(θ0)(K_P δ + K_I δ dt)."""
+    """First step after a bumpless start at θ0 with speed error δ: Δθ = GK(θ0)(K_P δ + f(θ0) K_I δ dt)."""
     delta = 0.01
     controller = BaselineCollectiveController(CONFIG)
     controller.reset(generator_speed=CONFIG.rated_generator_speed + delta, pitch=pitch)
     out = controller.step(CONFIG.rated_generator_speed + delta, pitch, DT)
-    expected = gain_correction_factor(pitch, CONFIG.gain_doubling_pitch) * (0.01882681 + 0.008068634 * DT) * delta
+    expected = gain_correction_factor(pitch, CONFIG.gain_doubling_pitch) * (
+        0.01882681 + integral_gain_factor(pitch, CONFIG) * 0.008068634 * DT) * delta
     assert out.pitch - pitch == pytest.approx(expected, rel=1e-9)
+
+
+@pytest.mark.parametrize("degrees, factor", [(0.0, 0.5), (1.0, 0.5), (2.5, 0.75), (4.0, 1.0), (20.0, 1.0)])
+def test_near_rated_the_integral_gain_is_halved_and_from_4_degrees_it_is_jonkmans(degrees, factor):
+    assert integral_gain_factor(math.radians(degrees), CONFIG) == pytest.approx(factor, rel=1e-6)
 
 
 def test_bumpless_start_holds_the_measured_pitch_at_rated_speed():
@@ -186,6 +193,8 @@ def test_loader_refuses_unknown_and_missing_parameters(tmp_path):
         ({"region2_start_generator_speed": 60.0}, "region2_start_generator_speed: must be > cut_in"),
         ({"max_generator_torque": 40000.0}, "max_generator_torque: must be >= P_rated"),
         ({"min_pitch": 1.6}, "min_pitch: must be < max_pitch"),
+        ({"near_rated_integral_factor": 0.0}, "near_rated_integral_factor: must be in"),
+        ({"near_rated_pitch_high": 0.0}, "near_rated_pitch_high: must be >= near_rated_pitch_low"),
     ],
 )
 def test_invalid_tuning_is_refused_naming_the_field(change, message):
