@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence, Tuple
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 from scipy.linalg import solve_discrete_are
@@ -111,16 +111,18 @@ def design_states(model: LinearModel) -> Tuple[str, ...]:
     return tuple(name for name in model.states if name.endswith(("_cos", "_sin")) or name.startswith("tower_"))
 
 
-def discrete_channels(model: LinearModel, dt: float) -> DiscreteModel:
-    """The tilt/yaw channels of ``model`` on :func:`design_states`, discretised at ``dt`` [s] with a zero-order
-    hold."""
-    keep = [model.states.index(n) for n in design_states(model)]
-    columns = [model.inputs.index(n) for n in CONTROLLED + DISTURBANCES]
-    rows = [model.outputs.index(n) for n in MEASURED]
-    scale = np.array([_PITCH_UNIT] * len(CONTROLLED) + [1.0] * len(DISTURBANCES))
+def discrete_channels(model: LinearModel, dt: float, states: Optional[Sequence[str]] = None,
+                      disturbances: Sequence[str] = DISTURBANCES, outputs: Sequence[str] = MEASURED) -> DiscreteModel:
+    """The tilt/yaw channels of ``model`` on ``states`` (default :func:`design_states`), discretised at ``dt`` [s]
+    with a zero-order hold: the cos/sin pitch and ``disturbances`` in, ``outputs`` out (moments in MN m)."""
+    keep = [model.states.index(n) for n in (design_states(model) if states is None else states)]
+    columns = [model.inputs.index(n) for n in CONTROLLED + tuple(disturbances)]
+    rows = [model.outputs.index(n) for n in outputs]
+    scale = np.array([_PITCH_UNIT] * len(CONTROLLED) + [1.0] * len(disturbances))
+    unit = np.array([_MOMENT_UNIT if n.startswith("root_moment") else 1.0 for n in outputs])[:, None]
     a, b, c, d, _ = cont2discrete((model.a[np.ix_(keep, keep)], model.b[np.ix_(keep, columns)] * scale,
-                                   model.c[np.ix_(rows, keep)] / _MOMENT_UNIT,
-                                   model.d[np.ix_(rows, columns)] * scale / _MOMENT_UNIT), dt, method="zoh")
+                                   model.c[np.ix_(rows, keep)] / unit,
+                                   model.d[np.ix_(rows, columns)] * scale / unit), dt, method="zoh")
     m = len(CONTROLLED)
     return DiscreteModel(a, b[:, :m], b[:, m:], c, d[:, :m], d[:, m:], dt)
 

@@ -15,9 +15,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.signal import cont2discrete
 
-from .lqg_design import _MOMENT_UNIT, _PITCH_UNIT, CONTROLLED, DISTURBANCES, MEASURED, DiscreteModel, LqgDesign
+from .lqg_design import (_MOMENT_UNIT, _PITCH_UNIT, CONTROLLED, DISTURBANCES, MEASURED, DiscreteModel, LqgDesign,
+                         discrete_channels)
 from .mbc3 import LinearModel
 
 __all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integrator_ipc", "rotor_speed_response"]
@@ -164,14 +164,11 @@ def _whole_plant(model: LinearModel, dt: float) -> Tuple[DiscreteModel, Tuple[np
     """Every state of ``model`` at ``dt`` [s] (zero-order hold) in lqg_design's units, with the design's measured
     and controlled channels and the collective and cos/sin wind as the disturbance; and its rotor speed [rad/s]
     as an output (c_z, d_zθ, d_zu)."""
-    rows = [model.outputs.index(n) for n in MEASURED + ("rotor_speed",)]
-    columns = [model.inputs.index(n) for n in CONTROLLED + ("wind_collective",) + DISTURBANCES]
-    inputs = np.array([_PITCH_UNIT] * len(CONTROLLED) + [1.0] * (len(DISTURBANCES) + 1))
-    outputs = np.array([1.0 / _MOMENT_UNIT] * len(MEASURED) + [1.0])[:, None]
-    a, b, c, d, _ = cont2discrete((model.a, model.b[:, columns] * inputs, model.c[rows] * outputs,
-                                   model.d[np.ix_(rows, columns)] * inputs * outputs), dt, method="zoh")
-    m, k = len(CONTROLLED), len(MEASURED)
-    return DiscreteModel(a, b[:, :m], b[:, m:], c[:k], d[:k, :m], d[:k, m:], dt), (c[k:], d[k:, :m], d[k:, m:])
+    whole = discrete_channels(model, dt, model.states, ("wind_collective",) + DISTURBANCES,
+                              MEASURED + ("rotor_speed",))
+    k = len(MEASURED)
+    return (DiscreteModel(whole.a, whole.b_theta, whole.b_u, whole.c[:k], whole.d_theta[:k], whole.d_u[:k], dt),
+            (whole.c[k:], whole.d_theta[k:], whole.d_u[k:]))
 
 
 def rotor_speed_response(model: LinearModel, design: LqgDesign, omega: ArrayLike, controller: str = "lqg",
