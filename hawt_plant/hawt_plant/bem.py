@@ -24,8 +24,12 @@ __all__ = [
     "induction_factors",
     "prandtl_loss",
     "rotor_performance",
+    "skewed_wake_factor",
     "solve_inflow_angle",
 ]
+
+PITT_PETERS = 15.0 * math.pi / 32.0
+"""The skewed-wake correction's constant K (Pitt & Peters 1981; AeroDyn's default yawCorrFactor)."""
 
 _SIN_FLOOR = 1e-6  # |sin(phi)| used in the loss and induction formulas is at least this
 
@@ -214,6 +218,27 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
         a = np.where(phi > 0.0, a, brake)
     a_prime = k_prime / (_ONE - k_prime)
     return a, a_prime, k, k_prime
+
+
+def skewed_wake_factor(axial_induction: np.ndarray, skew_angle: float, tip_ratio: np.ndarray,
+                       cos_azimuth: np.ndarray) -> np.ndarray:
+    """The factor on the axial induction of a skewed wake, Pitt & Peters (1981) as in AeroDyn (SkewMod = 2):
+
+        a_skew = a (1 + K tan(χ/2) (r/R) cos(ψ - ψ_d)),   χ = (1 + 0.6 a) χ_0,   K = 15π/32,
+
+    χ_0 the angle between the rotor axis and the wind (``skew_angle`` [rad]), r/R the element's share of the tip
+    radius (``tip_ratio``), ψ - ψ_d its azimuth from the most downwind position of the disk, where the wind's
+    in-plane component points (``cos_azimuth``). Like AeroDyn, |χ| is held at π/2 (tan(χ/2) at most 1).
+
+    Examples
+    --------
+    >>> float(skewed_wake_factor(np.array(0.3), 0.0, np.array(1.0), np.array(1.0)))
+    1.0
+    >>> round(float(skewed_wake_factor(np.array(0.0), 0.2, np.array(0.5), np.array(-1.0))), 6)
+    0.926122
+    """
+    chi = np.clip((1.0 + 0.6 * axial_induction) * skew_angle, -0.5 * math.pi, 0.5 * math.pi)
+    return 1.0 + PITT_PETERS * np.tan(0.5 * chi) * tip_ratio * cos_azimuth
 
 
 def _residual(phi: np.ndarray, vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade: BemBlade) -> np.ndarray:

@@ -39,7 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hawt_plant.bem import BemBlade, induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
+from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
+                            solve_inflow_angle)
 from hawt_plant.modal import blade_modal_properties, polynomial_mode, tower_modal_properties
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
@@ -74,6 +75,10 @@ class ModelConfig:
     torque_disturbance : float
         Amplitude D [N m, high-speed shaft] of a periodic disturbance D sin(psi) added to the generator
         torque acting on the drivetrain, unmeasured (Fratini 2019 R4, a period of one revolution).
+    skewed_wake : bool
+        Correct the axial induction for a skewed wake (Pitt & Peters, as AeroDyn's SkewMod = 2,
+        :func:`hawt_plant.bem.skewed_wake_factor`), the skew from the wind at the rotor apex against the
+        shaft axis (shaft tilt, turbulence's vertical and lateral components).
     """
 
     dt: float = 0.01
@@ -82,6 +87,7 @@ class ModelConfig:
     dynamic_inflow: bool = False
     tower_shadow: bool = True
     torque_disturbance: float = 0.0
+    skewed_wake: bool = False
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.dt) and 0.0 < self.dt <= 0.1):
@@ -317,6 +323,8 @@ class TurbineModel:
         cl, _ = bem.polars.coefficients(phi - pitch - bem.twist)
         loss = prandtl_loss(np.sin(phi), bem)
         self._induction[0], self._induction[1], _, _ = induction_factors(phi, cl, loss, bem.local_solidity)
+        if self._config.skewed_wake:
+            self._induction[0] *= self._skew_factor(self._induction[0])
         self._inflow_filter[:] = self._induction[0] * vx
 
     def _passage_mean_loads(self) -> tuple[float, np.ndarray]:
@@ -488,6 +496,7 @@ class TurbineModel:
         self._n = n = aero.span.size
         self._bem = BemBlade.from_turbine(t)
         self._rotor_bem = self._bem.tiled(b)  # every element of every blade at once, (B, N) arrays
+        self._tip_ratio = self._rotor_bem.radius / self._bem.tip_radius
         half_rho = 0.5 * t.environment.air_density
         self._g = g = t.environment.gravity
         self._blade_offsets = 2.0 * math.pi * np.arange(b) / b
@@ -716,6 +725,7 @@ class TurbineModel:
         points = np.dot(placement.reshape(3 * b, 3), self._point_basis).reshape(3, b, n + 1)
         velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
         self._hub_wind_speed = float(velocity[0, 0, n])
+        self._apex_wind = velocity[:, 0, n].tolist()
         operands = self._inflow_operands
         wind = operands[:3 * b].reshape(3, b, n)
         wind[...] = velocity[:, :, :n]
@@ -749,8 +759,11 @@ class TurbineModel:
             sin_phi, cos_phi = np.sin(phi), np.cos(phi)
             if update_induction:
                 loss = prandtl_loss(sin_phi, bem)
-                self._update_induction(_bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity,
-                                                          self._induction_bounds))
+                quasi_steady = _bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity,
+                                                  self._induction_bounds)
+                if self._config.skewed_wake:
+                    quasi_steady[0] *= self._skew_factor(quasi_steady[0])
+                self._update_induction(quasi_steady)
         # Element loads along e_n and e_t, summed per blade against 1, s and phi.
         squared = relative * relative
         q = (squared[0] + squared[1]) * self._pressure_to_load
@@ -803,6 +816,20 @@ class TurbineModel:
             self._residual_fa - projected_fa / m,
             self._residual_ss - projected_ss / m,
         )
+
+    def _skew_factor(self, axial_induction: np.ndarray) -> np.ndarray:
+        """Pitt & Peters's factor on the axial induction (B, N) for the wind at the rotor apex: its angle χ_0 to the
+        shaft axis x_s = (ct, 0, -st), and the most downwind azimuth, where its in-plane part (along e_zs =
+        (st, 0, ct) and e_ys) points; a blade's radial unit vector is cos ψ e_zs - sin ψ e_ys."""
+        u, v, w = self._apex_wind
+        ct, st = self._cos_tilt, self._sin_tilt
+        along_z, along_y = u * st + w * ct, v
+        in_plane = math.hypot(along_z, along_y)
+        if in_plane == 0.0:
+            return np.ones_like(axial_induction)
+        cos_azimuth = (self._trig[0] * along_z - self._trig[1] * along_y) / in_plane
+        return skewed_wake_factor(axial_induction, math.atan2(in_plane, u * ct - w * st), self._tip_ratio,
+                                  cos_azimuth[:, None])
 
     def _update_induction(self, induction: np.ndarray) -> None:
         """Relaxed quasi-steady update, or Øye's dynamic inflow filter (Hansen 2008 §10.2).

@@ -38,6 +38,8 @@ PARAMETERS = (
                   read_only=True),
     ParameterSpec("tower_shadow", True, "potential-flow tower shadow on the blade elements", read_only=True),
     ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
+    ParameterSpec("skewed_wake", False, "Pitt-Peters skewed-wake correction of the axial induction (AeroDyn "
+                  "SkewMod 2)", read_only=True),
     ParameterSpec("torque_disturbance", 0.0, "amplitude D of an unmeasured disturbance D sin(azimuth) on the "
                   "generator torque acting on the drivetrain (Fratini R4)", "N*m", minimum=0.0, maximum=20000.0,
                   read_only=True),
@@ -94,5 +96,6 @@ def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, Turbin
         step_speed=v["step_speed"], step_time=v["step_time"]))
     model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
                                                     dynamic_inflow=v["dynamic_inflow"],
-                                                    torque_disturbance=v["torque_disturbance"]))
+                                                    torque_disturbance=v["torque_disturbance"],
+                                                    skewed_wake=v["skewed_wake"]))
     return turbine, model, model.reset_to_operating_point(v["initial_azimuth"])

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from hawt_plant.bem import induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
+from hawt_plant.bem import induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor, solve_inflow_angle
 
 
 def test_power_coefficient_peaks_near_tsr_75_at_048(turbine, blade):
@@ -85,3 +85,18 @@ def test_tiled_blade_gives_every_row_the_loss_of_the_blade(blade):
     phi = np.linspace(0.9, 0.05, blade.radius.size) + np.array([[0.0], [0.01], [0.02]])
     loss = prandtl_loss(np.sin(phi), tiled)
     np.testing.assert_array_equal(loss, [prandtl_loss(np.sin(row), blade) for row in phi])
+
+
+@pytest.mark.parametrize("a, chi0, tip_ratio, cos_azimuth", [(0.3, 0.1, 0.75, 1.0), (0.2, 0.3, 0.5, -0.4),
+                                                             (0.0, -0.2, 1.0, 0.7)])
+def test_skewed_wake_factor_is_pitt_and_peters_form(a, chi0, tip_ratio, cos_azimuth):
+    """a_skew/a = 1 + (15π/32) tan(χ/2) (r/R) cos(ψ - ψ_d), χ = (1 + 0.6 a) χ_0 (AeroDyn SkewMod 2)."""
+    chi = (1 + 0.6 * a) * chi0
+    expected = 1 + 15 * math.pi / 32 * math.tan(chi / 2) * tip_ratio * cos_azimuth
+    assert skewed_wake_factor(np.array(a), chi0, np.array(tip_ratio), np.array(cos_azimuth)) == pytest.approx(expected)
+
+
+def test_skewed_wake_factor_is_one_without_skew_and_holds_chi_at_a_right_angle():
+    assert np.all(skewed_wake_factor(np.array([0.1, 0.3]), 0.0, np.array([0.5, 1.0]), np.array([1.0, -1.0])) == 1.0)
+    held = skewed_wake_factor(np.array(0.3), 1.5, np.array(1.0), np.array(1.0))
+    assert held == pytest.approx(1 + 15 * math.pi / 32)  # tan(π/4) = 1
