@@ -5,7 +5,10 @@ to the publishers) and each becomes a channel (``ros2msg`` schema, ``cdr`` encod
 fed with the bytes of a raw subscription, never deserialized. A message's log time is its
 ``header.stamp`` (the plant's simulated time, DESIGN §3); a message without a header takes the latest
 simulated time seen, and ``/clock`` is the server's time, so plots of a live graph and of its bag share
-one time axis. Parameters: the protocol's get and set go to the nodes' standard ``rcl_interfaces``
+one time axis. The time goes to the clients at most every ``TIME_PERIOD`` of wall time: the protocol's time
+messages share a bounded per-client control queue (1024) with the server's other control messages, and a
+client that misses more than that is dropped, which ``/clock`` at every plant step (100 Hz, or faster in
+lockstep) did to a client that a busy machine kept from reading for a second. Parameters: the protocol's get and set go to the nodes' standard ``rcl_interfaces``
 parameter services (``/ns/node.param``; an empty get lists every node's parameters), so a gain can be
 retuned from the Foxglove app; a node that refuses a value says why in a status message; what
 ``/parameter_events`` reports changed, however it was set, goes to the clients subscribed to it.
@@ -14,8 +17,10 @@ Runs as every hawt node does (`hawt_node.node_main.run_nodes`: on the EventsExec
 or SIGTERM, or when the process that started it dies).
 """
 import argparse
+import math
 import sys
 import threading
+import time
 from collections.abc import Iterable, Iterator, Sequence
 from typing import List, Optional
 
@@ -38,7 +43,10 @@ from hawt_node.node_main import run_nodes
 from hawt_tools.view import (CDR, ROS2MSG, ViewOptions, add_view_arguments, coerce, options_from, parameter_name,
                              split_parameter_name)
 
-__all__ = ["View", "main", "ros2_schema", "to_parameter", "view"]
+__all__ = ["View", "main", "ros2_schema", "to_parameter", "view", "TIME_PERIOD"]
+
+TIME_PERIOD = 0.05
+"""Wall time [s] between two time messages to the clients (20 per second: smooth for a person watching)."""
 
 
 def ros2_schema(type_name: str) -> Schema:
@@ -65,6 +73,7 @@ class View(Node):
         super().__init__(VIEW_NODE, **node_kwargs)
         self.options = options
         self.now = 0  # the latest simulated time seen [ns]
+        self._time_sent = -math.inf  # when the server last sent the time (monotonic wall time [s])
         self.counts: dict[str, int] = {}
         self._channels: dict[str, foxglove.Channel] = {}
         self._forwarders = {}
@@ -93,8 +102,9 @@ class View(Node):
             if stamped or clock:  # rosgraph_msgs/Clock starts with its time as a Header does
                 stamp = header_stamp_ns(data)
                 self.now = max(self.now, stamp)
-            if clock:
+            if clock and time.monotonic() - self._time_sent >= TIME_PERIOD:
                 self.server.broadcast_time(stamp)
+                self._time_sent = time.monotonic()
             channel.log(data, log_time=stamp)
             self.counts[topic] += 1
 

@@ -5,6 +5,7 @@ import json
 import re
 import signal
 import struct
+import time
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -18,6 +19,7 @@ from mcap_ros2.decoder import DecoderFactory
 
 from hawt_bag.reader import BagReader
 from hawt_bag.topic_columns import read_topic_columns
+from hawt_tools.view_node import TIME_PERIOD
 
 pytestmark = pytest.mark.ros
 
@@ -128,3 +130,37 @@ def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that
     changes = [str(detail) for source, kind, detail in zip(events["source"], events["kind"], events["detail"])
                if source == "/viewed/ipc_h1" and kind == "parameter_change"]
     assert len(changes) == 1 and changes[0].startswith(f"integral_gain={value!r} (from step "), changes
+
+
+def test_the_time_goes_to_the_clients_at_most_every_time_period_of_wall_time():
+    """While the lockstep graph runs 10 s of simulated time (1000 /clock messages, faster than real time), a client
+    gets at most one time message per TIME_PERIOD of wall time: the protocol's time messages share the server's
+    per-client control queue (1024), which drops a client that falls that far behind (a CI run lost one so)."""
+    with LaunchedGraph(["baseline", "namespace:=timed", "duration:=600", "-p", "plant.report_period:=1", "--view",
+                        "--view-port", "0"]) as graph:
+        graph.wait_for_line("serving the graph on ws://")
+        port = int(re.search(r"ws://127\.0\.0\.1:(\d+)", "".join(graph.lines)).group(1))
+
+        def simulated() -> float:
+            times = re.findall(r"\bt=([0-9.]+) s", "\n".join(graph.lines))
+            return float(times[-1]) if times else 0.0
+
+        graph.wait_until(lambda: "[hawt_view]: viewing /clock" in "".join(graph.lines) and simulated() >= 1.0,
+                         "the view forwarding /clock of a running plant")
+
+        async def count_time_messages() -> tuple:
+            async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[_SUBPROTOCOL],
+                                          max_size=None) as socket:
+                start, wall, count = simulated(), time.monotonic(), 0
+                while simulated() < start + 10.0:
+                    try:
+                        frame = await asyncio.wait_for(socket.recv(), 1.0)
+                    except asyncio.TimeoutError:
+                        continue
+                    count += isinstance(frame, bytes) and frame[0] == _TIME
+                return count, time.monotonic() - wall
+
+        count, wall = asyncio.run(count_time_messages())
+        graph.process.send_signal(signal.SIGINT)
+        assert graph.finish() == 0, graph.tail()
+    assert 1 <= count <= wall / TIME_PERIOD + 2, (count, wall)
