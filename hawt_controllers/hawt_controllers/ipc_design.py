@@ -43,7 +43,7 @@ from hawt_controllers.controller import HarmonicContribution
 from hawt_controllers.ipc import HarmonicIpcConfig, design_prefilter
 from hawt_controllers.ipc_tuning import IntegralGainDesign, design_integral_gain
 from hawt_controllers.limits import PitchLimits
-from hawt_controllers.linear_models import ColemanModel, load_models, tilt_yaw_response
+from hawt_controllers.linear_models import ColemanModel, load_models, state_space_response, tilt_yaw_response
 from hawt_controllers.loop_assembly import LoopAssembler
 from hawt_controllers.lqg_controller import DEFAULT_MODELS
 from hawt_controllers.lqg_design import _MOMENT_UNIT, _PITCH_UNIT
@@ -109,14 +109,6 @@ def measure_harmonic_response(turbine: Turbine, wind_speed: float, harmonic: int
     return HarmonicResponse(wind_speed, harmonic, collective, rotor_speed, gain, phase)
 
 
-def _state_space_response(system: Tuple[np.ndarray, ...], points: ArrayLike) -> np.ndarray:
-    """c (pI − a)⁻¹ b + d of the system (a, b, c, d) at every complex point p (s = jω, or z = e^{jωdt} for a
-    discrete system), shape (len(points), outputs, inputs)."""
-    a, b, c, d = system
-    identity = np.eye(a.shape[0])
-    return np.array([c @ np.linalg.solve(p * identity - a, b) + d for p in np.atleast_1d(points)])
-
-
 def harmonic_response(model: ColemanModel, harmonic: int, omega: ArrayLike) -> np.ndarray:
     """P_n(jω): the frequency response [N m/rad] in the frame of harmonic n, from the cos/sin nP pitch command
     (c_n, s_n), remodulated without phase offset, to the cos/sin nP demodulation of the blade-root out-of-plane
@@ -153,7 +145,7 @@ def harmonic_response(model: ColemanModel, harmonic: int, omega: ArrayLike) -> n
             m = model.model
             pitch, moment = m.inputs.index("pitch_command_collective"), m.outputs.index("root_moment_oop_collective")
             collective = (m.a, m.b[:, [pitch]], m.c[[moment]], m.d[[moment]][:, [pitch]])
-            return _state_space_response(collective, 1j * (w - shift))[:, 0, 0]
+            return state_space_response(collective, 1j * (w - shift))[:, 0, 0]
         forward, backward = np.array([1.0, 1j]), np.array([1.0, -1j])
         left, right = (forward, backward) if harmonic % 3 == 1 else (backward, forward)
         return left @ tilt_yaw_response(model.model, w - shift) @ right / 2.0
@@ -190,7 +182,7 @@ def loop_response(model: ColemanModel, harmonic: int, integral_gain: float, phas
     positive moment.
     """
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
-    law = _state_space_response(integrator_ipc(integral_gain, phase_offset, dt), np.exp(1j * omega * dt))
+    law = state_space_response(integrator_ipc(integral_gain, phase_offset, dt), np.exp(1j * omega * dt))
     prefilter = design_prefilter(HarmonicIpcConfig(harmonic=harmonic), dt)
     filtered = 1.0 if prefilter is None else prefilter.frequency_response(omega)[:, None, None]
     return -harmonic_response(model, harmonic, omega) @ law * (filtered * _PITCH_UNIT / _MOMENT_UNIT)

@@ -4,7 +4,8 @@ Per wind speed: the plant (the plant node's defaults and overrides, steady shear
 linearised about its open-loop periodic orbit at N azimuths (hawt_plant.linearization), each
 model is written in multi-blade coordinates (Bir 2008, hawt_controllers.mbc3: flap, flap rate,
 pitch and pitch rate of the blades; pitch commands and blade-effective winds; root moments) and
-the N models are averaged to one LTI model. The models go to one ``.npz`` file (:func:`save_models`, :func:`load_models`);
+the N models are averaged to one LTI model. The models go to one ``.npz`` file (:func:`save_models`,
+:func:`load_models`);
 ``scipy.signal.StateSpace(a[k], b[k], c[k], d[k])`` is the model at ``wind_speeds[k]``.
 """
 from __future__ import annotations
@@ -28,7 +29,7 @@ from .collective import BaselineCollectiveConfig, gain_correction_factor, integr
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
 __all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
-           "collective_loop_gain", "decoupling_offset", "stability_margins",
+           "collective_loop_gain", "decoupling_offset", "stability_margins", "state_space_response",
            "labelled_modes", "tilt_yaw_response", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
 
 
@@ -148,13 +149,15 @@ def tilt_yaw_response(model: LinearModel, omega: ArrayLike, pitch: str = "comman
         c, d = model.c[np.ix_(moments, rest)], model.c[np.ix_(moments, held)]
     else:
         raise ValueError(f"pitch: expected 'command' or 'angle', found {pitch!r}")
-    return _frequency_response(a, b, c, d, omega)
+    return state_space_response((a, b, c, d), 1j * np.atleast_1d(omega))
 
 
-def _frequency_response(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, omega: ArrayLike) -> np.ndarray:
-    """c (jω I - a)^-1 b + d at ``omega`` [rad/s], shape (len(omega), outputs, inputs)."""
+def state_space_response(system: Tuple[np.ndarray, ...], points: ArrayLike) -> np.ndarray:
+    """c (pI − a)⁻¹ b + d of the system (a, b, c, d) at every complex point p (s = jω, or z = e^{jωdt} for a
+    discrete system), shape (len(points), outputs, inputs)."""
+    a, b, c, d = system
     identity = np.eye(a.shape[0])
-    return np.array([c @ np.linalg.solve(1j * w * identity - a, b) + d for w in np.atleast_1d(omega)])
+    return np.array([c @ np.linalg.solve(p * identity - a, b) + d for p in np.atleast_1d(points)])
 
 
 def collective_loop_gain(model: ColemanModel, config: BaselineCollectiveConfig, omega: ArrayLike) -> np.ndarray:
@@ -164,12 +167,14 @@ def collective_loop_gain(model: ColemanModel, config: BaselineCollectiveConfig, 
         L(s) = -GK(θ_op) (K_P + f(θ_op) K_I/s) ω_c/(s + ω_c) P(s),
 
     P the model's pitch_command_collective -> generator_speed [rad/s per rad]: the PI on the low-passed generator
-    speed, gain-scheduled at the operating pitch θ_op (f: the near-rated factor on K_I), in the convention of negative feedback (the PI pitches to
-    feather on a positive speed error, which slows the rotor: L > 0 at low frequency). The generator torque is
-    held, as in the model (the region-3 torque law's loop is open), and the law is taken in continuous time."""
+    speed, gain-scheduled at the operating pitch θ_op (f: the near-rated factor on K_I), in the convention of
+    negative feedback (the PI pitches to feather on a positive speed error, which slows the rotor: L > 0 at low
+    frequency). The generator torque is held, as in the model (the region-3 torque law's loop is open), and the
+    law is taken in continuous time."""
     m = model.model
     column, row = m.inputs.index("pitch_command_collective"), m.outputs.index("generator_speed")
-    plant = _frequency_response(m.a, m.b[:, [column]], m.c[[row]], m.d[[row]][:, [column]], omega)[:, 0, 0]
+    plant = state_space_response((m.a, m.b[:, [column]], m.c[[row]], m.d[[row]][:, [column]]),
+                                 1j * np.atleast_1d(omega))[:, 0, 0]
     s = 1j * np.atleast_1d(omega)
     corner = config.generator_speed_corner_frequency
     schedule = gain_correction_factor(model.pitch, config.gain_doubling_pitch)

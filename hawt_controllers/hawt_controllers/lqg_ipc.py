@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 
 from .lqg_design import (_MOMENT_UNIT, _PITCH_UNIT, CONTROLLED, DISTURBANCES, MEASURED, DiscreteModel, LqgDesign,
                          discrete_channels)
+from .linear_models import state_space_response
 from .mbc3 import LinearModel
 
 __all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integrator_ipc", "rotor_speed_response"]
@@ -134,12 +135,10 @@ def _controller(design: LqgDesign, controller: str, integral_gain: float,
 def _response(system: Tuple[np.ndarray, ...], omega: ArrayLike, dt: float) -> np.ndarray:
     """The discrete system's (a, b, c, d) frequency response at ``omega`` [rad/s], shape (len(omega), outputs,
     inputs); ValueError for an unstable system (it has none)."""
-    a, b, c, d = system
-    radius = float(np.max(np.abs(np.linalg.eigvals(a)), initial=0.0))
+    radius = float(np.max(np.abs(np.linalg.eigvals(system[0])), initial=0.0))
     if radius >= 1.0:
         raise ValueError(f"the closed loop is unstable (spectral radius {radius:.6f}): it has no frequency response")
-    identity = np.eye(a.shape[0])
-    return np.array([c @ np.linalg.solve(np.exp(1j * w * dt) * identity - a, b) + d for w in np.atleast_1d(omega)])
+    return state_space_response(system, np.exp(1j * np.atleast_1d(omega) * dt))
 
 
 def closed_loop_response(design: LqgDesign, omega: ArrayLike, controller: str = "lqg",

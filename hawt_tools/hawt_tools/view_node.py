@@ -8,10 +8,11 @@ simulated time seen, and ``/clock`` is the server's time, so plots of a live gra
 one time axis. The time goes to the clients at most every ``TIME_PERIOD`` of wall time: the protocol's time
 messages share a bounded per-client control queue (1024) with the server's other control messages, and a
 client that misses more than that is dropped, which ``/clock`` at every plant step (100 Hz, or faster in
-lockstep) did to a client that a busy machine kept from reading for a second. Parameters: the protocol's get and set go to the nodes' standard ``rcl_interfaces``
-parameter services (``/ns/node.param``; an empty get lists every node's parameters), so a gain can be
-retuned from the Foxglove app; a node that refuses a value says why in a status message; what
-``/parameter_events`` reports changed, however it was set, goes to the clients subscribed to it.
+lockstep) did to a client that a busy machine kept from reading for a second. Parameters: the protocol's get
+and set go to the nodes' standard ``rcl_interfaces`` parameter services (``/ns/node.param``; an empty get
+lists every node's parameters), so a gain can be retuned from the Foxglove app; a node that refuses a value
+says why in a status message; what ``/parameter_events`` reports changed, however it was set, goes to the
+clients subscribed to it.
 
 Runs as every hawt node does (`hawt_node.node_main.run_nodes`: on the EventsExecutor, stopped by SIGINT
 or SIGTERM, or when the process that started it dies).
