@@ -725,7 +725,8 @@ class TurbineModel:
         points = np.dot(placement.reshape(3 * b, 3), self._point_basis).reshape(3, b, n + 1)
         velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
         self._hub_wind_speed = float(velocity[0, 0, n])
-        self._apex_wind = velocity[:, 0, n].tolist()
+        if self._config.skewed_wake:
+            self._apex_wind = velocity[:, 0, n].tolist()
         operands = self._inflow_operands
         wind = operands[:3 * b].reshape(3, b, n)
         wind[...] = velocity[:, :, :n]
