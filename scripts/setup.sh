@@ -44,7 +44,7 @@ install_nodeps_packages() {
   want="$(digest requirements-nodeps.txt)"
   [ -f "$VENV/.hawt-nodeps" ] && have="$(cat "$VENV/.hawt-nodeps")"
   [ "$want" = "$have" ] && return 0
-  say "installing requirements-nodeps.txt without dependencies (the rosco controller library)"
+  say "installing requirements-nodeps.txt without dependencies (rosco's controller library, wisdem's CCBlade)"
   "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps -r "$ROOT/requirements-nodeps.txt" \
       2> >(grep -v "is ignored: it is neither" >&2) || fail "pip could not install requirements-nodeps.txt (see the pip error above)"
   echo "$want" > "$VENV/.hawt-nodeps"
