@@ -46,6 +46,7 @@ from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
 from hawt_plant.turbine import Turbine
+from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
 from hawt_plant.wind_field import WindChange, WindField
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
@@ -79,6 +80,11 @@ class ModelConfig:
         Correct the axial induction for a skewed wake (Pitt & Peters, as AeroDyn's SkewMod = 2,
         :func:`hawt_plant.bem.skewed_wake_factor`), the skew from the wind at the rotor apex against the
         shaft axis (shaft tilt, turbulence's vertical and lateral components).
+    unsteady_airfoil : bool
+        Unsteady airfoil aerodynamics: the Hansen-Gaunaa-Madsen dynamic stall model (AeroDyn's UA_Mod = 4,
+        :class:`hawt_plant.unsteady_airfoil.UnsteadyAirfoil`) on the elements whose airfoil has unsteady
+        parameters, advanced once per step; the other elements, the initial equilibrium and
+        :meth:`TurbineModel.continuous_dynamics` use the static polars (the model's states settled there).
     """
 
     dt: float = 0.01
@@ -88,6 +94,7 @@ class ModelConfig:
     tower_shadow: bool = True
     torque_disturbance: float = 0.0
     skewed_wake: bool = False
+    unsteady_airfoil: bool = False
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.dt) and 0.0 < self.dt <= 0.1):
@@ -194,6 +201,9 @@ class TurbineModel:
         self._setup_constants()
         self._relaxation = np.array(self._config.bem_relaxation)  # 0-d: see _ONE
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
+        self._unsteady = UnsteadyAirfoil(self._bem.polars, turbine.airfoils, turbine.blade_aerodynamics.airfoil,
+                                         turbine.blade_aerodynamics.chord, self._b) \
+            if self._config.unsteady_airfoil else None
         self._shadow = TowerShadow.from_tower(turbine.tower, turbine.rotor.downwind) if self._config.tower_shadow \
             else None
         self._output: TurbineOutput
@@ -752,11 +762,18 @@ class TurbineModel:
         b, n = self._b, self._n
         pitch_twist = self._pitch[:, None] + bem.twist
         iterations = self._config.bem_iterations if update_induction and not self._config.dynamic_inflow else 1
-        for _ in range(iterations):
+        for k in range(iterations):
             relative = self._inflow * (_ONE + self._induction_signs * self._induction)  # (1 - a) vx, (1 + a') vy
             un, ut = relative
             phi = np.arctan2(un, ut)
-            cl, cd = bem.polars.coefficients(phi - pitch_twist)
+            if self._unsteady is None:
+                cl, cd = bem.polars.coefficients(phi - pitch_twist)
+            elif update_induction:  # dynamic stall, its states kept at the last iteration; the induction
+                # follows the circulatory lift (the added mass's sheds no vorticity), the loads the whole lift
+                cl, added_mass, cd = self._unsteady.step(phi - pitch_twist, np.hypot(un, ut), self._config.dt,
+                                                         advance=k == iterations - 1)
+            else:  # equilibrium: the static polars, the dynamic stall states settled at this state
+                cl, cd = self._unsteady.settle(phi - pitch_twist)
             sin_phi, cos_phi = np.sin(phi), np.cos(phi)
             if update_induction:
                 loss = prandtl_loss(sin_phi, bem)
@@ -765,6 +782,8 @@ class TurbineModel:
                 if self._config.skewed_wake:
                     quasi_steady[0] *= self._skew_factor(quasi_steady[0])
                 self._update_induction(quasi_steady)
+        if self._unsteady is not None and update_induction:
+            cl = cl + added_mass
         # Element loads along e_n and e_t, summed per blade against 1, s and phi.
         squared = relative * relative
         q = (squared[0] + squared[1]) * self._pressure_to_load

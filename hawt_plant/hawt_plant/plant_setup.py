@@ -40,6 +40,8 @@ PARAMETERS = (
     ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
     ParameterSpec("skewed_wake", False, "Pitt-Peters skewed-wake correction of the axial induction (AeroDyn "
                   "SkewMod 2)", read_only=True),
+    ParameterSpec("unsteady_airfoil", False, "unsteady airfoil aerodynamics: Hansen-Gaunaa-Madsen dynamic stall "
+                  "on the elements whose polar has unsteady parameters (AeroDyn UA_Mod 4)", read_only=True),
     ParameterSpec("torque_disturbance", 0.0, "amplitude D of an unmeasured disturbance D sin(azimuth) on the "
                   "generator torque acting on the drivetrain (Fratini R4)", "N*m", minimum=0.0, maximum=20000.0,
                   read_only=True),
@@ -97,5 +99,6 @@ def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, Turbin
     model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
                                                     dynamic_inflow=v["dynamic_inflow"],
                                                     torque_disturbance=v["torque_disturbance"],
-                                                    skewed_wake=v["skewed_wake"]))
+                                                    skewed_wake=v["skewed_wake"],
+                                                    unsteady_airfoil=v["unsteady_airfoil"]))
     return turbine, model, model.reset_to_operating_point(v["initial_azimuth"])

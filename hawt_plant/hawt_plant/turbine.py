@@ -39,6 +39,7 @@ __all__ = [
     "Tower",
     "Turbine",
     "TurbineDefinitionError",
+    "UnsteadyAirfoilParameters",
     "load_turbine",
     "nrel_5mw",
     "nrel_5mw_two_bladed",
@@ -54,6 +55,27 @@ class TurbineDefinitionError(ValueError):
     """A turbine definition file is missing a key or holds an invalid value."""
 
 
+@dataclass(frozen=True)
+class UnsteadyAirfoilParameters:
+    """Parameters of an airfoil's unsteady aerodynamics (:mod:`hawt_plant.unsteady_airfoil`), as the header of
+    an AeroDyn v13 polar file carries them.
+
+    Attributes
+    ----------
+    alpha0 : float
+        Zero-lift angle of attack [rad] ("Zero Cn angle of attack"), in (-pi/4, pi/4]; the model takes the
+        polar's zero-lift angle nearest it.
+    lift_slope : float
+        Slope of the attached-flow lift [1/rad] ("Cn slope for zero lift"; Cn ~ cl near zero lift), > 0.
+    cd0 : float
+        Drag coefficient at zero lift [-] ("Minimum CD value"), >= 0.
+    """
+
+    alpha0: float
+    lift_slope: float
+    cd0: float
+
+
 @dataclass(frozen=True, eq=False)
 class AirfoilPolar:
     """Static polar of one airfoil over the full circle of angles of attack.
@@ -66,6 +88,9 @@ class AirfoilPolar:
         Angle of attack [rad], strictly increasing from -pi to pi.
     cl, cd, cm : ndarray, shape (K,)
         Lift, drag and pitching-moment coefficients [-].
+    unsteady : UnsteadyAirfoilParameters or None
+        The unsteady-aerodynamics parameters (the polar file's optional ``unsteady`` section); None: the
+        airfoil stays quasi-steady (as AeroDyn's cylinders, whose files give a zero lift slope).
     """
 
     name: str
@@ -73,6 +98,7 @@ class AirfoilPolar:
     cl: np.ndarray
     cd: np.ndarray
     cm: np.ndarray
+    unsteady: UnsteadyAirfoilParameters | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -486,6 +512,9 @@ class _Section:
     def error(self, key: str, problem: str) -> TurbineDefinitionError:
         return TurbineDefinitionError(f"{self._file}: {self._prefix}{key}: {problem}")
 
+    def has(self, key: str) -> bool:
+        return key in self._data
+
     def raw(self, key: str) -> Any:
         if key not in self._data:
             raise self.error(key, "missing")
@@ -727,4 +756,10 @@ def _airfoil(path: Path) -> AirfoilPolar:
     columns = [np.ascontiguousarray(table[:, k]) for k in range(4)]
     for column in columns:
         column.flags.writeable = False
-    return AirfoilPolar(name=name, alpha=columns[0], cl=columns[1], cd=columns[2], cm=columns[3])
+    unsteady = None
+    if doc.has("unsteady"):
+        s = doc.section("unsteady")
+        unsteady = UnsteadyAirfoilParameters(alpha0=s.number("alpha0", low=-math.pi / 4, high=math.pi / 4),
+                                             lift_slope=s.number("lift_slope", low=0.0),
+                                             cd0=s.number("cd0", low=0.0, strict=False))
+    return AirfoilPolar(name=name, alpha=columns[0], cl=columns[1], cd=columns[2], cm=columns[3], unsteady=unsteady)

@@ -121,3 +121,21 @@ def test_missing_airfoil_file_is_named(editable_copy, tmp_path):
     path = editable_copy(["name"], "edited")
     with pytest.raises(TurbineDefinitionError, match=r"DU21_A17\.yaml: cannot read the file"):
         load_turbine(path)
+
+
+def test_nrel_5mw_unsteady_parameters_are_the_polar_file_headers(turbine):
+    """DU40_A17's unsteady section holds the header of AeroData/DU40_A17.dat: "Zero Cn angle of attack" -1.3430 deg,
+    "Cn slope for zero lift" 7.4888, "Minimum CD value" 0.0113; the cylinders (zero slope there) have none."""
+    unsteady = turbine.airfoils["DU40_A17"].unsteady
+    assert unsteady.alpha0 == pytest.approx(math.radians(-1.3430), rel=1e-9)
+    assert (unsteady.lift_slope, unsteady.cd0) == (7.4888, 0.0113)
+    assert turbine.airfoils["Cylinder1"].unsteady is None and turbine.airfoils["Cylinder2"].unsteady is None
+    assert all(polar.unsteady is not None for name, polar in turbine.airfoils.items() if "Cylinder" not in name)
+
+
+def test_invalid_unsteady_parameter_is_named(editable_copy, tmp_path):
+    """A negative lift slope in a polar's unsteady section names the file and the key."""
+    path = tmp_path / "nrel_5mw" / "airfoils" / "DU21_A17.yaml"
+    path.write_text(path.read_text().replace("lift_slope: 6.2047", "lift_slope: -6.2047"))
+    with pytest.raises(TurbineDefinitionError, match=r"DU21_A17\.yaml: unsteady\.lift_slope: expected a value > 0"):
+        load_turbine(editable_copy(["name"], "edited"))
