@@ -103,6 +103,24 @@ def test_elements_without_unsteady_parameters_stay_quasi_steady(rotor, turbine):
         np.testing.assert_array_equal(cd[:, cylinders], cd_static[:, cylinders])
 
 
+def test_a_step_not_kept_leaves_the_states_as_they_were(rotor):
+    """Trial steps (advance=False, the model's induction iterations before the last) change no state: after them,
+    a kept step gives what it gives alone, and so does the step after it."""
+    model, _ = rotor
+    rng = np.random.default_rng(4)
+    start = rng.uniform(-0.2, 0.4, (3, 17))
+    inputs = [(start + rng.uniform(-0.05, 0.05, (3, 17)), rng.uniform(10.0, 80.0, (3, 17))) for _ in range(2)]
+    results = []
+    for trials in (0, 3):
+        model.settle(start)
+        for _ in range(trials):
+            model.step(inputs[0][0] + 0.1, inputs[0][1], 0.01, advance=False)
+        results.append([model.step(alpha, speed, 0.01) for alpha, speed in inputs])
+    for kept, after_trials in zip(*results):
+        for a, b in zip(kept, after_trials):
+            np.testing.assert_array_equal(a, b)
+
+
 def test_separation_function_is_kirchhoffs_inverted_and_rebuilds_the_static_lift():
     """f_st = (2 sqrt(cl / (cl_α (α - α0))) - 1)^2 in [0, 1], and attached f_st + separated (1 - f_st) = cl."""
     alpha = np.radians(np.linspace(-40.0, 40.0, 801))
