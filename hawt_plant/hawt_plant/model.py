@@ -45,6 +45,7 @@ from hawt_plant.modal import blade_modal_properties, polynomial_mode, tower_moda
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
+from hawt_plant.tower_drag import TowerDrag, TowerDragLoads
 from hawt_plant.turbine import Turbine
 from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
 from hawt_plant.wind_field import WindChange, WindField
@@ -76,6 +77,9 @@ class ModelConfig:
     torque_disturbance : float
         Amplitude D [N m, high-speed shaft] of a periodic disturbance D sin(psi) added to the generator
         torque acting on the drivetrain, unmeasured (Fratini 2019 R4, a period of one revolution).
+    tower_drag : bool
+        Aerodynamic drag on the tower in the wind relative to its motion (AeroDyn's TwrAero,
+        :class:`hawt_plant.tower_drag.TowerDrag`): tower-base moments and the tower modes' aerodynamic damping.
     skewed_wake : bool
         Correct the axial induction for a skewed wake (Pitt & Peters, as AeroDyn's SkewMod = 2,
         :func:`hawt_plant.bem.skewed_wake_factor`), the skew from the wind at the rotor apex against the
@@ -93,6 +97,7 @@ class ModelConfig:
     dynamic_inflow: bool = False
     tower_shadow: bool = True
     torque_disturbance: float = 0.0
+    tower_drag: bool = True
     skewed_wake: bool = False
     unsteady_airfoil: bool = False
 
@@ -206,6 +211,8 @@ class TurbineModel:
             if self._config.unsteady_airfoil else None
         self._shadow = TowerShadow.from_tower(turbine.tower, turbine.rotor.downwind) if self._config.tower_shadow \
             else None
+        self._tower_drag = TowerDrag.from_turbine(turbine) if self._config.tower_drag else None
+        self._tower_drag_loads = TowerDragLoads(0.0, 0.0, 0.0, 0.0)
         self._output: TurbineOutput
         self.reset_to_operating_point()
 
@@ -737,6 +744,11 @@ class TurbineModel:
         self._hub_wind_speed = float(velocity[0, 0, n])
         if self._config.skewed_wake:
             self._apex_wind = velocity[:, 0, n].tolist()
+        drag = self._tower_drag
+        if drag is not None:
+            u, v, _ = self._wind.velocity(self._time, drag.fa_shape * x_top, drag.ss_shape * y_top, drag.elevation)
+            rate_fa, rate_ss = self._tower_rate.tolist()
+            self._tower_drag_loads = drag.loads(u, v, rate_fa, rate_ss)
         operands = self._inflow_operands
         wind = operands[:3 * b].reshape(3, b, n)
         wind[...] = velocity[:, :, :n]
@@ -811,8 +823,9 @@ class TurbineModel:
         self._loads = loads
         # Generalized forces: flap from the phi-weighted normal loads, tower from projections.
         tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, 8 * b), loads.reshape(8 * b)).tolist()
-        q_fa = tower_fa + self._fa_gravity_force
-        q_ss = tower_ss - self._slope_ss * self._cos_tilt * shaft * (1.0 - 1.0 / self._gearbox_ratio)
+        q_fa = tower_fa + self._fa_gravity_force + self._tower_drag_loads.fa_force
+        q_ss = tower_ss + self._tower_drag_loads.ss_force - self._slope_ss * self._cos_tilt * shaft * (
+            1.0 - 1.0 / self._gearbox_ratio)
         self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
         self._flap_residual = loads[2] - self._flap_damping * self._flap_rate - self._flap_stiffness_now * self._flap
         (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
@@ -938,6 +951,9 @@ class TurbineModel:
         fa, ss = self._fa, self._ss
         base_fa += -x_acc * fa.modal_height_moment + g * x_top * fa.modal_first_moment
         base_ss += y_acc * ss.modal_height_moment - g * y_top * ss.modal_first_moment
+        drag = self._tower_drag_loads
+        base_fa += drag.base_fa_moment
+        base_ss += drag.base_ss_moment
         ratio = self._gearbox_ratio
         spin_reaction = (self._hub_inertia * self._rotor_acceleration
                          + self._generator_inertia * ratio * self._generator_acceleration(self._acting_torque()))

@@ -37,6 +37,7 @@ PARAMETERS = (
     ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
                   read_only=True),
     ParameterSpec("tower_shadow", True, "potential-flow tower shadow on the blade elements", read_only=True),
+    ParameterSpec("tower_drag", True, "aerodynamic drag on the tower (AeroDyn TwrAero)", read_only=True),
     ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
     ParameterSpec("skewed_wake", False, "Pitt-Peters skewed-wake correction of the axial induction (AeroDyn "
                   "SkewMod 2)", read_only=True),
@@ -97,7 +98,7 @@ def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, Turbin
         field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
         step_speed=v["step_speed"], step_time=v["step_time"]))
     model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
-                                                    dynamic_inflow=v["dynamic_inflow"],
+                                                    dynamic_inflow=v["dynamic_inflow"], tower_drag=v["tower_drag"],
                                                     torque_disturbance=v["torque_disturbance"],
                                                     skewed_wake=v["skewed_wake"],
                                                     unsteady_airfoil=v["unsteady_airfoil"]))
