@@ -516,6 +516,39 @@ def _cmd_transfer(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_turbine_import(args: argparse.Namespace) -> int:
+    """An OpenFAST deck converted into DIR/turbine.yaml and DIR/airfoils/, checked by loading it."""
+    from hawt_plant.turbine import TurbineDefinitionError, load_turbine
+    from hawt_tools.turbine_import import DeckError, import_deck, write_turbine
+
+    try:
+        imported = import_deck(args.deck)
+        path = write_turbine(imported, args.output or Path(args.deck).stem)
+        load_turbine(path)
+    except (DeckError, TurbineDefinitionError) as error:
+        raise GraphError(str(error)) from None
+    print(f"{args.deck} -> {path} and {len(imported.airfoils)} airfoil polars in {path.parent / 'airfoils'}; each "
+          "value names its source file and key")
+    for title, lines in (("approximated", imported.approximations), ("not modelled", imported.not_modelled)):
+        print(f"{title}:" + "".join(f"\n  - {line}" for line in lines))
+    print(f"use it as: hawt turbine show {path}; hawt launch GRAPH -p plant.turbine_file:={path}")
+    return 0
+
+
+def _cmd_turbine_show(args: argparse.Namespace) -> int:
+    """Rated values, the plant's Cp-max and optimal tip-speed ratio, and first modes of a turbine definition."""
+    from hawt_plant.turbine import TurbineDefinitionError, turbine_from
+    from hawt_plant.turbine_summary import format_summary, turbine_summary
+
+    folder = Path(args.turbine)
+    try:
+        turbine = turbine_from(str(folder / "turbine.yaml") if folder.is_dir() else args.turbine)
+    except TurbineDefinitionError as error:
+        raise GraphError(str(error)) from None
+    print(format_summary(turbine_summary(turbine)))
+    return 0
+
+
 def _cmd_campaign(args: argparse.Namespace) -> int:
     """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder."""
     from hawt_analysis.campaign_report import lifetime_text, write_campaign_report
@@ -806,6 +839,24 @@ def _parser() -> argparse.ArgumentParser:
         lqg.add_argument(option, type=float, help=f"{text} (default: lqg_ipc's)")
     lqg.add_argument("--plot", metavar="PNG", help="write the frequency responses here")
     lqg.set_defaults(run=_cmd_design_lqg)
+
+    turbine = commands.add_parser("turbine", help="import an OpenFAST deck as a turbine definition, or summarise one")
+    turbine_commands = turbine.add_subparsers(dest="turbine_action", required=True, metavar="ACTION")
+    importing = turbine_commands.add_parser(
+        "import", help="convert an OpenFAST deck (.fst and the files it names) into DIR/turbine.yaml and airfoils/",
+        description="Read the deck with openfast-io (ElastoDyn, AeroDyn, ServoDyn and the ROSCO DISCON.IN it "
+                    "names), convert what the plant models into the hawt turbine definition, each value with its "
+                    "source file and key, and list what is approximated and what the plant does not model. A "
+                    "missing file or an option the plant cannot honour is refused, naming the file and key.")
+    importing.add_argument("deck", metavar="DECK.fst")
+    importing.add_argument("-o", "--output", metavar="DIR", help="folder for turbine.yaml and airfoils/ (default: "
+                                                                 "the deck's name)")
+    importing.set_defaults(run=_cmd_turbine_import)
+    show = turbine_commands.add_parser(
+        "show", help="rated values, Cp-max and optimal tip-speed ratio (the plant's BEM), first modes")
+    show.add_argument("turbine", metavar="T", help="a turbine.yaml, its folder, or a packaged turbine's name "
+                                                   "(nrel_5mw, nrel_5mw_two_bladed, nrel_5mw_two_bladed_downwind)")
+    show.set_defaults(run=_cmd_turbine_show)
 
     transfer = commands.add_parser(
         "transfer", help="Zalkind & Pao's load-transfer model (blade -> hub -> main bearing -> yaw bearing -> tower) "

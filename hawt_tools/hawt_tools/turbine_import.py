@@ -1,0 +1,799 @@
+"""An OpenFAST input deck converted into the hawt turbine definition (``hawt turbine import``, issue 20).
+
+The deck is read with NREL's openfast-io (``InputReader_OpenFAST``), one module at a time: the main ``.fst``
+file, ElastoDyn with its blade and tower files, AeroDyn with its blade file and airfoil polars, and ServoDyn;
+then the ROSCO ``DISCON.IN`` that ServoDyn's controller reads (with
+:func:`hawt_controllers.rosco_input.read_settings`: openfast-io reads it only through ROSCO's toolbox, which needs
+WISDEM). The other modules (InflowWind, HydroDyn, SubDyn, MoorDyn, ...) are not read; the plant does not model
+them. :func:`import_deck` returns the definition with the source file and key of every value;
+:func:`write_turbine` writes it as ``turbine.yaml`` and ``airfoils/<name>.yaml``, which
+:func:`hawt_plant.turbine.load_turbine` loads, and a plant's ``turbine_file`` parameter may name.
+
+What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO input):
+
+- rotor: ED NumBl, HubRad, TipRad, HubMass, HubIner; PreCone(1), ShftTilt, OverHang with the format's signs
+  (:mod:`hawt_plant.turbine`): negated for an upwind rotor (OverHang <= 0), kept for a downwind one, which the
+  definition marks ``position: downwind``;
+- nacelle: ED NacMass + YawBrMass (the yaw bearing, at the tower top, lumped into the nacelle keeping the mass
+  moments), NacCMxn, NacCMzn, NacYIner, Twr2Shft;
+- blade aerodynamics: AD blade file BlSpn, BlChord, BlTwist, BlAFID (elements: :func:`aerodynamic_elements`) and
+  the first table of each airfoil file AFNames(i) (AD AFTabMod = 1 reads only that one), with its UA
+  coefficients alpha0, C_nalpha, Cd0 for the plant's unsteady airfoil option when it has them;
+- blade structure: ED blade file BlFract, StrcTwst, BMassDen with AdjBlMs, FlpStff x AdjFlSt x FlStTunr(1),
+  EdgStff x AdjEdSt, BldFl1Sh, BldFlDmp(1);
+- tower: ED TowerHt - TowerBsHt (the plant's tower is clamped at the ground: a tower standing on a substructure
+  is lowered onto it, hub height included), tower file HtFract, TMassDen x AdjTwMa, TwFAStif x AdjFASt x
+  FAStTunr(1), TwSSStif x AdjSSSt x SSStTunr(1), TwFAM1Sh, TwSSM1Sh, TwrFADmp(1), TwrSSDmp(1); AD TwrElev,
+  TwrDiam, TwrCd (their mean, if the nodes differ) for the tower shadow;
+- drivetrain: ED GBRatio, GBoxEff, GenIner, DTTorSpr (for a rigid drivetrain, DrTrDOF = False, at most the
+  stiffness of a :data:`RIGID_TORSION_FREQUENCY` torsion), DTTorDmp;
+- generator: SD GenEff; DISCON VS_RtPwr, VS_RtTq, VS_MaxTq, VS_MaxRat;
+- pitch actuator: DISCON PC_MinPit (or PC_FinePit, if higher: the plant's lower limit is also its below-rated
+  pitch), PC_MaxPit, PC_MaxRat; PA_CornerFreq and PA_Damping (PA_Mode = 2; PA_Mode = 1: the second-order
+  actuator with the same -3 dB bandwidth, damping 1/sqrt(2)); without actuator dynamics (PA_Mode = 0)
+  :data:`DEFAULT_ACTUATOR`, as the shipped NREL 5 MW;
+- operation: ROSCO's tuning writes its wind speeds into WE_FOPoles_v, v_min to v_rated then v_rated to v_max
+  (``rosco/toolbox/controller.py``: WE_FOPoles_N - PC_GS_n values below rated, PC_GS_n + 1 from rated): cut-in
+  WE_FOPoles_v(1), rated WE_FOPoles_v(WE_FOPoles_N - PC_GS_n), cut-out WE_FOPoles_v(WE_FOPoles_N); rotor speeds
+  VS_MinOMSpd / GBRatio and PC_RefSpd / GBRatio; VS_TSRopt;
+- environment: AD AirDens (the ``.fst`` AirDens when AD says "default"), ``.fst`` Gravity.
+
+Decks the import refuses, with the file and key named (:class:`DeckError`): a missing file; CompElast other than
+1 (BeamDyn blades or SimpleElastoDyn: the plant's blade is ElastoDyn's), CompAero other than 2 (no AeroDyn blade),
+CompServo other than 1 or a ServoDyn controller that is not ROSCO (PCMode and VSContrl 5 with a ROSCO DLL_InFile:
+the limits and rated values come from it), MHK turbines; blades that differ (ED PreCone, BldFile or AD ADBlFile
+per blade), AD AFTabMod other than 1 (polars over Reynolds number or a control setting), a polar without lift or
+drag columns or not over -180..180 deg.
+"""
+from __future__ import annotations
+
+import importlib.metadata
+import json
+import math
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Mapping, Sequence, Tuple
+
+import numpy as np
+from openfast_io.FAST_reader import InputReader_OpenFAST
+
+from hawt_controllers.rosco_input import read_settings
+
+__all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "DeckError", "ImportedAirfoil", "ImportedTurbine", "Sourced",
+           "aerodynamic_elements", "import_deck", "turbine_text", "write_turbine"]
+
+DEFAULT_ACTUATOR = (11.11, 0.6)
+"""Natural frequency [rad/s] and damping ratio [-] of the pitch actuator of a deck without actuator dynamics
+(DISCON.IN PA_Mode = 0), as the shipped NREL 5 MW: the benchmark of Odgaard, Stoustrup & Kinnaert (2013)."""
+
+RIGID_TORSION_FREQUENCY = 10.0
+"""[Hz] The shaft torsion of a deck whose drivetrain is rigid (ElastoDyn DrTrDOF = False) is kept at or below
+this: the plant always has the torsion, and its semi-implicit Euler step (0.01 s by default) integrates it
+stably only well below 1 / (pi dt) = 32 Hz (the IEA 15 MW's DTTorSpr gives 31 Hz). 10 Hz is far above the
+controllers' bandwidth and integrated to 2 % in frequency at 0.01 s."""
+
+_LENGTH_TOLERANCE = 1e-3  # [m] lengths that agree to within this are the same (as the loader takes them)
+_ALPHA_TOLERANCE = 1e-4  # [deg] a polar's first and last angle of attack are -180 and 180 to within this
+
+
+class DeckError(ValueError):
+    """A deck the import cannot convert; the message names the file (relative to the deck) and the key."""
+
+
+@dataclass(frozen=True)
+class Sourced:
+    """A value of the turbine definition and where it comes from: the deck's file and key, and any conversion."""
+
+    value: Any
+    source: str
+
+
+@dataclass(frozen=True, eq=False)
+class ImportedAirfoil:
+    """One airfoil polar: angle of attack [rad], lift, drag and moment coefficients as rows of ``table`` (K, 4),
+    and the unsteady-aerodynamics parameters of :class:`hawt_plant.turbine.UnsteadyAirfoilParameters` (zero-lift
+    angle [rad], lift slope [1/rad], drag at zero lift) if the table has them with a lift slope (None: it stays
+    quasi-steady, as the cylinders)."""
+
+    name: str
+    table: np.ndarray
+    source: str
+    description: str
+    unsteady: Tuple[float, float, float] | None
+
+
+@dataclass(frozen=True, eq=False)
+class ImportedTurbine:
+    """A deck converted: the definition's sections (key -> :class:`Sourced` or a nested section), the airfoils
+    its elements use, how values were approximated, and what of the deck the plant does not model."""
+
+    deck: Path
+    definition: Dict[str, Any]
+    airfoils: Tuple[ImportedAirfoil, ...]
+    approximations: Tuple[str, ...]
+    not_modelled: Tuple[str, ...]
+
+
+def _key(name: str) -> str:
+    """openfast-io's key as the deck's files write it: ``BldFile1`` -> ``BldFile(1)``."""
+    return re.sub(r"(?<=[A-Za-z])(\d)$", r"(\1)", name)
+
+
+def _number(values: Mapping[str, Any], key: str, file: str) -> float:
+    value = values.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DeckError(f"{file}: {_key(key)}: expected a number, found {value!r}")
+    return float(value)
+
+
+def _array(values: Mapping[str, Any], key: str, file: str) -> np.ndarray:
+    try:
+        out = np.array(values.get(key), dtype=float)
+    except (TypeError, ValueError):
+        out = np.array([np.nan])
+    if out.ndim != 1 or out.size == 0 or not np.all(np.isfinite(out)):
+        raise DeckError(f"{file}: {_key(key)}: expected a list of numbers, found {values.get(key)!r}")
+    return out
+
+
+class _Discon:
+    """The settings of a ROSCO DISCON.IN, numbers read with the file and key in their errors."""
+
+    def __init__(self, path: Path, name: str) -> None:
+        self.name = name
+        self.settings = read_settings(path)
+        if "PerfFileName" not in self.settings:
+            raise DeckError(f"{name}: PerfFileName: missing; the import reads a ROSCO controller input (DISCON.IN)")
+
+    def array(self, key: str) -> np.ndarray:
+        if key not in self.settings:
+            raise DeckError(f"{self.name}: {key}: missing")
+        try:
+            out = np.array([float(word) for word in self.settings[key].split()])
+        except ValueError:
+            out = np.array([np.nan])
+        if out.size == 0 or not np.all(np.isfinite(out)):
+            raise DeckError(f"{self.name}: {key}: expected numbers, found {self.settings[key]!r}")
+        return out
+
+    def number(self, key: str) -> float:
+        return float(self.array(key)[0])
+
+
+class _Deck:
+    """openfast-io's reader on one deck; files are named relative to the deck's folder."""
+
+    def __init__(self, fst: Path) -> None:
+        self.folder = fst.resolve().parent
+        self.reader = InputReader_OpenFAST()
+        self.reader.FAST_InputFile = fst.name
+        self.reader.FAST_directory = str(self.folder)
+        self.vt = self.reader.fst_vt
+
+    def name(self, path: str | os.PathLike) -> str:
+        return os.path.relpath(os.path.normpath(os.path.join(self.folder, path)), self.folder)
+
+    def existing(self, referrer: str, key: str, base: str | os.PathLike, value: str) -> Path:
+        """The file ``value`` names (relative to ``base``), which must exist."""
+        path = Path(os.path.normpath(os.path.join(self.folder, base, value)))
+        if not path.is_file():
+            raise DeckError(f"{referrer}: {_key(key)}: {self.name(path)}: no such file")
+        return path
+
+    def read(self, file: str, read: Callable[[], None]) -> None:
+        """Run an openfast-io reader of ``file``; a file it cannot find or parse becomes a :class:`DeckError`."""
+        try:
+            read()
+        except FileNotFoundError as error:
+            referrer, key = self._naming(file, os.path.basename(error.filename or ""))
+            raise DeckError(f"{referrer}: {key}: {self.name(error.filename)}: no such file") from None
+        except (ValueError, IndexError, KeyError, TypeError, UnicodeDecodeError) as error:
+            raise DeckError(f"{file}: openfast-io {importlib.metadata.version('openfast-io')} cannot read it "
+                            f"({type(error).__name__}: {error})") from None
+
+    def _naming(self, file: str, missing: str) -> Tuple[str, str]:
+        """The file and key that name the file ``missing``. The other files are checked before they are read;
+        AeroDyn's reader opens the files its input names itself: the blade files (``ADBlFile(1)``), the polars
+        (``AFNames(3)``) and their coordinates (an airfoil file's ``NumCoords``)."""
+        def names(value: Any) -> bool:
+            return isinstance(value, str) and os.path.basename(value.strip('@"')) == missing
+
+        aerodyn = self.vt["AeroDyn"]
+        for key, value in aerodyn.items():
+            if names(value):
+                return file, _key(key)
+            if isinstance(value, list):
+                for index, item in enumerate(value):
+                    if names(item):
+                        return file, f"{key}({index + 1})"
+        for index, tables in enumerate(aerodyn.get("af_data") or []):
+            if tables and names(tables[0].get("NumCoords")):
+                return self.name(aerodyn["AFNames"][index]), "NumCoords"
+        return file, "a file it names"
+
+
+def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
+    """Read an OpenFAST deck and convert it into the hawt turbine definition (module notes).
+
+    Parameters
+    ----------
+    fst : path
+        The deck's main input file (``.fst``).
+
+    Returns
+    -------
+    ImportedTurbine
+
+    Raises
+    ------
+    DeckError
+        A file is missing or unreadable, or an option is one the plant cannot honour; the message names the file
+        and the key, e.g. ``NREL-5MW.fst: CompAero: 1 (AeroDisk) is not supported: ...``.
+    """
+    fst = Path(fst)
+    if not fst.is_file():
+        raise DeckError(f"{fst}: no such file")
+    deck = _Deck(fst)
+    deck.read(fst.name, deck.reader.read_MainInput)
+    main = deck.vt["Fst"]
+    _check_main(main, fst.name)
+    files = {"fst": fst.name}
+    ed, blade, tower = _read_elastodyn(deck, main, files)
+    ad, ad_blade = _read_aerodyn(deck, main, ed, files)
+    sd, discon = _read_servodyn(deck, main, files)
+    length = _number(ed, "TipRad", files["ed"]) - _number(ed, "HubRad", files["ed"])
+    aerodynamics, airfoils = _blade_aerodynamics(deck, ad, ad_blade, length, files)
+    definition = {
+        "name": Sourced(fst.stem, f"{fst.name}: the deck's name"),
+        "source": Sourced(f"OpenFAST deck {fst.name} ({deck.vt['description'].strip()}), imported by hawt turbine "
+                          "import", f"{fst.name} title line"),
+        "environment": _environment(main, ad, files),
+        "rotor": _rotor(ed, files["ed"]),
+        "nacelle": _nacelle(ed, files["ed"]),
+        "blade": {"aerodynamics": aerodynamics, "structure": _blade_structure(blade, length, files["blade"])},
+        "tower": _tower(ed, tower, ad, files),
+        "drivetrain": _drivetrain(ed, blade, files),
+        "generator": _generator(sd, discon, files["sd"]),
+        "pitch_actuator": _pitch_actuator(discon),
+        "operation": _operation(discon, _number(ed, "GBRatio", files["ed"]), files["ed"]),
+    }
+    return ImportedTurbine(deck=fst, definition=definition, airfoils=airfoils,
+                           approximations=tuple(_approximations(ed, blade, ad, discon, files)),
+                           not_modelled=tuple(_not_modelled(main, ed, ad, ad_blade, sd, files)))
+
+
+_UNSUPPORTED = {
+    "CompElast": ({1}, {2: "BeamDyn blades", 3: "SimpleElastoDyn"}, "the plant's blade and tower are ElastoDyn's "
+                  "(CompElast = 1; a deck with an ElastoDyn blade file may switch to it)"),
+    "CompAero": ({2}, {0: "no aerodynamics", 1: "AeroDisk", 3: "external loads"},
+                 "the plant needs AeroDyn's blade and polars (CompAero = 2)"),
+    "CompServo": ({1}, {0: "no ServoDyn"}, "the limits and rated values come from ServoDyn's ROSCO controller "
+                  "(CompServo = 1)"),
+    "MHK": ({0}, {1: "fixed MHK turbine", 2: "floating MHK turbine"}, "the plant is a wind turbine in air (MHK = 0)"),
+}
+
+
+def _check_main(main: Mapping[str, Any], file: str) -> None:
+    for key, (allowed, meanings, reason) in _UNSUPPORTED.items():
+        if main[key] not in allowed:
+            meaning = f" ({meanings[main[key]]})" if main[key] in meanings else ""
+            raise DeckError(f"{file}: {key}: {main[key]}{meaning} is not supported: {reason}")
+
+
+def _same_per_blade(values: Mapping[str, Any], keys: Sequence[str], blades: int, file: str, what: str) -> None:
+    first = values[keys[0]]
+    for key in keys[1:blades]:
+        if values[key] != first:
+            raise DeckError(f"{file}: {_key(key)}: {values[key]!r} differs from {_key(keys[0])} {first!r}: the "
+                            f"plant's blades have one {what}")
+
+
+def _read_elastodyn(deck: _Deck, main: Mapping[str, Any], files: Dict[str, str]) -> Tuple[dict, dict, dict]:
+    """ElastoDyn's main, blade and tower inputs (the names of their files into ``files``)."""
+    ed_path = deck.existing(files["fst"], "EDFile", "", main["EDFile"])
+    files["ed"] = deck.name(ed_path)
+    deck.read(files["ed"], lambda: deck.reader.read_ElastoDyn(str(ed_path)))
+    ed = deck.vt["ElastoDyn"]
+    blades = ed["NumBl"]
+    if not 2 <= blades <= 3:
+        raise DeckError(f"{files['ed']}: NumBl: {blades} is not supported: the plant has 2 or 3 blades")
+    _same_per_blade(ed, ("PreCone(1)", "PreCone(2)", "PreCone(3)"), blades, files["ed"], "precone")
+    _same_per_blade(ed, ("BldFile1", "BldFile2", "BldFile3"), blades, files["ed"], "blade file")
+    blade_path = deck.existing(files["ed"], "BldFile1", ed_path.parent, ed["BldFile1"])
+    tower_path = deck.existing(files["ed"], "TwrFile", ed_path.parent, ed["TwrFile"])
+    files["blade"], files["tower"] = deck.name(blade_path), deck.name(tower_path)
+    deck.read(files["blade"], lambda: deck.reader.read_ElastoDynBlade(str(blade_path)))
+    deck.read(files["tower"], lambda: deck.reader.read_ElastoDynTower(str(tower_path)))
+    return ed, deck.vt["ElastoDynBlade"][0], deck.vt["ElastoDynTower"]
+
+
+def _read_aerodyn(deck: _Deck, main: Mapping[str, Any], ed: Mapping[str, Any],
+                  files: Dict[str, str]) -> Tuple[dict, dict]:
+    """AeroDyn's input with its blade file and polars (the names of the files into ``files``)."""
+    ad_path = deck.existing(files["fst"], "AeroFile", "", main["AeroFile"])
+    files["ad"] = deck.name(ad_path)
+    deck.read(files["ad"], deck.reader.read_AeroDyn)
+    ad = deck.vt["AeroDyn"]
+    _same_per_blade(ad, ("ADBlFile1", "ADBlFile2", "ADBlFile3"), ed["NumBl"], files["ad"], "blade file")
+    files["ad_blade"] = deck.name(Path(ad_path.parent, ad["ADBlFile1"]))
+    if ad["AFTabMod"] != 1:
+        raise DeckError(f"{files['ad']}: AFTabMod: {ad['AFTabMod']} is not supported: the plant's polars are one "
+                        "table per airfoil over the angle of attack (AFTabMod = 1)")
+    for key in ("InCol_Alfa", "InCol_Cl", "InCol_Cd"):
+        if ad[key] < 1:
+            raise DeckError(f"{files['ad']}: {key}: {ad[key]}: the plant needs the angle of attack, lift and drag")
+    blade = deck.vt["AeroDynBlade"]
+    return ad, blade[0] if isinstance(blade, list) else blade
+
+
+def _read_servodyn(deck: _Deck, main: Mapping[str, Any], files: Dict[str, str]) -> Tuple[dict, _Discon]:
+    """ServoDyn's input and the ROSCO DISCON.IN its controller reads (the names of the files into ``files``)."""
+    sd_path = deck.existing(files["fst"], "ServoFile", "", main["ServoFile"])
+    files["sd"] = deck.name(sd_path)
+    deck.read(files["sd"], deck.reader.read_ServoDyn)
+    sd = deck.vt["ServoDyn"]
+    for key in ("PCMode", "VSContrl"):
+        if sd[key] != 5:
+            raise DeckError(f"{files['sd']}: {key}: {sd[key]} is not supported: the limits and rated values come "
+                            f"from the ROSCO controller's DISCON.IN ({key} = 5)")
+    discon_path = deck.existing(files["sd"], "DLL_InFile", "", sd["DLL_InFile"])
+    files["discon"] = deck.name(discon_path)
+    return sd, _Discon(discon_path, files["discon"])
+
+
+def _environment(main: Mapping[str, Any], ad: Mapping[str, Any], files: Mapping[str, str]) -> Dict[str, Sourced]:
+    if isinstance(ad["AirDens"], float):
+        density = Sourced(_number(ad, "AirDens", files["ad"]), f"{files['ad']} AirDens")
+    else:
+        density = Sourced(_number(main, "AirDens", files["fst"]),
+                          f"{files['fst']} AirDens ({files['ad']} AirDens = {ad['AirDens']})")
+    return {"air_density": density, "gravity": Sourced(_number(main, "Gravity", files["fst"]),
+                                                       f"{files['fst']} Gravity")}
+
+
+def _rotor(ed: Mapping[str, Any], file: str) -> Dict[str, Sourced]:
+    overhang = _number(ed, "OverHang", file)
+    downwind = overhang > 0.0
+    side, where = (1.0, "downwind rotor: kept") if downwind else (-1.0, "upwind rotor: negated")
+    cone, tilt = _number(ed, "PreCone(1)", file), _number(ed, "ShftTilt", file)
+    rotor = {
+        "number_of_blades": Sourced(int(ed["NumBl"]), f"{file} NumBl"),
+        "hub_radius": Sourced(_number(ed, "HubRad", file), f"{file} HubRad"),
+        "tip_radius": Sourced(_number(ed, "TipRad", file), f"{file} TipRad"),
+        "cone_angle": Sourced(side * math.radians(cone), f"{file} PreCone(1) = {cone:g} deg ({where})"),
+        "shaft_tilt": Sourced(side * math.radians(tilt), f"{file} ShftTilt = {tilt:g} deg ({where})"),
+        "overhang": Sourced(side * overhang, f"{file} OverHang = {overhang:g} m ({where})"),
+        "hub_mass": Sourced(_number(ed, "HubMass", file), f"{file} HubMass"),
+        "hub_inertia": Sourced(_number(ed, "HubIner", file), f"{file} HubIner, about the shaft"),
+    }
+    if downwind:
+        rotor["position"] = Sourced("downwind", f"{file} OverHang > 0")
+    return rotor
+
+
+def _nacelle(ed: Mapping[str, Any], file: str) -> Dict[str, Sourced]:
+    nacelle, bearing = _number(ed, "NacMass", file), _number(ed, "YawBrMass", file)
+    mass = nacelle + bearing
+    share = nacelle / mass if mass else 1.0
+    lumped = f" x NacMass / (NacMass + YawBrMass = {bearing:g} kg)" if bearing else ""
+    return {
+        "mass": Sourced(mass, f"{file} NacMass + YawBrMass" if bearing else f"{file} NacMass"),
+        "cm_downwind": Sourced(share * _number(ed, "NacCMxn", file), f"{file} NacCMxn{lumped}"),
+        "cm_above_tower_top": Sourced(share * _number(ed, "NacCMzn", file), f"{file} NacCMzn{lumped}"),
+        "yaw_inertia": Sourced(_number(ed, "NacYIner", file), f"{file} NacYIner (also used for nodding and rolling)"),
+        "shaft_above_tower_top": Sourced(_number(ed, "Twr2Shft", file), f"{file} Twr2Shft"),
+    }
+
+
+def aerodynamic_elements(spans: np.ndarray, length: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """The plant's blade elements (centres and widths tiling the blade) for AeroDyn's blade nodes.
+
+    Parameters
+    ----------
+    spans : ndarray, shape (M,)
+        AeroDyn's node positions BlSpn along the blade from the root [m], increasing.
+    length : float
+        Blade length [m].
+
+    Returns
+    -------
+    centre, width : ndarray, shape (N,)
+        Element centres and widths [m].
+    node : ndarray of int, shape (N,)
+        The node each element takes its airfoil from.
+    v14 : bool
+        True for the AeroDyn v14 layout.
+
+    Notes
+    -----
+    An AeroDyn 15 blade file converted from AeroDyn v14 keeps v14's elements: nodes at the root and the tip, and
+    between them the middles of elements tiling the blade (RNodes and DRNodes). When the inner nodes are such
+    middles (to 1 mm), they are the elements (N = M - 2). Otherwise each node is an element (N = M) reaching
+    halfway to its neighbours and to the root and tip at the ends (the share of the blade AeroDyn 15's
+    trapezoidal integration gives the node), centred in that stretch; for evenly spaced nodes the inner
+    elements are centred on their nodes, the end ones a quarter spacing inside.
+    """
+    inner = spans[1:-1]
+    bounds = [0.0]
+    for middle in inner:
+        bounds.append(2.0 * middle - bounds[-1])
+    widths = np.diff(bounds)
+    if (inner.size and abs(spans[0]) <= _LENGTH_TOLERANCE and abs(spans[-1] - length) <= _LENGTH_TOLERANCE
+            and np.all(widths > _LENGTH_TOLERANCE) and abs(bounds[-1] - length) <= _LENGTH_TOLERANCE):
+        return inner.copy(), widths, np.arange(1, spans.size - 1), True
+    edges = np.concatenate(([0.0], 0.5 * (spans[1:] + spans[:-1]), [length]))
+    return 0.5 * (edges[1:] + edges[:-1]), np.diff(edges), np.arange(spans.size), False
+
+
+def _blade_aerodynamics(deck: _Deck, ad: Mapping[str, Any], blade: Mapping[str, Any], length: float,
+                        files: Mapping[str, str]) -> Tuple[Dict[str, Sourced], Tuple[ImportedAirfoil, ...]]:
+    file = files["ad_blade"]
+    spans = _array(blade, "BlSpn", file)
+    if np.any(np.diff(spans) <= 0.0) or spans[0] < 0.0 or spans[-1] > length + _LENGTH_TOLERANCE:
+        raise DeckError(f"{file}: BlSpn: expected increasing spans within the blade's {length:g} m "
+                        f"(ElastoDyn TipRad - HubRad), found {spans[0]:g} .. {spans[-1]:g} m")
+    centre, width, node, v14 = aerodynamic_elements(spans, length)
+    chord = np.interp(centre, spans, _array(blade, "BlChord", file))
+    twist = np.radians(np.interp(centre, spans, _array(blade, "BlTwist", file)))
+    ids = _array(blade, "BlAFID", file).astype(int)
+    count = len(ad["AFNames"])
+    if np.any(ids < 1) or np.any(ids > count):
+        raise DeckError(f"{file}: BlAFID: expected airfoil numbers 1..{count} (NumAFfiles of {files['ad']})")
+    used = sorted(set(ids[node].tolist()))
+    airfoils = {index: _airfoil(deck, ad, index, files["ad"]) for index in used}
+    names = [airfoil.name for airfoil in airfoils.values()]
+    if len(set(names)) < len(names):
+        raise DeckError(f"{files['ad']}: AFNames: two airfoil files have the same name; the plant names polars by "
+                        "file name")
+    if v14:
+        layout = (f"the {node.size} inner nodes of {file}, each the middle of its element (the AeroDyn v14 "
+                  "layout), so the widths follow from the spans")
+    else:
+        layout = (f"one element per node of {file}, reaching halfway to the next nodes (to the root and tip at "
+                  "the ends), centred in that stretch")
+    section = {
+        "span": Sourced(centre, f"BlSpn: {layout}"),
+        "width": Sourced(width, "from the spans"),
+        "chord": Sourced(chord, f"{file} BlChord" + ("" if v14 else ", interpolated at the element centres")),
+        "twist": Sourced(twist, f"{file} BlTwist [deg]" + ("" if v14 else ", interpolated at the element centres")),
+        "airfoil": Sourced([airfoils[i].name for i in ids[node]], f"{file} BlAFID -> {files['ad']} AFNames"),
+    }
+    return section, tuple(airfoils.values())
+
+
+def _airfoil(deck: _Deck, ad: Mapping[str, Any], index: int, ad_file: str) -> ImportedAirfoil:
+    """Airfoil ``index`` (1-based) of AFNames: its first table."""
+    path = Path(ad["AFNames"][index - 1])
+    file = deck.name(path)
+    polar = ad["af_data"][index - 1][0]
+    alpha = _array(polar, "Alpha", file)
+    columns = [alpha, _array(polar, "Cl", file), _array(polar, "Cd", file)]
+    columns.append(_array(polar, "Cm", file) if ad["InCol_Cm"] > 0 else np.zeros(alpha.size))
+    if np.any(np.diff(alpha) <= 0.0):
+        raise DeckError(f"{file}: Alpha: angles of attack must increase strictly (AFNames({index}) of {ad_file})")
+    if abs(alpha[0] + 180.0) > _ALPHA_TOLERANCE or abs(alpha[-1] - 180.0) > _ALPHA_TOLERANCE:
+        raise DeckError(f"{file}: Alpha: the plant's polars run from -180 to 180 deg, this one from {alpha[0]:g} "
+                        f"to {alpha[-1]:g} deg")
+    table = np.column_stack(columns)
+    table[:, 0] = np.radians(alpha)
+    table[0, 0], table[-1, 0] = -math.pi, math.pi
+    lines = path.read_text(errors="replace").splitlines()
+    description = lines[1].strip().lstrip("!").strip() if len(lines) > 1 else ""
+    unsteady = [polar.get(key) for key in ("alpha0", "C_nalpha", "Cd0")] if polar["InclUAdata"] else []
+    usable = len(unsteady) == 3 and all(isinstance(value, float) for value in unsteady) and unsteady[1] > 0.0
+    return ImportedAirfoil(name=path.stem, table=table, source=file, description=description,
+                           unsteady=(math.radians(unsteady[0]), unsteady[1], unsteady[2]) if usable else None)
+
+
+def _blade_structure(blade: Mapping[str, Any], length: float, file: str) -> Dict[str, Sourced]:
+    fraction = _array(blade, "BlFract", file)
+    factor = _number(blade, "AdjBlMs", file)
+    density = _array(blade, "BMassDen", file)
+    flap_factor = _number(blade, "AdjFlSt", file) * _number(blade, "FlStTunr1", file)
+    edge_factor = _number(blade, "AdjEdSt", file)
+    s = fraction * length
+    mass = float(np.trapezoid(factor * density, s))
+    cg = float(np.trapezoid(factor * density * s, s)) / mass if mass > 0.0 else 0.0
+    return {
+        "mass_density_factor": Sourced(factor, f"{file} AdjBlMs"),
+        "flap_damping_ratio": Sourced(_number(blade, "BldFlDmp1", file) / 100.0, f"{file} BldFlDmp(1) [%]"),
+        "flap_mode_shape": Sourced(_array(blade, "BldFl1Sh", file), f"{file} BldFl1Sh(2..6), x^2..x^6"),
+        "span_fraction": Sourced(fraction, f"{file} BlFract"),
+        "structural_twist": Sourced(np.radians(_array(blade, "StrcTwst", file)), f"{file} StrcTwst [deg]"),
+        "mass_density": Sourced(density, f"{file} BMassDen"),
+        "flap_stiffness": Sourced(flap_factor * _array(blade, "FlpStff", file),
+                                  f"{file} FlpStff x AdjFlSt x FlStTunr(1) (= {flap_factor:g})"),
+        "edge_stiffness": Sourced(edge_factor * _array(blade, "EdgStff", file),
+                                  f"{file} EdgStff x AdjEdSt (= {edge_factor:g})"),
+        "reference_mass": Sourced(mass, f"integral of {file} BMassDen x AdjBlMs (the deck states no blade mass)"),
+        "reference_cg_from_root": Sourced(cg, f"from {file} BMassDen, as reference_mass"),
+    }
+
+
+def _tower(ed: Mapping[str, Any], tower: Mapping[str, Any], ad: Mapping[str, Any],
+           files: Mapping[str, str]) -> Dict[str, Sourced]:
+    ed_file, file, ad_file = files["ed"], files["tower"], files["ad"]
+    base = _number(ed, "TowerBsHt", ed_file)
+    lowered = f", lowered by TowerBsHt = {base:g} m onto the ground" if base else ""
+    elevation = _array(ad, "TwrElev", ad_file) - base
+    diameter = _array(ad, "TwrDiam", ad_file)
+    above = elevation >= -_LENGTH_TOLERANCE
+    drag = _array(ad, "TwrCd", ad_file)
+    factors = {key: _number(tower, key, file) for key in ("AdjTwMa", "AdjFASt", "FAStTunr1", "AdjSSSt", "SSStTunr1")}
+    fa_factor, ss_factor = factors["AdjFASt"] * factors["FAStTunr1"], factors["AdjSSSt"] * factors["SSStTunr1"]
+    return {
+        "height": Sourced(_number(ed, "TowerHt", ed_file) - base, f"{ed_file} TowerHt - TowerBsHt"),
+        "fa_damping_ratio": Sourced(_number(tower, "TwrFADmp1", file) / 100.0, f"{file} TwrFADmp(1) [%]"),
+        "ss_damping_ratio": Sourced(_number(tower, "TwrSSDmp1", file) / 100.0, f"{file} TwrSSDmp(1) [%]"),
+        "fa_mode_shape": Sourced(_array(tower, "TwFAM1Sh", file), f"{file} TwFAM1Sh(2..6)"),
+        "ss_mode_shape": Sourced(_array(tower, "TwSSM1Sh", file), f"{file} TwSSM1Sh(2..6)"),
+        "height_fraction": Sourced(_array(tower, "HtFract", file), f"{file} HtFract"),
+        "mass_density": Sourced(factors["AdjTwMa"] * _array(tower, "TMassDen", file),
+                                f"{file} TMassDen x AdjTwMa (= {factors['AdjTwMa']:g})"),
+        "fa_stiffness": Sourced(fa_factor * _array(tower, "TwFAStif", file),
+                                f"{file} TwFAStif x AdjFASt x FAStTunr(1) (= {fa_factor:g})"),
+        "ss_stiffness": Sourced(ss_factor * _array(tower, "TwSSStif", file),
+                                f"{file} TwSSStif x AdjSSSt x SSStTunr(1) (= {ss_factor:g})"),
+        "outline_elevation": Sourced(np.maximum(elevation[above], 0.0), f"{ad_file} TwrElev{lowered}"),
+        "outline_diameter": Sourced(diameter[above], f"{ad_file} TwrDiam"),
+        "drag_coefficient": Sourced(float(np.mean(drag)), f"{ad_file} TwrCd" + (
+            "" if np.all(drag == drag[0]) else f", the mean of {drag.min():g} .. {drag.max():g}")),
+    }
+
+
+def _torsion_frequency(ed: Mapping[str, Any], blade: Mapping[str, Any], stiffness: float, files: Mapping[str, str]
+                       ) -> float:
+    """Free-free torsion frequency [Hz] of rotor and generator on a low-speed shaft of this ``stiffness``, the
+    rotor's inertia that of the hub and the coned blades' distributed mass (as the plant sums it)."""
+    ed_file, blade_file = files["ed"], files["blade"]
+    hub_radius = _number(ed, "HubRad", ed_file)
+    span = _array(blade, "BlFract", blade_file) * (_number(ed, "TipRad", ed_file) - hub_radius)
+    density = _number(blade, "AdjBlMs", blade_file) * _array(blade, "BMassDen", blade_file)
+    cone = math.radians(_number(ed, "PreCone(1)", ed_file))
+    rotor = _number(ed, "HubIner", ed_file) + ed["NumBl"] * math.cos(cone) ** 2 * float(
+        np.trapezoid(density * (hub_radius + span) ** 2, span))
+    generator = _number(ed, "GenIner", ed_file) * _number(ed, "GBRatio", ed_file) ** 2
+    return math.sqrt(stiffness * (1.0 / rotor + 1.0 / generator)) / (2.0 * math.pi)
+
+
+def _drivetrain(ed: Mapping[str, Any], blade: Mapping[str, Any], files: Mapping[str, str]) -> Dict[str, Sourced]:
+    file = files["ed"]
+    stiffness = _number(ed, "DTTorSpr", file)
+    frequency = _torsion_frequency(ed, blade, stiffness, files)
+    spring = Sourced(stiffness, f"{file} DTTorSpr")
+    if not ed["DrTrDOF"] and frequency > RIGID_TORSION_FREQUENCY:
+        spring = Sourced(stiffness * (RIGID_TORSION_FREQUENCY / frequency) ** 2,
+                         f"{file} DTTorSpr = {stiffness:g} N m/rad (torsion at {frequency:.3g} Hz) with DrTrDOF = "
+                         f"False (rigid): lowered to the stiffness of a {RIGID_TORSION_FREQUENCY:g} Hz torsion")
+    return {
+        "gearbox_ratio": Sourced(_number(ed, "GBRatio", file), f"{file} GBRatio"),
+        "gearbox_efficiency": Sourced(_number(ed, "GBoxEff", file) / 100.0, f"{file} GBoxEff [%]"),
+        "generator_inertia": Sourced(_number(ed, "GenIner", file), f"{file} GenIner, about the high-speed shaft"),
+        "torsional_stiffness": spring,
+        "torsional_damping": Sourced(_number(ed, "DTTorDmp", file), f"{file} DTTorDmp"),
+    }
+
+
+def _generator(sd: Mapping[str, Any], discon: _Discon, file: str) -> Dict[str, Sourced]:
+    return {
+        "efficiency": Sourced(_number(sd, "GenEff", file) / 100.0, f"{file} GenEff [%]"),
+        "rated_power": Sourced(discon.number("VS_RtPwr"), f"{discon.name} VS_RtPwr (electrical)"),
+        "rated_torque": Sourced(discon.number("VS_RtTq"), f"{discon.name} VS_RtTq, high-speed shaft"),
+        "max_torque": Sourced(discon.number("VS_MaxTq"), f"{discon.name} VS_MaxTq"),
+        "max_torque_rate": Sourced(discon.number("VS_MaxRat"), f"{discon.name} VS_MaxRat"),
+    }
+
+
+def _pitch_actuator(discon: _Discon) -> Dict[str, Sourced]:
+    name = discon.name
+    lowest, fine = discon.number("PC_MinPit"), discon.number("PC_FinePit")
+    minimum = (Sourced(lowest, f"{name} PC_MinPit") if lowest >= fine else
+               Sourced(fine, f"{name} PC_FinePit (above PC_MinPit = {lowest:g} rad: the plant's lower limit is "
+                             "also its below-rated pitch)"))
+    mode = int(discon.number("PA_Mode"))
+    if mode == 2:
+        dynamics = (Sourced(discon.number("PA_CornerFreq"), f"{name} PA_CornerFreq (PA_Mode = 2)"),
+                    Sourced(discon.number("PA_Damping"), f"{name} PA_Damping"))
+    elif mode == 1:
+        dynamics = (Sourced(discon.number("PA_CornerFreq"), f"{name} PA_CornerFreq (PA_Mode = 1, first order)"),
+                    Sourced(1.0 / math.sqrt(2.0), "1/sqrt(2): the second order with the first order's -3 dB "
+                                                  "bandwidth"))
+    else:
+        dynamics = (Sourced(DEFAULT_ACTUATOR[0], f"{name} PA_Mode = {mode}: the deck has no actuator dynamics; "
+                                                 "hawt's default, Odgaard, Stoustrup & Kinnaert (2013)"),
+                    Sourced(DEFAULT_ACTUATOR[1], "hawt's default, as natural_frequency"))
+    return {
+        "min_angle": minimum,
+        "max_angle": Sourced(discon.number("PC_MaxPit"), f"{name} PC_MaxPit"),
+        "max_rate": Sourced(discon.number("PC_MaxRat"), f"{name} PC_MaxRat"),
+        "natural_frequency": dynamics[0],
+        "damping_ratio": dynamics[1],
+    }
+
+
+def _operation(discon: _Discon, gearbox_ratio: float, ed_file: str) -> Dict[str, Sourced]:
+    name = discon.name
+    speeds = discon.array("WE_FOPoles_v")
+    count, above = int(discon.number("WE_FOPoles_N")), int(discon.number("PC_GS_n"))
+    if speeds.size != count or not 1 <= count - above <= count - 1:
+        raise DeckError(f"{name}: WE_FOPoles_v: expected ROSCO's WE_FOPoles_N = {count} wind speeds from v_min to "
+                        f"v_max, v_rated the (WE_FOPoles_N - PC_GS_n)th, found {speeds.size} (PC_GS_n = {above})")
+    tuning = "ROSCO's tuning wind speeds"
+    return {
+        "cut_in_wind_speed": Sourced(float(speeds[0]), f"{name} WE_FOPoles_v(1) ({tuning}: v_min)"),
+        "rated_wind_speed": Sourced(float(speeds[count - above - 1]),
+                                    f"{name} WE_FOPoles_v({count - above}) (WE_FOPoles_N - PC_GS_n: v_rated)"),
+        "cut_out_wind_speed": Sourced(float(speeds[-1]), f"{name} WE_FOPoles_v({count}) (v_max)"),
+        "min_rotor_speed": Sourced(discon.number("VS_MinOMSpd") / gearbox_ratio,
+                                   f"{name} VS_MinOMSpd / {ed_file} GBRatio"),
+        "rated_rotor_speed": Sourced(discon.number("PC_RefSpd") / gearbox_ratio,
+                                     f"{name} PC_RefSpd / {ed_file} GBRatio"),
+        "optimal_tip_speed_ratio": Sourced(discon.number("VS_TSRopt"), f"{name} VS_TSRopt"),
+    }
+
+
+def _approximations(ed: Mapping[str, Any], blade: Mapping[str, Any], ad: Mapping[str, Any], discon: _Discon,
+                    files: Mapping[str, str]) -> List[str]:
+    """How values were approximated where the plant's definition has no place for the deck's."""
+    ed_file, out = files["ed"], []
+    if ed["TowerBsHt"]:
+        out.append(f"the tower stands on a base {ed['TowerBsHt']:g} m high ({ed_file} TowerBsHt): the plant's tower "
+                   "is clamped at the ground, so the tower, rotor and hub height are that much lower")
+    if ed["YawBrMass"]:
+        out.append(f"the yaw bearing's {ed['YawBrMass']:g} kg ({ed_file} YawBrMass) is lumped into the nacelle")
+    torsion = _torsion_frequency(ed, blade, _number(ed, "DTTorSpr", ed_file), files)
+    if not ed["DrTrDOF"]:
+        out.append(f"{ed_file} DrTrDOF = False (a rigid drivetrain): the plant's shaft twists, with DTTorSpr or the "
+                   f"stiffness of a {RIGID_TORSION_FREQUENCY:g} Hz torsion, whichever is softer")
+    elif torsion > RIGID_TORSION_FREQUENCY:
+        out.append(f"the shaft torsion ({ed_file} DTTorSpr) is at {torsion:.3g} Hz: the plant integrates it stably "
+                   f"with dt <= {1.0 / (2.0 * math.pi * torsion):.2g} s (its dt parameter)")
+    for dof, what in (("TwFADOF1", "tower fore-aft"), ("TwSSDOF1", "tower side-side"), ("FlapDOF1", "blade flap")):
+        if not ed[dof]:
+            out.append(f"{ed_file} {dof} = False: the plant's first {what} mode moves")
+    if int(discon.number("PA_Mode")) == 0:
+        out.append(f"{discon.name} PA_Mode = 0 (no actuator dynamics): the plant's actuator is hawt's default "
+                   f"{DEFAULT_ACTUATOR[0]:g} rad/s, damping {DEFAULT_ACTUATOR[1]:g}")
+    drag = np.asarray(ad["TwrCd"], dtype=float)
+    if np.any(drag != drag[0]):
+        out.append(f"{files['ad']} TwrCd varies along the tower: the plant's tower wake uses its mean")
+    return out
+
+
+def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[str, Any], ad_blade: Mapping[str, Any],
+                  sd: Mapping[str, Any], files: Mapping[str, str]) -> List[str]:
+    """What of the deck the plant does not model (one flap mode per blade, first tower modes, drivetrain torsion,
+    second-order pitch actuators, quasi-steady or Øye BEM)."""
+    ed_file, blade_file, tower_file, ad_file = files["ed"], files["blade"], files["tower"], files["ad"]
+    out = []
+    if ed["FlapDOF2"] or ed["EdgeDOF"]:
+        out.append(f"blade second flap and first edgewise modes ({ed_file} FlapDOF2 = {ed['FlapDOF2']}, EdgeDOF = "
+                   f"{ed['EdgeDOF']}; {blade_file} BldFl2Sh, BldEdgSh, BldEdDmp(1)): one flap mode per blade")
+    if ed["TwFADOF2"] or ed["TwSSDOF2"]:
+        out.append(f"tower second fore-aft and side-side modes ({ed_file} TwFADOF2 = {ed['TwFADOF2']}, TwSSDOF2 = "
+                   f"{ed['TwSSDOF2']}; {tower_file} TwFAM2Sh, TwSSM2Sh)")
+    if ed["YawDOF"] or sd["YCMode"]:
+        out.append(f"nacelle yaw ({ed_file} YawDOF = {ed['YawDOF']}; {files['sd']} YCMode = {sd['YCMode']})")
+    if ad["UA_Mod"]:
+        out.append(f"AeroDyn's unsteady airfoil model ({ad_file} UA_Mod = {ad['UA_Mod']}): the plant's (its "
+                   "unsteady_airfoil parameter, off by default) is Hansen-Gaunaa-Madsen's (UA_Mod 4) from each "
+                   "table's alpha0, C_nalpha and Cd0; the other UA coefficients are not used")
+    if ad["DBEMT_Mod"] > 0:
+        out.append(f"AeroDyn's dynamic BEM ({ad_file} DBEMT_Mod = {ad['DBEMT_Mod']}): the plant's induction is "
+                   "quasi-steady or follows Øye's dynamic inflow (its dynamic_inflow parameter)")
+    out.append(f"the deck's inflow ({main['InflowFile']}): the plant's wind comes from its own parameters")
+    out.append(f"the controller's tuning ({files['discon']}: gains, filters, set points); ROSCO itself reads it (the "
+               "discon controller)")
+    modules = [f"{key} = {main[key]}" for key in ("CompSeaSt", "CompHydro", "CompSub", "CompMooring", "CompIce",
+                                                   "CompSoil") if main[key]]
+    dofs = [f"{key} = True" for key in ("PtfmSgDOF", "PtfmSwDOF", "PtfmHvDOF", "PtfmRDOF", "PtfmPDOF", "PtfmYDOF")
+            if ed[key]]
+    parts = ([f"{files['fst']} " + ", ".join(modules)] if modules else []) + \
+        ([f"{ed_file} " + ", ".join(dofs)] if dofs else [])
+    if parts:
+        out.append(f"substructure and platform ({'; '.join(parts)}): the tower is clamped at its base")
+    if ed["TeetDOF"] or ed["TeetMod"]:
+        out.append(f"teeter ({ed_file} TeetDOF = {ed['TeetDOF']}, TeetMod = {ed['TeetMod']})")
+    masses = [key for key in ("TipMass(1)", "PBrIner(1)", "BlPIner(1)", "NacCMyn", "HubCM", "UndSling", "Delta3")
+              if ed[key]]
+    if masses:
+        out.append(f"{ed_file} " + ", ".join(f"{key} = {ed[key]:g}" for key in masses))
+    bend = max(np.max(np.abs(ad_blade["BlCrvAC"])), np.max(np.abs(ad_blade["BlSwpAC"])))
+    if bend:
+        out.append(f"blade prebend and sweep ({files['ad_blade']} BlCrvAC, BlSwpAC: up to {bend:.3g} m)")
+    if ad["Wake_Mod"] != 1:
+        out.append(f"{ad_file} Wake_Mod = {ad['Wake_Mod']}: the plant's induction is BEM's")
+    if ad["TwrAero"] or ad["NacelleDrag"]:
+        out.append(f"tower and nacelle drag ({ad_file} TwrAero = {ad['TwrAero']}, NacelleDrag = {ad['NacelleDrag']})")
+    if sd["HSSBrMode"]:
+        out.append(f"the high-speed shaft brake ({files['sd']} HSSBrMode = {sd['HSSBrMode']})")
+    dampers = [key for key in ("NumBStC", "NumNStC", "NumTStC", "NumSStC") if sd.get(key)]
+    if dampers:
+        out.append(f"structural control ({files['sd']} " + ", ".join(f"{key} = {sd[key]}" for key in dampers) + ")")
+    return out
+
+
+def _yaml_number(value: float) -> str:
+    """A float YAML reads back as a float (PyYAML wants a dot in the mantissa: ``1.0e+10``, not ``1e+10``)."""
+    text = f"{value:.10g}"
+    mantissa, e, exponent = text.partition("e")
+    if e and "." not in mantissa:
+        text = f"{mantissa}.0e{exponent}"
+    return text
+
+
+def _yaml_value(value: Any) -> str:
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (bool, int, np.integer)):
+        return str(value).lower() if isinstance(value, bool) else str(int(value))
+    if isinstance(value, (np.ndarray, list, tuple)):
+        return "[" + ", ".join(_yaml_value(item) for item in value) + "]"
+    return _yaml_number(float(value))
+
+
+def _section_lines(section: Mapping[str, Any], indent: str) -> List[str]:
+    lines = []
+    for key, item in section.items():
+        if isinstance(item, Sourced):
+            lines.append(f"{indent}{key}: {_yaml_value(item.value)}  # {item.source}")
+        else:
+            lines.append(f"{indent}{key}:")
+            lines.extend(_section_lines(item, indent + "  "))
+    return lines
+
+
+def turbine_text(turbine: ImportedTurbine) -> str:
+    """The ``turbine.yaml`` of an imported deck: every value followed by its source file and key."""
+    version = importlib.metadata.version("openfast-io")
+    header = [
+        f"# {turbine.definition['name'].value}: imported by hawt turbine import from the OpenFAST deck",
+        f"# {turbine.deck.resolve()} (openfast-io {version}), in the hawt turbine-definition format.",
+        "# SI units throughout: m, kg, s, rad. Each value names its source file (relative to the deck) and key;",
+        "# angles given in degrees there are converted with pi/180, percentages divided by 100.",
+        "# Sign conventions of this format (they differ from ElastoDyn's):",
+        "#   cone_angle > 0 tilts the blades upwind (away from the tower),",
+        "#   shaft_tilt > 0 raises the upwind end of the shaft (the rotor apex),",
+        "#   overhang > 0 puts the rotor apex upwind of the tower centreline;",
+        "#   with position: downwind the three point away from the tower, downwind.",
+    ]
+    notes = [f"#   - {line}" for line in turbine.approximations]
+    missing = [f"#   - {line}" for line in turbine.not_modelled]
+    return "\n".join(header + _section_lines(turbine.definition, "")
+                     + (["# Approximations:"] + notes if notes else [])
+                     + ["# Not modelled by the plant:"] + missing) + "\n"
+
+
+def _airfoil_text(airfoil: ImportedAirfoil, deck: str) -> str:
+    rows = "\n".join("  - [" + ", ".join(_yaml_number(float(v)) for v in row) + "]" for row in airfoil.table)
+    unsteady = ""
+    if airfoil.unsteady:
+        alpha0, slope, cd0 = airfoil.unsteady
+        unsteady = ("# Unsteady aerodynamics (hawt_plant.unsteady_airfoil), from the table's UA coefficients.\n"
+                    f"unsteady:\n  alpha0: {_yaml_number(alpha0)}  # alpha0 = {math.degrees(alpha0):g} deg\n"
+                    f"  lift_slope: {_yaml_number(slope)}  # C_nalpha [1/rad]\n  cd0: {_yaml_number(cd0)}  # Cd0\n")
+    return (f"# Airfoil polar {airfoil.name}, imported by hawt turbine import from the OpenFAST deck {deck}.\n"
+            f"# Source: {airfoil.source} (relative to the deck), its first table: {airfoil.description}\n"
+            "# Columns: angle of attack [rad] (source deg x pi/180), lift, drag and pitching-moment\n"
+            "# coefficients [-] (verbatim). One row per source row, in the source's order.\n"
+            f"name: {json.dumps(airfoil.name)}\nsource: {json.dumps(airfoil.source)}\n{unsteady}"
+            f"columns: [alpha, cl, cd, cm]\ntable:\n{rows}\n")
+
+
+def write_turbine(turbine: ImportedTurbine, directory: str | os.PathLike) -> Path:
+    """Write ``directory/turbine.yaml`` and ``directory/airfoils/<name>.yaml`` (replacing files of those names).
+
+    Returns
+    -------
+    Path
+        The ``turbine.yaml`` written.
+    """
+    directory = Path(directory)
+    (directory / "airfoils").mkdir(parents=True, exist_ok=True)
+    for airfoil in turbine.airfoils:
+        (directory / "airfoils" / f"{airfoil.name}.yaml").write_text(_airfoil_text(airfoil, turbine.deck.name))
+    path = directory / "turbine.yaml"
+    path.write_text(turbine_text(turbine))
+    return path

@@ -1,0 +1,66 @@
+"""turbine_summary: rated values, the BEM's peak power coefficient and the first modes of a definition."""
+import math
+
+import numpy as np
+import pytest
+
+from hawt_plant.bem import rotor_performance
+from hawt_plant.modal import blade_modal_properties
+from hawt_plant.turbine import nrel_5mw
+from hawt_plant.turbine_summary import format_summary, peak_power_coefficient, turbine_summary
+
+
+@pytest.fixture(scope="module")
+def summary():
+    return turbine_summary(nrel_5mw())
+
+
+def test_the_peak_power_coefficient_is_the_best_of_a_fine_grid():
+    """No point of a fine grid (tip-speed ratio 0.05, pitch 0.25 deg, from the lower pitch limit up) beats the
+    peak found, and the peak is the BEM's value at the point it names."""
+    turbine = nrel_5mw()
+    cp, tsr, pitch = peak_power_coefficient(turbine)
+    radius = turbine.rotor.tip_radius
+    grid = max(rotor_performance(turbine, 10.0, l * 10.0 / radius, math.radians(b)).power_coefficient
+               for l in np.arange(6.5, 9.0, 0.05) for b in np.arange(0.0, 3.0, 0.25))
+    assert grid <= cp + 1e-6
+    assert cp == pytest.approx(rotor_performance(turbine, 10.0, tsr * 10.0 / radius, pitch).power_coefficient)
+    assert pitch >= turbine.pitch_actuator.min_angle
+
+
+def test_the_bem_rated_wind_speed_gives_rated_power_on_the_schedule(summary):
+    """At the summary's BEM rated wind speed the schedule (rated rotor speed there, lowest pitch) gives rated
+    mechanical power: 11.25 m/s for the shipped NREL 5 MW (two_bladed.yaml's header says so too)."""
+    turbine = nrel_5mw()
+    performance = rotor_performance(turbine, summary.bem_rated_wind_speed, turbine.schedule.rated_rotor_speed,
+                                     turbine.pitch_actuator.min_angle)
+    rated = turbine.generator.rated_power / (turbine.generator.efficiency * turbine.drivetrain.gearbox_efficiency)
+    assert performance.power == pytest.approx(rated, rel=1e-4)
+    assert summary.bem_rated_wind_speed == pytest.approx(11.25, abs=0.01)
+
+
+def test_the_modes_are_the_modal_models_one_at_a_time(summary):
+    """The flap mode is sqrt(k/m), stiffened by the rotation at rated speed; the drivetrain's is the two-inertia
+    torsion; the tower modes are near Jonkman's FAST values (0.324 and 0.312 Hz), a little above them without the
+    rotor's and nacelle's rotary inertia."""
+    turbine = nrel_5mw()
+    blade = blade_modal_properties(turbine)
+    assert summary.blade_flap_frequency == pytest.approx(blade.natural_frequency / (2 * math.pi))
+    omega = turbine.schedule.rated_rotor_speed
+    assert summary.blade_flap_frequency_rated == pytest.approx(
+        math.sqrt((blade.stiffness + omega**2 * blade.centrifugal_stiffness) / blade.modal_mass) / (2 * math.pi))
+    assert 0.324 < summary.tower_fa_frequency < 0.324 * 1.06 and 0.312 < summary.tower_ss_frequency < 0.312 * 1.1
+    rotor = turbine.rotor.hub_inertia + 3 * math.cos(turbine.rotor.cone_angle) ** 2 * (
+        blade.second_moment + 2 * 1.5 * blade.first_moment + 1.5**2 * blade.mass)
+    generator = turbine.drivetrain.generator_inertia * 97.0**2
+    assert summary.drivetrain_frequency == pytest.approx(
+        math.sqrt(turbine.drivetrain.torsional_stiffness * (1 / rotor + 1 / generator)) / (2 * math.pi))
+
+
+def test_the_text_names_rated_values_cp_max_and_first_modes(summary):
+    """Four lines: the turbine, its rated values, Cp-max with its tip-speed ratio, the first modes."""
+    lines = format_summary(summary).splitlines()
+    assert len(lines) == 4
+    assert lines[1].startswith("rated: 5 MW electrical, rotor 12.10 rpm")
+    assert lines[2].startswith(f"Cp-max {summary.max_power_coefficient:.4f} at tip-speed ratio")
+    assert lines[3].startswith("first modes: blade flap")

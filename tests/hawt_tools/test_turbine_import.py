@@ -1,0 +1,356 @@
+"""hawt turbine import / show (issue 20 items 1-2): OpenFAST decks as hawt turbine definitions.
+
+The decks are ROSCO's test cases in the installed ``rosco`` wheel (Examples/Test_Cases), found through the
+distribution's files. The NREL 5 MW deck imported must give the shipped definition
+(hawt_plant/turbines/nrel_5mw), field by field, within the tolerance each field states; the values the shipped
+file takes from Jonkman et al. (2009) instead of the deck are listed with both numbers.
+"""
+import dataclasses
+import importlib.metadata
+import math
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from hawt_plant.model import ModelConfig, TurbineModel
+from hawt_plant.shear_wind import PowerLawWind
+from hawt_plant.turbine import load_turbine, nrel_5mw, nrel_5mw_two_bladed_downwind
+from hawt_plant.turbine_summary import turbine_summary
+from hawt_tools.turbine_import import RIGID_TORSION_FREQUENCY, aerodynamic_elements, import_deck, write_turbine
+
+NREL_5MW = "NREL-5MW/NREL-5MW.fst"
+IEA_15MW = "IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst"
+NREL_2P8 = "NREL_2p8_127/NREL-2p8-127.fst"
+BAR_10 = "BAR_10/BAR_10.fst"
+
+
+def _case(relative: str) -> Path:
+    """A file or folder of ROSCO's test cases in the installed rosco wheel."""
+    return Path(importlib.metadata.distribution("rosco").locate_file(f"Examples/Test_Cases/{relative}"))
+
+
+@pytest.fixture(scope="module")
+def imported(tmp_path_factory):
+    """Deck (relative to the test cases) -> the folder its import was written to."""
+    folders = {}
+
+    def folder(deck: str) -> Path:
+        if deck not in folders:
+            folders[deck] = tmp_path_factory.mktemp(Path(deck).stem)
+            write_turbine(import_deck(_case(deck)), folders[deck])
+        return folders[deck]
+
+    return folder
+
+
+@pytest.fixture(scope="module")
+def imported_5mw(imported):
+    return load_turbine(imported(NREL_5MW) / "turbine.yaml")
+
+
+EXACT = (0.0, 0.0, "copied verbatim")
+DEGREES = (0.0, 5e-7, "deg x pi/180; the shipped file writes radians to 6 or 8 decimals")
+MATCHES = {
+    "environment.air_density": EXACT,
+    "environment.gravity": EXACT,
+    "rotor.number_of_blades": EXACT,
+    "rotor.hub_radius": EXACT,
+    "rotor.tip_radius": EXACT,
+    "rotor.cone_angle": (0.0, 5e-9, "ElastoDyn PreCone(1) = -2.5 deg, negated; the shipped file writes 8 decimals"),
+    "rotor.shaft_tilt": (0.0, 5e-9, "ElastoDyn ShftTilt = -5 deg, negated; the shipped file writes 8 decimals"),
+    "rotor.overhang": EXACT,
+    "rotor.hub_mass": EXACT,
+    "rotor.hub_inertia": EXACT,
+    "rotor.downwind": EXACT,
+    "nacelle.mass": (0.0, 0.0, "NacMass; the deck's YawBrMass is 0"),
+    "nacelle.cm_downwind": EXACT,
+    "nacelle.cm_above_tower_top": EXACT,
+    "nacelle.yaw_inertia": EXACT,
+    "nacelle.shaft_above_tower_top": EXACT,
+    "blade_aerodynamics.span": (0.0, 0.0, "the 17 inner AeroDyn nodes (the v14 layout): the shipped elements"),
+    "blade_aerodynamics.width": (0.0, 1e-9, "from the spans, as the shipped file derived them"),
+    "blade_aerodynamics.chord": EXACT,
+    "blade_aerodynamics.twist": DEGREES,
+    "blade_aerodynamics.airfoil": EXACT,
+    "blade_structure.span_fraction": EXACT,
+    "blade_structure.structural_twist": DEGREES,
+    "blade_structure.mass_density": (0.0, 0.0, "BMassDen x AdjBlMs, the loader multiplies both"),
+    "blade_structure.flap_stiffness": (0.0, 0.0, "FlpStff; AdjFlSt and FlStTunr(1) are 1"),
+    "blade_structure.edge_stiffness": (0.0, 0.0, "EdgStff; AdjEdSt is 1"),
+    "blade_structure.flap_mode_shape": EXACT,
+    "blade_structure.flap_damping_ratio": (1e-12, 0.0, "BldFlDmp(1) / 100"),
+    "tower.height": EXACT,
+    "tower.height_fraction": EXACT,
+    "tower.mass_density": EXACT,
+    "tower.fa_stiffness": EXACT,
+    "tower.ss_stiffness": EXACT,
+    "tower.fa_mode_shape": EXACT,
+    "tower.ss_mode_shape": EXACT,
+    "tower.fa_damping_ratio": (1e-12, 0.0, "TwrFADmp(1) / 100"),
+    "tower.ss_damping_ratio": (1e-12, 0.0, "TwrSSDmp(1) / 100"),
+    "tower.outline_elevation": EXACT,
+    "tower.outline_diameter": EXACT,
+    "tower.drag_coefficient": EXACT,
+    "drivetrain.gearbox_ratio": EXACT,
+    "drivetrain.gearbox_efficiency": (1e-12, 0.0, "GBoxEff / 100"),
+    "drivetrain.generator_inertia": EXACT,
+    "drivetrain.torsional_stiffness": EXACT,
+    "drivetrain.torsional_damping": EXACT,
+    "generator.efficiency": (1e-12, 0.0, "ServoDyn GenEff / 100"),
+    "generator.rated_power": EXACT,
+    "generator.rated_torque": (2e-6, 0.0, "DISCON.IN VS_RtTq = 4.30935e4 (6 digits); the shipped 43093.55 is "
+                                          "Jonkman's VS_RtTq"),
+    "generator.max_torque": (2e-6, 0.0, "DISCON.IN VS_MaxTq = 4.74029e4 (6 digits); the shipped 47402.91 is "
+                                        "Jonkman's VS_MaxTq"),
+    "pitch_actuator.min_angle": EXACT,
+    "pitch_actuator.max_angle": (0.0, 1e-3, "DISCON.IN PC_MaxPit = 1.57; the shipped 90 deg = 1.570796 rad"),
+    "pitch_actuator.natural_frequency": (0.0, 0.0, "DISCON.IN PA_Mode = 0: hawt's default, as the shipped file"),
+    "pitch_actuator.damping_ratio": (0.0, 0.0, "DISCON.IN PA_Mode = 0: hawt's default, as the shipped file"),
+    "schedule.cut_in_wind_speed": EXACT,
+    "schedule.rated_wind_speed": EXACT,
+    "schedule.cut_out_wind_speed": EXACT,
+    "schedule.rated_rotor_speed": (1e-9, 0.0, "DISCON.IN PC_RefSpd / GBRatio = 122.90967 / 97"),
+}
+"""Field of the definition -> (relative tolerance, absolute tolerance, why) of the import against the shipped."""
+
+DELIBERATE = {
+    "generator.max_torque_rate": (15000.0, 40000.0, "Jonkman baseline VS_MaxRat; DISCON.IN VS_MaxRat"),
+    "pitch_actuator.max_rate": (0.1396263, 0.1745, "Jonkman baseline 8 deg/s; DISCON.IN PC_MaxRat"),
+    "schedule.min_rotor_speed": (0.7225663, 34.64286 / 97.0, "Jonkman's 6.9 rpm; DISCON.IN VS_MinOMSpd / GBRatio"),
+    "schedule.optimal_tip_speed_ratio": (7.55, 7.5, "Jonkman's region 2; DISCON.IN VS_TSRopt"),
+}
+"""Field -> (the shipped value, from Jonkman et al. 2009; the deck's value, which the import gives; sources)."""
+
+
+def _field(turbine, path: str):
+    part, name = path.split(".")
+    return getattr(getattr(turbine, part), name)
+
+
+@pytest.mark.parametrize("path", sorted(MATCHES))
+def test_the_nrel_5mw_deck_gives_the_shipped_definition_within_each_fields_tolerance(imported_5mw, path):
+    """Each field of the imported NREL 5 MW equals the shipped one to its stated tolerance (MATCHES)."""
+    rtol, atol, why = MATCHES[path]
+    found, shipped = _field(imported_5mw, path), _field(nrel_5mw(), path)
+    if isinstance(shipped, (bool, int, str, tuple)):
+        assert found == shipped, why
+    else:
+        np.testing.assert_allclose(found, shipped, rtol=rtol, atol=atol, err_msg=why)
+
+
+@pytest.mark.parametrize("path", sorted(DELIBERATE))
+def test_the_shipped_values_from_jonkman_2009_are_the_only_other_differences(imported_5mw, path):
+    """Where the shipped file takes a value from Jonkman et al. (2009), the import gives the deck's instead."""
+    shipped, deck, _ = DELIBERATE[path]
+    assert _field(nrel_5mw(), path) == pytest.approx(shipped, rel=1e-9)
+    assert _field(imported_5mw, path) == pytest.approx(deck, rel=1e-6)
+
+
+def test_every_field_of_the_definition_is_compared():
+    """MATCHES and DELIBERATE cover every field of every part of a turbine (the airfoils are compared below)."""
+    turbine = nrel_5mw()
+    fields = {f"{part.name}.{field.name}" for part in dataclasses.fields(turbine)
+              if dataclasses.is_dataclass(getattr(turbine, part.name))
+              for field in dataclasses.fields(getattr(turbine, part.name))}
+    assert fields == set(MATCHES) | set(DELIBERATE)
+
+
+def test_the_nrel_5mw_polars_are_the_shipped_ones(imported_5mw):
+    """The deck's Airfoils/*.dat (AeroDyn 15) hold the shipped polars' AeroData/*.dat (v13) rows: coefficients
+    verbatim, angles to the shipped file's 7 decimals of radians."""
+    shipped = nrel_5mw().airfoils
+    assert sorted(imported_5mw.airfoils) == sorted(shipped)
+    for name, polar in imported_5mw.airfoils.items():
+        np.testing.assert_allclose(polar.alpha, shipped[name].alpha, rtol=0.0, atol=5e-8, err_msg=name)
+        for column in ("cl", "cd", "cm"):
+            np.testing.assert_array_equal(getattr(polar, column), getattr(shipped[name], column), err_msg=name)
+
+
+UNSTEADY_FROM_V13 = {"DU21_A17": (-4.2, -5.0609, 0.006, 0.0057), "DU40_A17": (-3.2, -1.343, 0.03, 0.0113)}
+"""Airfoil -> (alpha0 [deg] and Cd0 of the deck's AeroDyn 15 UA table; the v13 header's zero-Cn angle and minimum
+CD, which the shipped polars carry)."""
+
+
+def test_the_unsteady_parameters_are_the_decks_ua_tables(imported_5mw):
+    """The plant's unsteady-airfoil parameters come from each table's UA coefficients: the lift slopes (C_nalpha)
+    are the shipped ones; alpha0 and Cd0 are the AeroDyn 15 files' values, not the v13 headers' that the shipped
+    polars read, and differ from them (e.g. DU40: Cd0 0.03 against 0.0113); the cylinders have none (C_nalpha 0)."""
+    shipped = nrel_5mw().airfoils
+    for name, polar in imported_5mw.airfoils.items():
+        if shipped[name].unsteady is None:
+            assert polar.unsteady is None, name
+            continue
+        assert polar.unsteady.lift_slope == shipped[name].unsteady.lift_slope
+    for name, (alpha0, v13_alpha0, cd0, v13_cd0) in UNSTEADY_FROM_V13.items():
+        found, expected = imported_5mw.airfoils[name].unsteady, shipped[name].unsteady
+        assert (math.degrees(found.alpha0), found.cd0) == pytest.approx((alpha0, cd0))
+        assert (math.degrees(expected.alpha0), expected.cd0) == pytest.approx((v13_alpha0, v13_cd0))
+
+
+def test_the_blade_mass_the_import_states_is_the_deck_distributions(imported):
+    """The deck states no blade mass: the import's reference mass and centre of gravity are the trapezoidal
+    integrals of BMassDen x AdjBlMs over the 49 stations, 0.74 % and 0.16 % from Jonkman's 17 740 kg and 20.475 m
+    (ElastoDyn integrates over its 17 elements); the loader allows 2 %."""
+    structure = yaml.safe_load((imported(NREL_5MW) / "turbine.yaml").read_text())["blade"]["structure"]
+    assert structure["reference_mass"] == pytest.approx(17740.0, rel=0.008)
+    assert structure["reference_cg_from_root"] == pytest.approx(20.475, rel=0.002)
+
+
+def test_every_value_written_names_its_source_file_and_key(imported):
+    """Each value line of the written turbine.yaml ends in a comment naming where it comes from."""
+    lines = (imported(NREL_5MW) / "turbine.yaml").read_text().splitlines()
+    values = [line for line in lines if not line.startswith("#") and not line.rstrip().endswith(":")]
+    assert len(values) > 60
+    for line in values:
+        assert re.search(r"  # .*(\.dat|\.fst|DISCON\.IN|from the spans|hawt's default)", line), line
+
+
+def test_aerodynamic_elements_keep_the_v14_layout_and_otherwise_share_the_blade_between_nodes():
+    """Inner nodes that are the middles of elements tiling the blade are those elements; other nodes each get
+    the stretch halfway to their neighbours, centred in it."""
+    centre, width, node, v14 = aerodynamic_elements(np.array([0.0, 1.0, 3.0, 4.0]), 4.0)
+    assert v14 and centre.tolist() == [1.0, 3.0] and width.tolist() == [2.0, 2.0] and node.tolist() == [1, 2]
+    centre, width, node, v14 = aerodynamic_elements(np.array([0.0, 1.0, 2.0, 3.0, 4.0]), 4.0)
+    assert not v14 and node.tolist() == [0, 1, 2, 3, 4]
+    assert centre.tolist() == [0.25, 1.0, 2.0, 3.0, 3.75] and width.tolist() == [0.5, 1.0, 1.0, 1.0, 0.5]
+
+
+@pytest.mark.parametrize("deck, blades, rated_power, hub_height", [
+    (IEA_15MW, 3, 15e6, 150.0 - 15.0),  # the tower base at 15 m above the sea is lowered onto the ground
+    (NREL_2P8, 3, 2.8e6, 88.05),
+])
+def test_other_decks_import_load_and_a_plant_steps_on_them(imported, deck, blades, rated_power, hub_height):
+    """The IEA 15 MW (monopile deck) and the NREL 2.8-127 load, and the plant holds its operating point for 3 s
+    below and above rated with the commands held, above rated also with its unsteady airfoil option: finite
+    outputs, the rotor speed within 2 %."""
+    turbine = load_turbine(imported(deck) / "turbine.yaml")
+    assert turbine.rotor.number_of_blades == blades and turbine.generator.rated_power == rated_power
+    assert turbine.hub_height == pytest.approx(hub_height, abs=0.05)
+    rated = turbine.schedule.rated_wind_speed
+    for wind_speed, unsteady in ((rated - 3.0, False), (rated + 4.0, False), (rated + 4.0, True)):
+        model = TurbineModel(turbine, PowerLawWind(wind_speed, hub_height=turbine.hub_height, shear_exponent=0.2),
+                             ModelConfig(unsteady_airfoil=unsteady))
+        first = out = model.output
+        for _ in range(300):
+            out = model.step(first.pitch, first.generator_torque)
+        values = [getattr(out, field.name) for field in dataclasses.fields(out)]
+        assert all(np.all(np.isfinite(value)) for value in values)
+        assert out.rotor_speed == pytest.approx(first.rotor_speed, rel=0.02)
+
+
+def test_a_rigid_drivetrain_is_kept_at_a_torsion_the_plant_integrates(imported):
+    """The IEA 15 MW's DTTorSpr (ElastoDyn DrTrDOF = False) gives a 31 Hz torsion the plant's 0.01 s step cannot
+    integrate: the import lowers it to a 10 Hz torsion (its rotor inertia integrated over the ElastoDyn stations,
+    the summary's on the plant's fine grid: 1e-5 apart) and says so."""
+    turbine = load_turbine(imported(IEA_15MW) / "turbine.yaml")
+    assert turbine_summary(turbine).drivetrain_frequency == pytest.approx(RIGID_TORSION_FREQUENCY, rel=1e-4)
+    text = (imported(IEA_15MW) / "turbine.yaml").read_text()
+    assert "DrTrDOF = False (rigid): lowered to the stiffness of a 10 Hz torsion" in text
+
+
+def test_a_downwind_deck_keeps_elastodyns_signs_and_marks_the_rotor_downwind(tmp_path):
+    """OverHang > 0 is a downwind rotor: cone, tilt and overhang keep ElastoDyn's signs (the format's downwind
+    convention, as two_bladed_downwind.yaml) and the rotor's position is downwind."""
+    deck = shutil.copytree(_case("NREL-5MW"), tmp_path / "deck")
+    elastodyn = deck / "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat"
+    for key, value in (("OverHang", "5.0191"), ("PreCone(1)", "2.5"), ("PreCone(2)", "2.5"), ("PreCone(3)", "2.5"),
+                       ("ShftTilt", "5")):
+        _set(elastodyn, key, value)
+    rotor = load_turbine(write_turbine(import_deck(deck / "NREL-5MW.fst"), tmp_path / "out")).rotor
+    shipped = nrel_5mw_two_bladed_downwind()
+    assert rotor.downwind and shipped.rotor.downwind
+    for name in ("cone_angle", "shaft_tilt", "overhang"):
+        assert getattr(rotor, name) == pytest.approx(getattr(shipped.rotor, name), abs=5e-9)
+
+
+def _set(path: Path, key: str, value: str) -> None:
+    """Replace the value of the setting ``key`` (the line's second word) in a deck's file."""
+    lines = path.read_text().splitlines()
+    index = next(k for k, line in enumerate(lines) if line.split()[1:2] == [key])
+    lines[index] = f"{value}   {key}   - set by the test"
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(hawt_cli, tmp_path):
+    """``hawt turbine import`` writes DIR/turbine.yaml and its airfoils and lists what is not modelled; ``hawt
+    turbine show DIR`` prints the rated values, the plant's Cp-max and optimal tip-speed ratio, and first modes."""
+    result = subprocess.run([*hawt_cli, "turbine", "import", str(_case(NREL_5MW)), "-o", str(tmp_path / "n5")],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "8 airfoil polars" in result.stdout and "not modelled:" in result.stdout
+    assert "BldFl2Sh, BldEdgSh" in result.stdout
+    assert sorted(path.stem for path in (tmp_path / "n5" / "airfoils").iterdir()) == sorted(nrel_5mw().airfoils)
+    show = subprocess.run([*hawt_cli, "turbine", "show", str(tmp_path / "n5")], capture_output=True, text=True,
+                          timeout=120)
+    assert show.returncode == 0, show.stderr
+    text = show.stdout
+    assert "rated: 5 MW electrical, rotor 12.10 rpm" in text and "wind 11.40 m/s" in text
+    cp, tsr = (float(x) for x in re.search(r"Cp-max ([\d.]+) at tip-speed ratio ([\d.]+)", text).groups())
+    assert 0.48 < cp < 0.50 and 7.3 < tsr < 8.0
+    fa = float(re.search(r"tower fore-aft ([\d.]+) Hz", text).group(1))
+    flap = float(re.search(r"blade flap ([\d.]+) Hz", text).group(1))
+    # Jonkman et al. (2009) Table 9-1 (FAST): the summary's tower mode has no rotary inertia of the rotor and
+    # nacelle (5 % high), its flap mode no coupling with the edgewise mode (2 % low).
+    assert fa == pytest.approx(0.324, rel=0.06) and flap == pytest.approx(0.6993, rel=0.05)
+
+
+def _copy_5mw(tmp_path: Path) -> Path:
+    return shutil.copytree(_case("NREL-5MW"), tmp_path / "NREL-5MW") / "NREL-5MW.fst"
+
+
+def _without_tower_file(tmp_path: Path) -> Path:
+    fst = _copy_5mw(tmp_path)
+    (fst.parent / "NRELOffshrBsline5MW_Onshore_ElastoDyn_Tower.dat").unlink()
+    return fst
+
+
+def _without_an_airfoil(tmp_path: Path) -> Path:
+    fst = _copy_5mw(tmp_path)
+    (fst.parent / "Airfoils" / "DU21_A17.dat").unlink()
+    return fst
+
+
+def _with_aerodisk(tmp_path: Path) -> Path:
+    fst = _copy_5mw(tmp_path)
+    _set(fst, "CompAero", "1")
+    return fst
+
+
+def _with_reynolds_polars(tmp_path: Path) -> Path:
+    fst = _copy_5mw(tmp_path)
+    _set(fst.parent / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat", "AFTabMod", "2")
+    return fst
+
+
+@pytest.mark.parametrize("make_deck, message", [
+    (_without_tower_file, "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat: TwrFile: "
+                          "NRELOffshrBsline5MW_Onshore_ElastoDyn_Tower.dat: no such file"),
+    (_without_an_airfoil, "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: AFNames(7): Airfoils/DU21_A17.dat: no such "
+                          "file"),
+    (_with_aerodisk, "NREL-5MW.fst: CompAero: 1 (AeroDisk) is not supported"),
+    (_with_reynolds_polars, "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: AFTabMod: 2 is not supported"),
+    (lambda tmp_path: _case(BAR_10), "BAR_10.fst: CompElast: 2 (BeamDyn blades) is not supported"),
+], ids=["missing tower file", "missing airfoil", "AeroDisk", "polars over Reynolds number", "BeamDyn blades"])
+def test_a_bad_deck_is_refused_with_one_line_naming_the_file_and_key(hawt_cli, tmp_path, make_deck, message):
+    """A missing file or an option the plant cannot honour: exit 2, one line on stderr naming file and key."""
+    result = subprocess.run([*hawt_cli, "turbine", "import", str(make_deck(tmp_path)), "-o", str(tmp_path / "out")],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert result.stderr.startswith(f"hawt turbine: {message}"), result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_plant_on_the_imported_nrel_5mw_runs_as_on_the_shipped_one(imported_5mw):
+    """The plant on the imported NREL 5 MW starts at the shipped one's operating point at 8 and 14 m/s within
+    1 % (below rated the schedule's tip-speed ratio, 7.5 against 7.55, gives a rotor speed 0.7 % lower)."""
+    for wind_speed in (8.0, 14.0):
+        outputs = [TurbineModel(turbine, PowerLawWind(wind_speed, shear_exponent=0.2)).output
+                   for turbine in (imported_5mw, nrel_5mw())]
+        assert outputs[0].rotor_speed == pytest.approx(outputs[1].rotor_speed, rel=0.01)
+        assert outputs[0].electrical_power == pytest.approx(outputs[1].electrical_power, rel=0.01)
+        assert math.isclose(outputs[0].pitch[0], outputs[1].pitch[0], abs_tol=math.radians(0.2))
