@@ -24,7 +24,7 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
 - tower: ED TowerHt - TowerBsHt (the plant's tower is clamped at the ground: a tower standing on a substructure
   is lowered onto it, hub height included), tower file HtFract, TMassDen x AdjTwMa, TwFAStif x AdjFASt x
   FAStTunr(1), TwSSStif x AdjSSSt x SSStTunr(1), TwFAM1Sh, TwSSM1Sh, TwrFADmp(1), TwrSSDmp(1); AD TwrElev,
-  TwrDiam, TwrCd (their mean, if the nodes differ) for the tower shadow;
+  TwrDiam, TwrCd (their mean, if the nodes differ) for the tower shadow and drag;
 - drivetrain: ED GBRatio, GBoxEff, GenIner, DTTorSpr (for a rigid drivetrain, DrTrDOF = False, at most the
   stiffness of a :data:`RIGID_TORSION_FREQUENCY` torsion), DTTorDmp;
 - generator: SD GenEff; DISCON VS_RtPwr, VS_RtTq, VS_MaxTq, VS_MaxRat;
@@ -658,7 +658,10 @@ def _approximations(ed: Mapping[str, Any], blade: Mapping[str, Any], ad: Mapping
                    f"{DEFAULT_ACTUATOR[0]:g} rad/s, damping {DEFAULT_ACTUATOR[1]:g}")
     drag = np.asarray(ad["TwrCd"], dtype=float)
     if np.any(drag != drag[0]):
-        out.append(f"{files['ad']} TwrCd varies along the tower: the plant's tower wake uses its mean")
+        out.append(f"{files['ad']} TwrCd varies along the tower: the plant's tower drag and wake use its mean")
+    if not ad["TwrAero"]:
+        out.append(f"{files['ad']} TwrAero = False: the plant's tower drag is its tower_drag parameter (on by "
+                   "default)")
     return out
 
 
@@ -705,8 +708,8 @@ def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[st
         out.append(f"blade prebend and sweep ({files['ad_blade']} BlCrvAC, BlSwpAC: up to {bend:.3g} m)")
     if ad["Wake_Mod"] != 1:
         out.append(f"{ad_file} Wake_Mod = {ad['Wake_Mod']}: the plant's induction is BEM's")
-    if ad["TwrAero"] or ad["NacelleDrag"]:
-        out.append(f"tower and nacelle drag ({ad_file} TwrAero = {ad['TwrAero']}, NacelleDrag = {ad['NacelleDrag']})")
+    if ad["NacelleDrag"]:
+        out.append(f"nacelle drag ({ad_file} NacelleDrag = True)")
     if sd["HSSBrMode"]:
         out.append(f"the high-speed shaft brake ({files['sd']} HSSBrMode = {sd['HSSBrMode']})")
     dampers = [key for key in ("NumBStC", "NumNStC", "NumTStC", "NumSStC") if sd.get(key)]
