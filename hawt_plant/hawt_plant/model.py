@@ -213,6 +213,10 @@ class TurbineModel:
             else None
         self._tower_drag = TowerDrag.from_turbine(turbine) if self._config.tower_drag else None
         self._tower_drag_loads = TowerDragLoads(0.0, 0.0, 0.0, 0.0)
+        if self._tower_drag is not None:  # the wind is sampled at the blade points and the tower nodes at once
+            blade_points = self._b * (self._n + 1)
+            self._samples = np.zeros((3, blade_points + len(self._tower_drag.elevation)))
+            self._samples[2, blade_points:] = self._tower_drag.elevation
         self._output: TurbineOutput
         self.reset_to_operating_point()
 
@@ -740,15 +744,21 @@ class TurbineModel:
         placement[:, :, 1] = features[6:9]
         np.multiply(features[0:3], self._flap, out=placement[:, :, 2])
         points = np.dot(placement.reshape(3 * b, 3), self._point_basis).reshape(3, b, n + 1)
-        velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
+        drag = self._tower_drag
+        if drag is None:
+            velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
+        else:
+            samples, blade_points = self._samples, b * (n + 1)
+            samples[:, :blade_points] = points.reshape(3, blade_points)
+            np.multiply(drag.fa_shape, x_top, out=samples[0, blade_points:])
+            np.multiply(drag.ss_shape, y_top, out=samples[1, blade_points:])
+            sampled = self._wind.velocity(self._time, samples[0], samples[1], samples[2])
+            velocity = sampled[:, :blade_points].reshape(3, b, n + 1)
+            self._tower_drag_loads = drag.loads(sampled[0, blade_points:], sampled[1, blade_points:],
+                                                *self._tower_rate.tolist())
         self._hub_wind_speed = float(velocity[0, 0, n])
         if self._config.skewed_wake:
             self._apex_wind = velocity[:, 0, n].tolist()
-        drag = self._tower_drag
-        if drag is not None:
-            u, v, _ = self._wind.velocity(self._time, drag.fa_shape * x_top, drag.ss_shape * y_top, drag.elevation)
-            rate_fa, rate_ss = self._tower_rate.tolist()
-            self._tower_drag_loads = drag.loads(u, v, rate_fa, rate_ss)
         operands = self._inflow_operands
         wind = operands[:3 * b].reshape(3, b, n)
         wind[...] = velocity[:, :, :n]

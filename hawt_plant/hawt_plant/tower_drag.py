@@ -83,9 +83,8 @@ class TowerDrag:
         velocities ``fa_rate``, ``ss_rate`` [m/s]."""
         relative_u = u - self.fa_shape * fa_rate
         relative_v = v - self.ss_shape * ss_rate
-        scale = self.coefficient * np.hypot(relative_u, relative_v)
+        scale = self.coefficient * np.sqrt(relative_u * relative_u + relative_v * relative_v)
         force_x, force_y = scale * relative_u, scale * relative_v
-        return TowerDragLoads(
-            fa_force=float(np.dot(force_x, self.fa_shape)), ss_force=float(np.dot(force_y, self.ss_shape)),
-            base_fa_moment=float(np.dot(force_x, self.elevation)),
-            base_ss_moment=-float(np.dot(force_y, self.elevation)))
+        return TowerDragLoads(fa_force=np.dot(force_x, self.fa_shape), ss_force=np.dot(force_y, self.ss_shape),
+                              base_fa_moment=np.dot(force_x, self.elevation),
+                              base_ss_moment=-np.dot(force_y, self.elevation))
