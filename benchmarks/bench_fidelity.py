@@ -43,7 +43,7 @@ from matplotlib.figure import Figure
 from scipy.interpolate import RectBivariateSpline
 from scipy.optimize import linear_sum_assignment
 
-from hawt_plant.bem import BemBlade, induction_factors, prandtl_loss, rotor_performance, solve_inflow_angle
+from hawt_plant.bem import BemBlade, pitch_sensitivity, rotor_performance
 from hawt_plant.inflow import InflowSettings, make_wind
 from hawt_plant.modal import blade_modal_properties
 from hawt_plant.model import ModelConfig, TurbineModel
@@ -345,30 +345,6 @@ def steady_operation(turbine: Turbine, wind: float) -> tuple[float, float]:
                          ModelConfig(tower_shadow=False))
     output = model.reset_to_operating_point()
     return float(output.pitch[0]), output.rotor_speed
-
-
-def pitch_sensitivity(turbine: Turbine, wind: float, rotor_speed: float, pitch: float, *, frozen_wake: bool,
-                      blade: BemBlade) -> float:
-    """dP/dθ [W/rad] of the aerodynamic power in uniform wind along the shaft (central difference): with the
-    induction re-solved at each pitch (the equilibrium), or held (frozen wake, as FAST's linearisation with
-    AeroDyn v13 computed it)."""
-    cone = math.cos(turbine.rotor.cone_angle)
-    vx, vy = np.full(blade.radius.shape, wind * cone), rotor_speed * blade.radius
-    frozen = solve_inflow_angle(vx, vy, np.asarray(pitch), blade)
-
-    def power(angle: float) -> float:
-        phi = frozen if frozen_wake else solve_inflow_angle(vx, vy, np.asarray(angle), blade)
-        induced_by = pitch if frozen_wake else angle  # a frozen wake keeps the unperturbed pitch's induction
-        lift = blade.polars.coefficients(phi - induced_by - blade.twist)[0]
-        a, a_prime, _, _ = induction_factors(phi, lift, prandtl_loss(np.sin(phi), blade), blade.local_solidity)
-        cl, cd = blade.polars.coefficients(phi - angle - blade.twist)
-        w2 = (vx * (1.0 - a)) ** 2 + (vy * (1.0 + a_prime)) ** 2
-        tangential = 0.5 * turbine.environment.air_density * w2 * blade.chord * blade.width * (
-            cl * np.sin(phi) - cd * np.cos(phi))
-        return turbine.rotor.number_of_blades * float(np.sum(tangential * blade.radius)) * rotor_speed
-
-    step = 1e-4
-    return (power(pitch + step) - power(pitch - step)) / (2.0 * step)
 
 
 def operation_section(turbine: Turbine, out: Path) -> tuple[list[str], bool]:

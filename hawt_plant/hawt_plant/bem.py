@@ -22,6 +22,7 @@ __all__ = [
     "BemBlade",
     "RotorPerformance",
     "induction_factors",
+    "pitch_sensitivity",
     "prandtl_loss",
     "rotor_performance",
     "skewed_wake_factor",
@@ -364,3 +365,45 @@ def rotor_performance(turbine: Turbine, wind_speed: float, rotor_speed: float, p
         thrust_coefficient=thrust / dynamic if dynamic > 0.0 else math.nan,
         tip_speed_ratio=rotor_speed * radius / wind_speed,
     )
+
+
+def pitch_sensitivity(turbine: Turbine, wind_speed: float, rotor_speed: float, pitch: float, *, frozen_wake: bool,
+                      blade: BemBlade | None = None) -> float:
+    """dP/dθ [W/rad] of the aerodynamic power in uniform wind along the shaft, by central difference (±1e-4 rad).
+
+    Parameters
+    ----------
+    turbine : Turbine
+    wind_speed, rotor_speed, pitch : float
+        The operating point [m/s], [rad/s], [rad].
+    frozen_wake : bool
+        True: the induction stays that of ``pitch`` while the pitch changes (a frozen wake, as FAST's
+        linearisation with AeroDyn v13 computed it: Jonkman et al. 2009 §7.4); False: it is re-solved at each
+        pitch (the equilibrium, slow sensitivity: the derivative of :func:`rotor_performance`'s power).
+    blade : BemBlade, optional
+        Precomputed :meth:`BemBlade.from_turbine`.
+
+    Notes
+    -----
+    The power is that of :func:`rotor_performance`: B Ω Σ r dF_t, dF_t = 1/2 rho W^2 c (c_l sin phi - c_d cos phi) dr;
+    with a frozen wake the inflow angle phi and the induction factors (a, a') are those of ``pitch``, and only the
+    angle of attack phi - theta - twist moves with the pitch.
+    """
+    blade = blade or BemBlade.from_turbine(turbine)
+    cone = math.cos(turbine.rotor.cone_angle)
+    vx, vy = np.full(blade.radius.shape, wind_speed * cone), rotor_speed * blade.radius
+    frozen = solve_inflow_angle(vx, vy, np.asarray(pitch), blade)
+
+    def power(angle: float) -> float:
+        phi = frozen if frozen_wake else solve_inflow_angle(vx, vy, np.asarray(angle), blade)
+        induced_by = pitch if frozen_wake else angle  # a frozen wake keeps the unperturbed pitch's induction
+        lift = blade.polars.coefficients(phi - induced_by - blade.twist)[0]
+        a, a_prime, _, _ = induction_factors(phi, lift, prandtl_loss(np.sin(phi), blade), blade.local_solidity)
+        cl, cd = blade.polars.coefficients(phi - angle - blade.twist)
+        w2 = (vx * (1.0 - a)) ** 2 + (vy * (1.0 + a_prime)) ** 2
+        tangential = 0.5 * turbine.environment.air_density * w2 * blade.chord * blade.width * (
+            cl * np.sin(phi) - cd * np.cos(phi))
+        return turbine.rotor.number_of_blades * float(np.sum(tangential * blade.radius)) * rotor_speed
+
+    step = 1e-4
+    return (power(pitch + step) - power(pitch - step)) / (2.0 * step)

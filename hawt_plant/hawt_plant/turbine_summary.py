@@ -11,7 +11,9 @@ the plant's modal model (:mod:`hawt_plant.modal`), each on its own:
   and nacelle, a point on the top (the plant adds their rotary inertia to the fore-aft mode and couples the
   tower with the blades);
 - drivetrain: the free-free torsion of the rotor and the generator on the shaft spring K,
-  sqrt(K (1 / J_rotor + 1 / (N^2 J_generator))), J_rotor the hub's and the coned blades' inertia about the shaft.
+  sqrt(K (1 / J_rotor + 1 / (N^2 J_generator))), J_rotor the hub's and the coned blades' inertia about the shaft;
+- blade edgewise: the plant has no such mode; :func:`hawt_plant.modal.blade_edgewise_frequency` estimates it from
+  the edge stiffness (standing still).
 """
 from __future__ import annotations
 
@@ -22,7 +24,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize
 
 from hawt_plant.bem import BemBlade, rotor_performance
-from hawt_plant.modal import blade_modal_properties, tower_modal_properties
+from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, tower_modal_properties
 from hawt_plant.turbine import Turbine
 
 __all__ = ["TurbineSummary", "format_summary", "peak_power_coefficient", "turbine_summary"]
@@ -60,12 +62,16 @@ class TurbineSummary:
         The BEM's peak Cp [-], the tip-speed ratio [-] and pitch [rad] where it is.
     schedule_tip_speed_ratio : float
         The definition's optimal tip-speed ratio [-].
+    rotor_inertia : float
+        J_rotor, the hub's and the coned blades' inertia about the shaft [kg m^2].
     blade_flap_frequency, blade_flap_frequency_rated : float
         First flap mode standing still and at rated rotor speed [Hz].
     tower_fa_frequency, tower_ss_frequency : float
         First fore-aft and side-side tower modes with the rotor and nacelle on top [Hz].
     drivetrain_frequency : float
         Free-free shaft torsion [Hz].
+    blade_edge_frequency : float
+        First edgewise mode standing still, estimated (module notes) [Hz].
     """
 
     name: str
@@ -82,11 +88,13 @@ class TurbineSummary:
     optimal_tip_speed_ratio: float
     optimal_pitch: float
     schedule_tip_speed_ratio: float
+    rotor_inertia: float
     blade_flap_frequency: float
     blade_flap_frequency_rated: float
     tower_fa_frequency: float
     tower_ss_frequency: float
     drivetrain_frequency: float
+    blade_edge_frequency: float
 
 
 def peak_power_coefficient(turbine: Turbine, blade: BemBlade | None = None) -> tuple[float, float, float]:
@@ -162,12 +170,13 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         rated_generator_torque=turbine.generator.rated_torque, gearbox_ratio=drivetrain.gearbox_ratio,
         rated_wind_speed=schedule.rated_wind_speed, bem_rated_wind_speed=_bem_rated_wind_speed(turbine, bem),
         max_power_coefficient=cp, optimal_tip_speed_ratio=tsr, optimal_pitch=pitch,
-        schedule_tip_speed_ratio=schedule.optimal_tip_speed_ratio,
+        schedule_tip_speed_ratio=schedule.optimal_tip_speed_ratio, rotor_inertia=rotor_inertia,
         blade_flap_frequency=hertz(blade.stiffness, blade.modal_mass),
         blade_flap_frequency_rated=hertz(blade.stiffness + omega**2 * blade.centrifugal_stiffness, blade.modal_mass),
         tower_fa_frequency=hertz(tower["fa"].stiffness, tower["fa"].modal_mass + top),
         tower_ss_frequency=hertz(tower["ss"].stiffness, tower["ss"].modal_mass + top),
         drivetrain_frequency=hertz(drivetrain.torsional_stiffness, torsion_inertia),
+        blade_edge_frequency=blade_edgewise_frequency(turbine),
     )
 
 
@@ -186,6 +195,7 @@ def format_summary(summary: TurbineSummary) -> str:
         f"{math.degrees(s.optimal_pitch):.2f} deg (the plant's steady BEM; the schedule's tip-speed ratio "
         f"{s.schedule_tip_speed_ratio:g})",
         f"first modes: blade flap {s.blade_flap_frequency:.3f} Hz standing, {s.blade_flap_frequency_rated:.3f} Hz at "
-        f"rated speed; tower fore-aft {s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; "
-        f"drivetrain torsion {s.drivetrain_frequency:.3f} Hz",
+        f"rated speed, blade edgewise {s.blade_edge_frequency:.3f} Hz standing (estimated); tower fore-aft "
+        f"{s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; drivetrain torsion "
+        f"{s.drivetrain_frequency:.3f} Hz",
     ])

@@ -4,7 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from hawt_plant.bem import induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor, solve_inflow_angle
+from hawt_plant.bem import (induction_factors, pitch_sensitivity, prandtl_loss, rotor_performance, skewed_wake_factor,
+                            solve_inflow_angle)
 
 
 def test_power_coefficient_peaks_near_tsr_75_at_048(turbine, blade):
@@ -20,6 +21,18 @@ def test_power_at_rated_wind_and_speed_is_rated_shaft_power(turbine, blade):
     performance = rotor_performance(turbine, 11.4, 12.1 * math.pi / 30.0, 0.0, blade)
     assert performance.power == pytest.approx(5.0e6 / 0.944, rel=0.05)
     assert performance.tip_speed_ratio == pytest.approx(7.0, abs=0.01)
+
+
+def test_the_equilibrium_pitch_sensitivity_is_the_slope_of_the_steady_power(turbine, blade):
+    """With the induction re-solved, dP/dtheta is the central difference of rotor_performance's power; with the
+    wake frozen it is steeper (the induction would relieve part of the change): 18 m/s, rated speed, 15 deg."""
+    speed, pitch, step = 1.26711, math.radians(15.0), 1e-4
+    slope = (rotor_performance(turbine, 18.0, speed, pitch + step, blade).power
+             - rotor_performance(turbine, 18.0, speed, pitch - step, blade).power) / (2 * step)
+    equilibrium = pitch_sensitivity(turbine, 18.0, speed, pitch, frozen_wake=False, blade=blade)
+    frozen = pitch_sensitivity(turbine, 18.0, speed, pitch, frozen_wake=True, blade=blade)
+    assert equilibrium == pytest.approx(slope, rel=1e-6)
+    assert frozen < equilibrium < 0.0
 
 
 def test_feathering_reduces_power_and_thrust(turbine, blade):
