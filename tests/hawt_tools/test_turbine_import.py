@@ -6,7 +6,6 @@ distribution's files. The NREL 5 MW deck imported must give the shipped definiti
 file takes from Jonkman et al. (2009) instead of the deck are listed with both numbers.
 """
 import dataclasses
-import importlib.metadata
 import math
 import re
 import shutil
@@ -29,28 +28,9 @@ NREL_2P8 = "NREL_2p8_127/NREL-2p8-127.fst"
 BAR_10 = "BAR_10/BAR_10.fst"
 
 
-def _case(relative: str) -> Path:
-    """A file or folder of ROSCO's test cases in the installed rosco wheel."""
-    return Path(importlib.metadata.distribution("rosco").locate_file(f"Examples/Test_Cases/{relative}"))
-
-
 @pytest.fixture(scope="module")
-def imported(tmp_path_factory):
-    """Deck (relative to the test cases) -> the folder its import was written to."""
-    folders = {}
-
-    def folder(deck: str) -> Path:
-        if deck not in folders:
-            folders[deck] = tmp_path_factory.mktemp(Path(deck).stem)
-            write_turbine(import_deck(_case(deck)), folders[deck])
-        return folders[deck]
-
-    return folder
-
-
-@pytest.fixture(scope="module")
-def imported_5mw(imported):
-    return load_turbine(imported(NREL_5MW) / "turbine.yaml")
+def imported_5mw(imported_deck):
+    return load_turbine(imported_deck(NREL_5MW) / "turbine.yaml")
 
 
 EXACT = (0.0, 0.0, "copied verbatim")
@@ -192,18 +172,18 @@ def test_the_unsteady_parameters_are_the_decks_ua_tables(imported_5mw):
         assert (math.degrees(expected.alpha0), expected.cd0) == pytest.approx((v13_alpha0, v13_cd0))
 
 
-def test_the_blade_mass_the_import_states_is_the_deck_distributions(imported):
+def test_the_blade_mass_the_import_states_is_the_deck_distributions(imported_deck):
     """The deck states no blade mass: the import's reference mass and centre of gravity are the trapezoidal
     integrals of BMassDen x AdjBlMs over the 49 stations, 0.74 % and 0.16 % from Jonkman's 17 740 kg and 20.475 m
     (ElastoDyn integrates over its 17 elements); the loader allows 2 %."""
-    structure = yaml.safe_load((imported(NREL_5MW) / "turbine.yaml").read_text())["blade"]["structure"]
+    structure = yaml.safe_load((imported_deck(NREL_5MW) / "turbine.yaml").read_text())["blade"]["structure"]
     assert structure["reference_mass"] == pytest.approx(17740.0, rel=0.008)
     assert structure["reference_cg_from_root"] == pytest.approx(20.475, rel=0.002)
 
 
-def test_every_value_written_names_its_source_file_and_key(imported):
+def test_every_value_written_names_its_source_file_and_key(imported_deck):
     """Each value line of the written turbine.yaml ends in a comment naming where it comes from."""
-    lines = (imported(NREL_5MW) / "turbine.yaml").read_text().splitlines()
+    lines = (imported_deck(NREL_5MW) / "turbine.yaml").read_text().splitlines()
     values = [line for line in lines if not line.startswith("#") and not line.rstrip().endswith(":")]
     assert len(values) > 60
     for line in values:
@@ -224,11 +204,11 @@ def test_aerodynamic_elements_keep_the_v14_layout_and_otherwise_share_the_blade_
     (IEA_15MW, 3, 15e6, 150.0 - 15.0),  # the tower base at 15 m above the sea is lowered onto the ground
     (NREL_2P8, 3, 2.8e6, 88.05),
 ])
-def test_other_decks_import_load_and_a_plant_steps_on_them(imported, deck, blades, rated_power, hub_height):
+def test_other_decks_import_load_and_a_plant_steps_on_them(imported_deck, deck, blades, rated_power, hub_height):
     """The IEA 15 MW (monopile deck) and the NREL 2.8-127 load, and the plant holds its operating point for 3 s
     below and above rated with the commands held, above rated also with its unsteady airfoil option: finite
     outputs, the rotor speed within 2 %."""
-    turbine = load_turbine(imported(deck) / "turbine.yaml")
+    turbine = load_turbine(imported_deck(deck) / "turbine.yaml")
     assert turbine.rotor.number_of_blades == blades and turbine.generator.rated_power == rated_power
     assert turbine.hub_height == pytest.approx(hub_height, abs=0.05)
     rated = turbine.schedule.rated_wind_speed
@@ -243,20 +223,20 @@ def test_other_decks_import_load_and_a_plant_steps_on_them(imported, deck, blade
         assert out.rotor_speed == pytest.approx(first.rotor_speed, rel=0.02)
 
 
-def test_a_rigid_drivetrain_is_kept_at_a_torsion_the_plant_integrates(imported):
+def test_a_rigid_drivetrain_is_kept_at_a_torsion_the_plant_integrates(imported_deck):
     """The IEA 15 MW's DTTorSpr (ElastoDyn DrTrDOF = False) gives a 31 Hz torsion the plant's 0.01 s step cannot
     integrate: the import lowers it to a 10 Hz torsion (its rotor inertia integrated over the ElastoDyn stations,
     the summary's on the plant's fine grid: 1e-5 apart) and says so."""
-    turbine = load_turbine(imported(IEA_15MW) / "turbine.yaml")
+    turbine = load_turbine(imported_deck(IEA_15MW) / "turbine.yaml")
     assert turbine_summary(turbine).drivetrain_frequency == pytest.approx(RIGID_TORSION_FREQUENCY, rel=1e-4)
-    text = (imported(IEA_15MW) / "turbine.yaml").read_text()
+    text = (imported_deck(IEA_15MW) / "turbine.yaml").read_text()
     assert "DrTrDOF = False (rigid): lowered to the stiffness of a 10 Hz torsion" in text
 
 
-def test_a_downwind_deck_keeps_elastodyns_signs_and_marks_the_rotor_downwind(tmp_path):
+def test_a_downwind_deck_keeps_elastodyns_signs_and_marks_the_rotor_downwind(rosco_case, tmp_path):
     """OverHang > 0 is a downwind rotor: cone, tilt and overhang keep ElastoDyn's signs (the format's downwind
     convention, as two_bladed_downwind.yaml) and the rotor's position is downwind."""
-    deck = shutil.copytree(_case("NREL-5MW"), tmp_path / "deck")
+    deck = shutil.copytree(rosco_case("NREL-5MW"), tmp_path / "deck")
     elastodyn = deck / "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat"
     for key, value in (("OverHang", "5.0191"), ("PreCone(1)", "2.5"), ("PreCone(2)", "2.5"), ("PreCone(3)", "2.5"),
                        ("ShftTilt", "5")):
@@ -276,10 +256,10 @@ def _set(path: Path, key: str, value: str) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(hawt_cli, tmp_path):
+def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(hawt_cli, rosco_case, tmp_path):
     """``hawt turbine import`` writes DIR/turbine.yaml and its airfoils and lists what is not modelled; ``hawt
     turbine show DIR`` prints the rated values, the plant's Cp-max and optimal tip-speed ratio, and first modes."""
-    result = subprocess.run([*hawt_cli, "turbine", "import", str(_case(NREL_5MW)), "-o", str(tmp_path / "n5")],
+    result = subprocess.run([*hawt_cli, "turbine", "import", str(rosco_case(NREL_5MW)), "-o", str(tmp_path / "n5")],
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "8 airfoil polars" in result.stdout and "not modelled:" in result.stdout
@@ -299,30 +279,30 @@ def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(h
     assert fa == pytest.approx(0.324, rel=0.06) and flap == pytest.approx(0.6993, rel=0.05)
 
 
-def _copy_5mw(tmp_path: Path) -> Path:
-    return shutil.copytree(_case("NREL-5MW"), tmp_path / "NREL-5MW") / "NREL-5MW.fst"
+def _copy_5mw(tmp_path: Path, case) -> Path:
+    return shutil.copytree(case("NREL-5MW"), tmp_path / "NREL-5MW") / "NREL-5MW.fst"
 
 
-def _without_tower_file(tmp_path: Path) -> Path:
-    fst = _copy_5mw(tmp_path)
+def _without_tower_file(tmp_path: Path, case) -> Path:
+    fst = _copy_5mw(tmp_path, case)
     (fst.parent / "NRELOffshrBsline5MW_Onshore_ElastoDyn_Tower.dat").unlink()
     return fst
 
 
-def _without_an_airfoil(tmp_path: Path) -> Path:
-    fst = _copy_5mw(tmp_path)
+def _without_an_airfoil(tmp_path: Path, case) -> Path:
+    fst = _copy_5mw(tmp_path, case)
     (fst.parent / "Airfoils" / "DU21_A17.dat").unlink()
     return fst
 
 
-def _with_aerodisk(tmp_path: Path) -> Path:
-    fst = _copy_5mw(tmp_path)
+def _with_aerodisk(tmp_path: Path, case) -> Path:
+    fst = _copy_5mw(tmp_path, case)
     _set(fst, "CompAero", "1")
     return fst
 
 
-def _with_reynolds_polars(tmp_path: Path) -> Path:
-    fst = _copy_5mw(tmp_path)
+def _with_reynolds_polars(tmp_path: Path, case) -> Path:
+    fst = _copy_5mw(tmp_path, case)
     _set(fst.parent / "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat", "AFTabMod", "2")
     return fst
 
@@ -334,12 +314,13 @@ def _with_reynolds_polars(tmp_path: Path) -> Path:
                           "file"),
     (_with_aerodisk, "NREL-5MW.fst: CompAero: 1 (AeroDisk) is not supported"),
     (_with_reynolds_polars, "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: AFTabMod: 2 is not supported"),
-    (lambda tmp_path: _case(BAR_10), "BAR_10.fst: CompElast: 2 (BeamDyn blades) is not supported"),
+    (lambda tmp_path, case: case(BAR_10), "BAR_10.fst: CompElast: 2 (BeamDyn blades) is not supported"),
 ], ids=["missing tower file", "missing airfoil", "AeroDisk", "polars over Reynolds number", "BeamDyn blades"])
-def test_a_bad_deck_is_refused_with_one_line_naming_the_file_and_key(hawt_cli, tmp_path, make_deck, message):
+def test_a_bad_deck_is_refused_with_one_line_naming_the_file_and_key(hawt_cli, rosco_case, tmp_path, make_deck,
+                                                                     message):
     """A missing file or an option the plant cannot honour: exit 2, one line on stderr naming file and key."""
-    result = subprocess.run([*hawt_cli, "turbine", "import", str(make_deck(tmp_path)), "-o", str(tmp_path / "out")],
-                            capture_output=True, text=True, timeout=120)
+    result = subprocess.run([*hawt_cli, "turbine", "import", str(make_deck(tmp_path, rosco_case)), "-o",
+                             str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
     assert result.stderr.startswith(f"hawt turbine: {message}"), result.stderr
     assert not (tmp_path / "out").exists()
