@@ -453,6 +453,41 @@ def _cmd_design_lqg(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_design_cpc(args: argparse.Namespace) -> int:
+    """The baseline collective controller tuned from a turbine definition (Jonkman's method), its schedule and a
+    comparison with Jonkman's NREL 5 MW tuning or a ROSCO DISCON.IN."""
+    from hawt_controllers.cpc_design import (design_collective, discon_comparison, format_comparison, format_design,
+                                             jonkman_comparison, write_design)
+    from hawt_controllers.exceptions import ConfigurationError
+    from hawt_controllers.rosco_input import read_settings
+    from hawt_plant.turbine import TurbineDefinitionError, turbine_from
+
+    folder = Path(args.turbine)
+    turbine_file = str(folder / "turbine.yaml") if folder.is_dir() else args.turbine
+    if args.discon and not Path(args.discon).is_file():
+        raise GraphError(f"--discon: {args.discon}: no such file")
+    try:
+        turbine = turbine_from(turbine_file)
+        design = design_collective(turbine, args.natural_frequency, args.damping)
+        discon = discon_comparison(design, read_settings(Path(args.discon))) if args.discon else None
+    except (TurbineDefinitionError, ConfigurationError) as error:
+        raise GraphError(str(error)) from None
+    print(format_design(design))
+    if discon is not None:
+        print(format_comparison(f"against {args.discon} (ROSCO's gains with their sign turned)", discon))
+    elif args.turbine == "nrel_5mw":
+        print(format_comparison("against Jonkman et al. (2009), hawt_controllers/data/nrel5mw_baseline.yaml",
+                                jonkman_comparison(design)))
+    if args.output:
+        try:
+            path = write_design(design, args.output)
+        except OSError as error:
+            raise GraphError(f"-o: {error}") from None
+        print(f"tuning: {path} (use it as: hawt launch baseline -p plant.turbine_file:={turbine_file} -p "
+              f"cpc.controller_file:={path})")
+    return 0
+
+
 def _plant_overrides(words: List[str]) -> Dict[str, object]:
     """NAME:=VALUE words as the plant's parameters, each checked against the plant node's table."""
     from hawt_core.parameter_table import ParameterError
@@ -822,7 +857,7 @@ def _parser() -> argparse.ArgumentParser:
     linearize.add_argument("--plot", metavar="PNG", help="write the Campbell diagram here")
     linearize.set_defaults(run=_cmd_linearize)
 
-    design = commands.add_parser("design", help="design a controller on the plant's linear models (lqg)")
+    design = commands.add_parser("design", help="design a controller on the plant's models (lqg, cpc)")
     design_commands = design.add_subparsers(dest="design", required=True, metavar="CONTROLLER")
     lqg = design_commands.add_parser(
         "lqg", help="Selvam's LQG IPC with wind-estimate feedforward: checks and closed-loop frequency responses",
@@ -839,6 +874,23 @@ def _parser() -> argparse.ArgumentParser:
         lqg.add_argument(option, type=float, help=f"{text} (default: lqg_ipc's)")
     lqg.add_argument("--plot", metavar="PNG", help="write the frequency responses here")
     lqg.set_defaults(run=_cmd_design_lqg)
+    cpc = design_commands.add_parser(
+        "cpc", help="the baseline collective controller tuned from a turbine definition (Jonkman's method)",
+        description="Tune the cpc law (Jonkman et al. 2009 ch. 7) for a turbine from the plant's steady BEM and "
+                    "modal model: the region-2 torque gain from the BEM's Cp-max and optimal tip-speed ratio, the "
+                    "rated-speed pitch PI for a natural frequency and damping, gain-scheduled over pitch from the "
+                    "frozen-wake pitch sensitivity of the region-3 points, the speed filter at 1/4 of the blade's "
+                    "estimated edgewise mode. Print the schedule and compare it with Jonkman's tuning (for the "
+                    "packaged nrel_5mw) or a ROSCO DISCON.IN (--discon); write it with -o.")
+    cpc.add_argument("--turbine", default="nrel_5mw", metavar="T",
+                     help="a turbine.yaml, its folder, or a packaged turbine's name (default nrel_5mw)")
+    cpc.add_argument("-o", "--output", metavar="FILE", help="write the tuning here (the cpc's controller_file)")
+    cpc.add_argument("--natural-frequency", type=float, default=0.6, metavar="W",
+                     help="of the pitch loop [rad/s] (default 0.6, Jonkman's; ROSCO's IEA 15 MW: 0.2)")
+    cpc.add_argument("--damping", type=float, default=0.7, metavar="Z",
+                     help="damping ratio of the pitch loop (default 0.7, Jonkman's; ROSCO's IEA 15 MW: 1.0)")
+    cpc.add_argument("--discon", metavar="DISCON.IN", help="compare with this ROSCO input's gains (e.g. the deck's)")
+    cpc.set_defaults(run=_cmd_design_cpc)
 
     turbine = commands.add_parser("turbine", help="import an OpenFAST deck as a turbine definition, or summarise one")
     turbine_commands = turbine.add_subparsers(dest="turbine_action", required=True, metavar="ACTION")
