@@ -213,10 +213,13 @@ class TurbineModel:
             else None
         self._tower_drag = TowerDrag.from_turbine(turbine) if self._config.tower_drag else None
         self._tower_drag_loads = TowerDragLoads(0.0, 0.0, 0.0, 0.0)
-        if self._tower_drag is not None:  # the wind is sampled at the blade points and the tower nodes at once
-            blade_points = self._b * (self._n + 1)
-            self._samples = np.zeros((3, blade_points + len(self._tower_drag.elevation)))
-            self._samples[2, blade_points:] = self._tower_drag.elevation
+        if self._tower_drag is not None:
+            # The wind is sampled at once at the blade points, a row per blade, and the tower nodes, a last row
+            # (padded by repeating its top node; WindChange's per-blade change leaves that row alone).
+            nodes = len(self._tower_drag.elevation)
+            self._samples = np.zeros((3, self._b + 1, max(self._n + 1, nodes)))
+            self._samples[2, self._b, :nodes] = self._tower_drag.elevation
+            self._samples[2, self._b, nodes:] = self._tower_drag.elevation[-1]
         self._output: TurbineOutput
         self.reset_to_operating_point()
 
@@ -748,13 +751,14 @@ class TurbineModel:
         if drag is None:
             velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
         else:
-            samples, blade_points = self._samples, b * (n + 1)
-            samples[:, :blade_points] = points.reshape(3, blade_points)
-            np.multiply(drag.fa_shape, x_top, out=samples[0, blade_points:])
-            np.multiply(drag.ss_shape, y_top, out=samples[1, blade_points:])
+            samples, nodes = self._samples, len(drag.elevation)
+            samples[:, :b, :n + 1] = points
+            np.multiply(drag.fa_shape, x_top, out=samples[0, b, :nodes])
+            np.multiply(drag.ss_shape, y_top, out=samples[1, b, :nodes])
+            samples[:2, b, nodes:] = samples[:2, b, nodes - 1:nodes]
             sampled = self._wind.velocity(self._time, samples[0], samples[1], samples[2])
-            velocity = sampled[:, :blade_points].reshape(3, b, n + 1)
-            self._tower_drag_loads = drag.loads(sampled[0, blade_points:], sampled[1, blade_points:],
+            velocity = sampled[:, :b, :n + 1]
+            self._tower_drag_loads = drag.loads(sampled[0, b, :nodes], sampled[1, b, :nodes],
                                                 *self._tower_rate.tolist())
         self._hub_wind_speed = float(velocity[0, 0, n])
         if self._config.skewed_wake:

@@ -37,8 +37,8 @@ class WindField(Protocol):
 
 class WindChange:
     """A wind field with ``change`` [m/s] added to its longitudinal component: one value everywhere, or one per
-    blade when the points are sampled one blade per row (as the rotor model samples them) — the wind inputs of
-    a linear model."""
+    blade when the points are sampled one blade per row (as the rotor model samples them; rows after the blades',
+    such as the tower's, get none) — the wind inputs of a linear model."""
 
     def __init__(self, field: WindField, change) -> None:
         self.field = field
@@ -54,5 +54,8 @@ class WindChange:
 
     def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
         velocity = np.array(self.field.velocity(t, x, y, z), dtype=float)  # a copy: the field may keep its own
-        velocity[0] += self.change if self.change.ndim == 0 else self.change.reshape((-1,) + (1,) * (x.ndim - 1))
+        if self.change.ndim == 0:
+            velocity[0] += self.change
+        else:
+            velocity[0, :len(self.change)] += self.change.reshape((-1,) + (1,) * (x.ndim - 1))
         return velocity
