@@ -49,6 +49,7 @@ from .filters import ExponentialLowPass
 from .limits import PitchLimits, limit_pitch
 from .pi import PIController
 from .saturation import BoxSaturation
+from .tunings import PACKAGED
 
 __all__ = [
     "BaselineCollectiveConfig",
@@ -62,7 +63,7 @@ __all__ = [
     "torque_demand",
 ]
 
-DEFAULT_BASELINE_FILE = Path(__file__).resolve().parent / "data" / "nrel5mw_baseline.yaml"
+DEFAULT_BASELINE_FILE = PACKAGED["nrel_5mw"]["cpc"]
 
 
 class TorqueRegion(enum.IntEnum):

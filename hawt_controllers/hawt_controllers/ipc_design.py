@@ -44,21 +44,21 @@ from hawt_controllers.ipc import HarmonicIpcConfig, design_prefilter
 from hawt_controllers.ipc_tuning import IntegralGainDesign, design_integral_gain
 from hawt_controllers.limits import PitchLimits
 from hawt_controllers.linear_models import ColemanModel, load_models, state_space_response, tilt_yaw_response
+from hawt_controllers.tunings import FILE_NAMES, PACKAGED, TuningError, tuning_file, turbine_folder
 from hawt_controllers.loop_assembly import LoopAssembler
-from hawt_controllers.lqg_controller import DEFAULT_MODELS
 from hawt_controllers.lqg_design import _MOMENT_UNIT, _PITCH_UNIT
 from hawt_controllers.lqg_ipc import integrator_ipc
 from hawt_controllers.mbc import mbc_forward
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
-from hawt_plant.turbine import Turbine, nrel_5mw
+from hawt_plant.turbine import Turbine, turbine_from
 
 __all__ = ["HarmonicResponse", "CouplingPoint", "LoopAnalysis", "measure_harmonic_response", "harmonic_response",
            "model_harmonic_response", "loop_response", "loop_crossover", "loop_analysis", "coupling_survey", "design",
            "retuned", "main"]
 
-DEFAULT_FILE = Path(__file__).resolve().parent.parent / "config" / "ipc_nrel5mw.yaml"
-RETUNED_FILE = DEFAULT_FILE.with_name("ipc_nrel5mw_retuned.yaml")
+DEFAULT_FILE = PACKAGED["nrel_5mw"]["ipc"]
+RETUNED_FILE = PACKAGED["nrel_5mw"]["ipc_retuned"]
 
 
 @dataclass(frozen=True)
@@ -354,6 +354,8 @@ def main(argv: Sequence[str] = None) -> None:
     parser = argparse.ArgumentParser(description="Tune the IPC harmonics from the plant's linear models (the measured "
                                                  "static response beside them as the cross-check) and write the ipc "
                                                  "graph's parameter file.")
+    parser.add_argument("--turbine", default="nrel_5mw",
+                        help="a packaged turbine's name or an imported turbine's folder (its tunings go beside it)")
     parser.add_argument("--harmonics", type=int, nargs="+", default=[1, 2, 3])
     parser.add_argument("--wind-speeds", type=float, nargs="+", default=[13.0, 16.0, 18.0, 20.0, 24.0],
                         help="operating points above rated [m/s]")
@@ -362,24 +364,42 @@ def main(argv: Sequence[str] = None) -> None:
     parser.add_argument("--loop-delay", type=float, default=0.1,
                         help="delay from measurement to pitch [s]: one plant step plus the pitch actuator's lag")
     parser.add_argument("--dt", type=float, default=0.01)
-    parser.add_argument("--linear-models", type=Path, default=DEFAULT_MODELS,
-                        help="the plant's Coleman-frame models (hawt linearize)")
+    parser.add_argument("--linear-models", type=Path,
+                        help="the plant's Coleman-frame models (hawt linearize; default: the turbine's, if it has them)")
     parser.add_argument("--measured", action="store_true",
                         help="the measured static response only, no linear models")
-    parser.add_argument("-o", "--output", type=Path, default=DEFAULT_FILE)
-    parser.add_argument("--retuned-output", type=Path, default=RETUNED_FILE)
+    parser.add_argument("-o", "--output", type=Path, help="default: the turbine's ipc tuning file")
+    parser.add_argument("--retuned-output", type=Path, help="default: the turbine's ipc_retuned tuning file")
     parser.add_argument("--retuned-only", action="store_true",
                         help="only derive the retuned 1P controller from the existing --output file")
     argv = sys.argv[1:] if argv is None else argv
     args = parser.parse_args(argv)
+    try:
+        turbine = turbine_from(args.turbine)
+    except (OSError, ValueError) as error:
+        parser.exit(2, f"ipc_design: --turbine: {error}\n")
+    args.output = args.output or _tuning_path(args.turbine, "ipc")
+    args.retuned_output = args.retuned_output or _tuning_path(args.turbine, "ipc_retuned")
     if args.retuned_only:
         nodes = yaml.safe_load(args.output.read_text())
     else:
-        nodes = design(nrel_5mw(), args.harmonics, args.wind_speeds, args.reference_speed,
+        models = args.linear_models
+        if models is None and not args.measured:
+            try:
+                models = tuning_file(args.turbine, "linear")
+            except TuningError as error:
+                print(f"{error}: the measured route")
+        nodes = design(turbine, args.harmonics, args.wind_speeds, args.reference_speed,
                        2 * math.pi * args.bandwidth_hz, args.loop_delay, args.dt,
-                       () if args.measured else load_models(args.linear_models))
-        _write(args.output, nodes, "IPC parameters of the NREL 5 MW", argv)
+                       () if args.measured or models is None else load_models(models))
+        _write(args.output, nodes, f"IPC parameters of the {turbine.name}", argv)
     _write(args.retuned_output, retuned(nodes), f"The retuned 1P controller, derived from {args.output.name}", argv)
+
+
+def _tuning_path(turbine: str, kind: str) -> Path:
+    """Where the ``kind`` tuning of ``turbine`` is written: the packaged file, or the file in the turbine's folder."""
+    folder = turbine_folder(turbine)
+    return PACKAGED[turbine][kind] if folder is None else folder / FILE_NAMES[kind]
 
 
 if __name__ == "__main__":

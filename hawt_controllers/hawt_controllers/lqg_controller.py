@@ -37,10 +37,11 @@ from .linear_models import load_models
 from .lqg_design import LqgDesign, LqgWeights, design_lqg
 from .lqg_ipc import LqgIpc
 from .mbc import mbc_forward_sample
+from .tunings import PACKAGED
 
 __all__ = ["LqgIpcController", "DEFAULT_MODELS"]
 
-DEFAULT_MODELS = Path(__file__).resolve().parent.parent / "config" / "linear_nrel5mw.npz"
+DEFAULT_MODELS = PACKAGED["nrel_5mw"]["linear"]
 _DEFAULT = LqgWeights()
 
 

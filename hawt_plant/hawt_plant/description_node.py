@@ -9,7 +9,7 @@ from hawt_msgs.msg import PlantDescription
 from rclpy.node import Node
 
 from hawt_core.topics import PLANT_DESCRIPTION
-from hawt_plant.turbine import load_turbine, nrel_5mw
+from hawt_plant.turbine import nrel_5mw, turbine_from
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import ParameterSpec, declare_parameters
 from hawt_node.qos import LATCHED
@@ -17,7 +17,8 @@ from hawt_node.qos import LATCHED
 __all__ = ["PlantDescriptionNode", "PARAMETERS", "main"]
 
 PARAMETERS = (
-    ParameterSpec("turbine_file", "", "turbine definition YAML ('' = the packaged NREL 5 MW)", read_only=True),
+    ParameterSpec("turbine_file", "", "turbine definition YAML, its folder or a packaged turbine's name ('' = the "
+                  "packaged NREL 5 MW)", read_only=True),
     ParameterSpec("dt", 0.01, "step of the measurements", "s", minimum=1e-3, maximum=0.1, read_only=True),
 )
 
@@ -30,7 +31,7 @@ class PlantDescriptionNode(Node):
     def __init__(self, **node_kwargs) -> None:
         super().__init__("plant_description", **node_kwargs)
         values = declare_parameters(self, PARAMETERS)
-        turbine = load_turbine(values["turbine_file"]) if values["turbine_file"] else nrel_5mw()
+        turbine = turbine_from(values["turbine_file"]) if values["turbine_file"] else nrel_5mw()
         self.publisher = self.create_publisher(PlantDescription, PLANT_DESCRIPTION, LATCHED)
         self.publisher.publish(PlantDescription(**turbine.description(values["dt"]).as_fields()))
 

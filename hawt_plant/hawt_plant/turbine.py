@@ -413,9 +413,13 @@ PACKAGED_TURBINES = {"nrel_5mw": nrel_5mw, "nrel_5mw_two_bladed": nrel_5mw_two_b
 
 
 def turbine_from(name_or_path: str) -> Turbine:
-    """The packaged turbine of this name (:data:`PACKAGED_TURBINES`), else the definition file at this path."""
+    """The packaged turbine of this name (:data:`PACKAGED_TURBINES`), else the definition file at this path (a
+    folder: its ``turbine.yaml``, as ``hawt turbine import`` writes it)."""
     packaged = PACKAGED_TURBINES.get(name_or_path)
-    return packaged() if packaged else load_turbine(name_or_path)
+    if packaged:
+        return packaged()
+    path = Path(name_or_path)
+    return load_turbine(path / "turbine.yaml" if path.is_dir() else path)
 
 
 def load_turbine(path: str | Path) -> Turbine:

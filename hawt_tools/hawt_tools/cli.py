@@ -460,14 +460,13 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
                                              jonkman_comparison, write_design)
     from hawt_controllers.exceptions import ConfigurationError
     from hawt_controllers.rosco_input import read_settings
+    from hawt_controllers.tunings import FILE_NAMES, turbine_folder
     from hawt_plant.turbine import TurbineDefinitionError, turbine_from
 
-    folder = Path(args.turbine)
-    turbine_file = str(folder / "turbine.yaml") if folder.is_dir() else args.turbine
     if args.discon and not Path(args.discon).is_file():
         raise GraphError(f"--discon: {args.discon}: no such file")
     try:
-        turbine = turbine_from(turbine_file)
+        turbine = turbine_from(args.turbine)
         design = design_collective(turbine, args.natural_frequency, args.damping)
         discon = discon_comparison(design, read_settings(Path(args.discon))) if args.discon else None
     except (TurbineDefinitionError, ConfigurationError) as error:
@@ -478,13 +477,16 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
     elif args.turbine == "nrel_5mw":
         print(format_comparison("against Jonkman et al. (2009), hawt_controllers/data/nrel5mw_baseline.yaml",
                                 jonkman_comparison(design)))
-    if args.output:
+    folder = turbine_folder(args.turbine)
+    output = args.output or (folder / FILE_NAMES["cpc"] if folder is not None else None)
+    if output:
         try:
-            path = write_design(design, args.output)
+            path = write_design(design, output)
         except OSError as error:
             raise GraphError(f"-o: {error}") from None
-        print(f"tuning: {path} (use it as: hawt launch baseline -p plant.turbine_file:={turbine_file} -p "
-              f"cpc.controller_file:={path})")
+        use = (f"hawt launch baseline turbine:={folder}" if not args.output else
+               f"hawt launch baseline turbine:={args.turbine} -p cpc.controller_file:={path}")
+        print(f"tuning: {path} (use it as: {use})")
     return 0
 
 
@@ -566,7 +568,8 @@ def _cmd_turbine_import(args: argparse.Namespace) -> int:
           "value names its source file and key")
     for title, lines in (("approximated", imported.approximations), ("not modelled", imported.not_modelled)):
         print(f"{title}:" + "".join(f"\n  - {line}" for line in lines))
-    print(f"use it as: hawt turbine show {path}; hawt launch GRAPH -p plant.turbine_file:={path}")
+    print(f"next: hawt turbine show {path.parent}; hawt design cpc --turbine {path.parent} (writes its cpc.yaml); "
+          f"then hawt launch baseline turbine:={path.parent}")
     return 0
 
 
@@ -575,9 +578,8 @@ def _cmd_turbine_show(args: argparse.Namespace) -> int:
     from hawt_plant.turbine import TurbineDefinitionError, turbine_from
     from hawt_plant.turbine_summary import format_summary, turbine_summary
 
-    folder = Path(args.turbine)
     try:
-        turbine = turbine_from(str(folder / "turbine.yaml") if folder.is_dir() else args.turbine)
+        turbine = turbine_from(args.turbine)
     except TurbineDefinitionError as error:
         raise GraphError(str(error)) from None
     print(format_summary(turbine_summary(turbine)))
@@ -884,7 +886,8 @@ def _parser() -> argparse.ArgumentParser:
                     "packaged nrel_5mw) or a ROSCO DISCON.IN (--discon); write it with -o.")
     cpc.add_argument("--turbine", default="nrel_5mw", metavar="T",
                      help="a turbine.yaml, its folder, or a packaged turbine's name (default nrel_5mw)")
-    cpc.add_argument("-o", "--output", metavar="FILE", help="write the tuning here (the cpc's controller_file)")
+    cpc.add_argument("-o", "--output", metavar="FILE", help="write the tuning here (the cpc's controller_file; "
+                     "default for a turbine folder: its cpc.yaml, which its graphs use)")
     cpc.add_argument("--natural-frequency", type=float, default=0.6, metavar="W",
                      help="of the pitch loop [rad/s] (default 0.6, Jonkman's; ROSCO's IEA 15 MW: 0.2)")
     cpc.add_argument("--damping", type=float, default=0.7, metavar="Z",

@@ -18,7 +18,9 @@ format, see ``ros2/launch`` ``launch_yaml/parser.py``)::
 
 Supported actions: ``arg`` and ``node``. Supported substitutions: ``$(var NAME)``,
 ``$(env NAME [DEFAULT])``, ``$(find-pkg-share PKG)``, ``$(find-pkg-prefix PKG)``,
-``$(dirname)`` and ``$(filename)``. Everything is checked before a process starts;
+``$(dirname)``, ``$(filename)`` and hawt's ``$(turbine-tuning TURBINE KIND)`` (a turbine's controller
+tuning file, :func:`hawt_controllers.tunings.tuning_file`); a substitution may hold others, e.g.
+``$(turbine-tuning $(var turbine) cpc)``, expanded innermost first. Everything is checked before a process starts;
 an error is a :class:`GraphError` whose one-line message names the file, the line
 and the key at fault.
 """
@@ -171,10 +173,13 @@ def did_you_mean(word: str, choices: Sequence[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else f" (expected one of: {', '.join(choices)})"
 
 
+SUBSTITUTIONS = ("var", "env", "find-pkg-share", "find-pkg-prefix", "dirname", "filename", "turbine-tuning")
+
+
 class _Substitutor:
     """Expands ``$(...)`` substitutions in the strings of one graph file."""
 
-    _PATTERN = re.compile(r"\$\(([a-z-]+)((?:\s+[^)\s]+)*)\s*\)")
+    _PATTERN = re.compile(r"\$\(([a-z-]+)((?:\s+[^)\s$]+)*)\s*\)")  # innermost first: no "$" in its words
 
     def __init__(self, path: Path, variables: Mapping[str, str],
                  package_prefix: Callable[[str], Optional[str]]) -> None:
@@ -184,7 +189,8 @@ class _Substitutor:
 
     def __call__(self, value: Any, line: int) -> Any:
         if isinstance(value, str):
-            return self._PATTERN.sub(lambda m: self._one(m.group(1), m.group(2).split(), line), value)
+            expanded = self._PATTERN.sub(lambda m: self._one(m.group(1), m.group(2).split(), line), value)
+            return expanded if expanded == value else self(expanded, line)  # then the ones around them
         if isinstance(value, list):
             return [self(v, line) for v in value]
         return value
@@ -211,8 +217,16 @@ class _Substitutor:
             return str(self.path.parent)
         if kind == "filename":
             return str(self.path)
-        raise GraphError(f"{where}: unknown substitution $({kind})"
-                         + did_you_mean(kind, ["var", "env", "find-pkg-share", "find-pkg-prefix", "dirname", "filename"]))
+        if kind == "turbine-tuning":
+            if len(words) != 2:
+                raise GraphError(f"{where}: $(turbine-tuning TURBINE KIND) takes two words")
+            from hawt_controllers.tunings import TuningError, tuning_file
+
+            try:
+                return str(tuning_file(*words))
+            except TuningError as error:
+                raise GraphError(f"{where}: {error}") from None
+        raise GraphError(f"{where}: unknown substitution $({kind})" + did_you_mean(kind, SUBSTITUTIONS))
 
 
 def _expect(value: Any, kind: type, where: str, what: str) -> Any:

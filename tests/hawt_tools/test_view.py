@@ -163,4 +163,6 @@ def test_the_time_goes_to_the_clients_at_most_every_time_period_of_wall_time():
         count, wall = asyncio.run(count_time_messages())
         graph.process.send_signal(signal.SIGINT)
         assert graph.finish() == 0, graph.tail()
-    assert 1 <= count <= wall / TIME_PERIOD + 2, (count, wall)
+    # A few more than wall / TIME_PERIOD: the client's clock starts after its connection, and messages sent before
+    # it (or bunched by a busy machine) arrive inside it (seen: 21 in 0.92 s). Without the limit: 934 in 1.1 s.
+    assert 1 <= count <= wall / TIME_PERIOD + 5, (count, wall)

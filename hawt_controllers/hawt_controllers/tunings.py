@@ -1,0 +1,82 @@
+"""A turbine's controller tunings: the file of each kind that its graphs give the controllers (issue 20).
+
+A turbine is what the plant's ``turbine_file`` takes: a packaged turbine's name, whose tunings ship with
+this package, or the path of a turbine's folder or of its ``turbine.yaml`` (``hawt turbine import``), whose
+tunings are files beside it, written by the design tools:
+
+=============== =================== ==========================================================
+kind            file in the folder  written by
+=============== =================== ==========================================================
+``cpc``         ``cpc.yaml``        ``hawt design cpc --turbine DIR``
+``ipc``         ``ipc.yaml``        ``python -m hawt_controllers.ipc_design --turbine DIR``
+``ipc_retuned`` ``ipc_retuned.yaml`` the same
+``linear``      ``linear.npz``      ``hawt linearize turbine_file:=DIR --output DIR/linear.npz``
+``discon``      ``DISCON.IN``       the deck's ROSCO input, copied there with its Cp surface
+=============== =================== ==========================================================
+
+Graph files ask for them with ``$(turbine-tuning TURBINE KIND)``.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+from hawt_plant.turbine import PACKAGED_TURBINES
+
+from .rosco_input import rosco_files
+
+__all__ = ["FILE_NAMES", "PACKAGED", "TuningError", "tuning_file", "turbine_folder"]
+
+FILE_NAMES = {"cpc": "cpc.yaml", "ipc": "ipc.yaml", "ipc_retuned": "ipc_retuned.yaml", "linear": "linear.npz",
+              "discon": "DISCON.IN"}
+"""Each kind's file name in a turbine's folder."""
+
+_CONFIG = Path(__file__).resolve().parent.parent / "config"
+PACKAGED = {
+    "nrel_5mw": {"cpc": Path(__file__).resolve().parent / "data" / "nrel5mw_baseline.yaml",
+                 "ipc": _CONFIG / "ipc_nrel5mw.yaml", "ipc_retuned": _CONFIG / "ipc_nrel5mw_retuned.yaml",
+                 "linear": _CONFIG / "linear_nrel5mw.npz"},
+}
+"""The packaged turbines' tunings (and the NREL 5 MW's ``discon``: the rosco wheel's DISCON.IN)."""
+
+_WRITERS = {"cpc": "hawt design cpc --turbine {t}", "ipc": "python -m hawt_controllers.ipc_design --turbine {t}",
+            "ipc_retuned": "python -m hawt_controllers.ipc_design --turbine {t}",
+            "linear": "hawt linearize turbine_file:={t} --output {f}",
+            "discon": "copy the deck's DISCON.IN (and the Cp_Ct_Cq file it names) to {f}"}
+
+
+class TuningError(ValueError):
+    """A turbine without the tuning asked for, or an unknown kind; the message says how to write it."""
+
+
+def turbine_folder(turbine: str) -> Optional[Path]:
+    """The folder of a turbine given by path (a folder or its ``turbine.yaml``); None for a packaged name."""
+    if turbine in PACKAGED_TURBINES:
+        return None
+    path = Path(turbine)
+    return path if path.is_dir() else path.parent
+
+
+def tuning_file(turbine: str, kind: str) -> Path:
+    """The ``kind`` tuning of ``turbine`` (see the module notes), checked to exist.
+
+    Raises
+    ------
+    TuningError
+        Naming the kind or the missing file and how to write it.
+    """
+    if kind not in FILE_NAMES:
+        raise TuningError(f"unknown tuning kind {kind!r} (expected one of: {', '.join(FILE_NAMES)})")
+    folder = turbine_folder(turbine)
+    if folder is None:
+        if turbine == "nrel_5mw" and kind == "discon":
+            return rosco_files()[1]
+        if kind not in PACKAGED.get(turbine, {}):
+            raise TuningError(f"turbine {turbine}: no packaged {kind} tuning (packaged: "
+                              + ", ".join(f"{name} {'/'.join(kinds)}" for name, kinds in PACKAGED.items()) + ")")
+        return PACKAGED[turbine][kind]
+    path = folder / FILE_NAMES[kind]
+    if not path.is_file():
+        raise TuningError(f"turbine {turbine}: no {kind} tuning {path}; write it with: "
+                          + _WRITERS[kind].format(t=folder, f=path))
+    return path
