@@ -31,8 +31,16 @@ class ParameterSpec:
     read_only: bool = False
 
     def typed(self, value: Any) -> Any:
-        """``value`` as this parameter's type (an integer given for a float becomes a float), else ParameterError."""
+        """``value`` as this parameter's type (an integer given for a float becomes a float, and so does a string of
+        a number in exponent form without a dot, ``8e-11``, which YAML 1.1 and so ``name:=8e-11`` leave a string),
+        else ParameterError."""
         if isinstance(self.default, float):
+            if isinstance(value, str):
+                try:
+                    number = float(value)
+                except ValueError:
+                    number = math.nan
+                value = number if math.isfinite(number) else value
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise ParameterError(f"{self.name}: expected a number{f' [{self.unit}]' if self.unit else ''}, "
                                      f"found {value!r}")

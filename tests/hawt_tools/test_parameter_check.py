@@ -158,3 +158,13 @@ def test_two_controllers_that_would_start_active_on_one_interface_are_refused_be
         "controller per interface may be active (start one with active: false and swap them with hawt switch)")
     assert "nodes 'ipc_h1' and 'ipc_h1_retuned' both start active and claim harmonic/1" in _refused(
         capsys, [command, "switching", "-p", "ipc_h1.active:=true", "-p", "ipc_h1_retuned.active:=true"])
+
+
+def test_a_number_in_exponent_form_without_a_dot_is_a_number():
+    """name:=8e-11 (ROSCO's IPC_KI for the IEA 15 MW): YAML 1.1 leaves it a string; a float parameter takes it."""
+    from hawt_core.parameter_table import ParameterError, ParameterSpec
+
+    gain = ParameterSpec("integral_gain", 1e-8, "integral gain", "rad/(N*m*s)", minimum=0.0)
+    assert gain.typed("8e-11") == 8e-11 and gain.typed("1E3") == 1000.0
+    with pytest.raises(ParameterError, match="expected a number"):
+        gain.typed("inf")
