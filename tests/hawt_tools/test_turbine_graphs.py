@@ -1,0 +1,70 @@
+"""Every graph takes the turbine (issue 20 item 4): turbine:=nrel_5mw or an imported turbine's folder, whose
+controller tunings the graph finds beside it ($(turbine-tuning TURBINE KIND)); a missing one stops the graph before
+anything starts, naming the file and the command that writes it."""
+import shutil
+
+import pytest
+
+from hawt_controllers.tunings import PACKAGED, TuningError, tuning_file
+from hawt_tools.cli import find_graph, main
+from hawt_tools.graph_file import GraphError, load_graph
+from hawt_tools.launcher import package_prefix
+
+GRAPHS = ("baseline", "controllers", "identification", "ipc", "lqg", "repetitive", "rosco", "rosco_ipc", "switching")
+
+
+@pytest.mark.parametrize("name", GRAPHS)
+def test_every_graph_takes_the_turbine_and_gives_the_nrel_5mw_its_packaged_tunings(name):
+    text = find_graph(name).read_text()
+    assert "- arg: {name: turbine, default: nrel_5mw}" in text
+    assert "find-pkg-share hawt_controllers)/config" not in text  # no tuning named outside the turbine's
+    load_graph(find_graph(name), {}, package_prefix)  # every substitution resolves
+
+
+def test_the_packaged_tunings_are_the_files_the_controllers_default_to():
+    from hawt_controllers.collective import DEFAULT_BASELINE_FILE
+    from hawt_controllers.ipc_design import DEFAULT_FILE, RETUNED_FILE
+    from hawt_controllers.lqg_controller import DEFAULT_MODELS
+
+    assert tuning_file("nrel_5mw", "cpc") == DEFAULT_BASELINE_FILE and tuning_file("nrel_5mw", "ipc") == DEFAULT_FILE
+    assert tuning_file("nrel_5mw", "ipc_retuned") == RETUNED_FILE and tuning_file("nrel_5mw", "linear") == DEFAULT_MODELS
+    assert all(path.is_file() for path in PACKAGED["nrel_5mw"].values())
+    assert tuning_file("nrel_5mw", "discon").name == "DISCON.IN"
+
+
+def test_a_turbine_folder_without_a_tuning_is_refused_with_the_command_that_writes_it(tmp_path):
+    (tmp_path / "turbine.yaml").write_text("")
+    with pytest.raises(TuningError, match=rf"no cpc tuning {tmp_path}/cpc.yaml; write it with: hawt design cpc "
+                                          rf"--turbine {tmp_path}$"):
+        tuning_file(str(tmp_path), "cpc")
+    with pytest.raises(TuningError, match="unknown tuning kind 'ipx'"):
+        tuning_file(str(tmp_path), "ipx")
+    with pytest.raises(GraphError, match=r"baseline.yaml:\d+: turbine .*: no cpc tuning .*hawt design cpc"):
+        load_graph(find_graph("baseline"), {"turbine": str(tmp_path)}, package_prefix)
+
+
+def test_hawt_run_refuses_a_turbine_without_its_tuning_in_one_line(capsys, tmp_path):
+    assert main(["run", "baseline", f"turbine:={tmp_path}", "duration:=1"]) == 2
+    out, err = capsys.readouterr()
+    assert err.count("\n") == 1 and "no cpc tuning" in err and "hawt design cpc --turbine" in err
+
+
+def test_a_graph_on_an_imported_turbine_runs_its_plant_and_its_designed_controllers(imported_deck, tmp_path):
+    """The NREL 5 MW imported from ROSCO's deck, its cpc designed and the packaged IPC tuning copied beside it: the
+    ipc graph with turbine:=that folder gives the plant that turbine and each controller that folder's files."""
+    from hawt_controllers.cpc_design import design_collective, write_design
+    from hawt_plant.turbine import turbine_from
+    from hawt_tools.in_process import build_run
+
+    folder = tmp_path / "nrel5mw"
+    shutil.copytree(imported_deck("NREL-5MW/NREL-5MW.fst"), folder)
+    write_design(design_collective(turbine_from(str(folder))), folder / "cpc.yaml")
+    shutil.copy(tuning_file("nrel_5mw", "ipc"), folder / "ipc.yaml")
+    graph = load_graph(find_graph("ipc"), {"turbine": str(folder), "duration": "2"}, package_prefix)
+    plant, = [n for n in graph.nodes if n.name == "plant"]
+    cpc, = [n for n in graph.nodes if n.name == "cpc"]
+    assert str(folder) in repr(plant.parameters) and str(folder / "cpc.yaml") in repr(cpc.parameters)
+    run = build_run(graph)
+    for _ in range(200):
+        run.step(None)
+    assert run.step_index == 200 and run.turbine.name == turbine_from(str(folder)).name
