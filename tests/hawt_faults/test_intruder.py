@@ -16,9 +16,12 @@ FEATHERED = [1.5] * 3
 
 
 def _intrude(intruder, run, until_step: int) -> None:
-    """The intruder answers every plant step it sees, from the plant's current step to ``until_step``."""
+    """The intruder answers every plant step it sees, from the plant's current step to ``until_step`` and until the
+    plant has reported it: the plant may discover the intruder's publisher only after its first commands (a fresh-clone
+    run's lockstep plant had run past step 400 before, and no intruder event came)."""
     intruder.publish_until(lambda step: PitchCommand(step=step, pitch=FEATHERED, generator_torque=0.0),
-                           lambda: intruder.plant_step >= until_step, run.launcher, f"plant step {until_step}")
+                           lambda: intruder.plant_step >= until_step and intruder.reported("intruder"), run.launcher,
+                           f"plant step {until_step} and the plant's intruder event")
 
 
 def _the_intruder_was_refused_and_named(recording, namespace: str) -> None:
@@ -31,7 +34,7 @@ def _the_intruder_was_refused_and_named(recording, namespace: str) -> None:
 
 def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, probe):
     """Lockstep baseline in turbulence, twice: once alone, once with a second publisher answering every step with
-    86 deg and zero torque from step 100 to 400. The intruder's commands never answer a step: the plant topics are
+    86 deg and zero torque from step 100 to 400 (and until the plant reports it). The intruder's commands never answer a step: the plant topics are
     equal in every field at every step to the run without it, and so are the loop assembler's commands. The run is
     30 s long: the plant does not wait for the probe, whose discovery of a 6 s run (under a second of wall time in
     lockstep) a busy machine once delayed past the run's end."""
