@@ -10,7 +10,7 @@ of each namespace concerned, stamped with the step and time of that namespace's 
 ``HEAR_WAIT`` for the latter while the graph lists a publisher of ``plant/state`` (its samples are on
 their way: an event at step 0 was once seen beside two busy loops), then goes out, at step 0 if the
 plant never published; the launcher publishes it before it stops any
-node, so the recorder is still there to take it.
+node and waits until every matched reader has acknowledged it, so the recorder has it when it stops.
 """
 import threading
 import time
@@ -19,6 +19,7 @@ from typing import Dict, Iterable, Tuple
 import rclpy
 from builtin_interfaces.msg import Time
 from hawt_msgs.msg import ControlEvent, TurbineState
+from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -88,6 +89,9 @@ class LaunchEvents:
                            detail=detail)
         msg.header.stamp = stamp
         publisher.publish(msg)
+        # The launcher stops the recorder next: it takes what has arrived, so the event must have arrived (acked by
+        # every matched reader; a fresh-clone run beside a busy suite once recorded no wall_clock_stop).
+        publisher.wait_for_all_acked(Duration(seconds=MATCH_WAIT))
 
     def close(self) -> None:
         self.executor.shutdown()
