@@ -312,6 +312,27 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
     return np.where(windmill_inflow, 0.5 * (lower + upper), no_induction)
 
 
+def _axial_inflow(turbine: Turbine, blade: BemBlade, wind_speed: float, rotor_speed: float
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Each element's inflow without induction in uniform wind along the shaft: normal V cos(cone), in plane
+    Omega r."""
+    return np.full(blade.radius.shape, wind_speed * math.cos(turbine.rotor.cone_angle)), rotor_speed * blade.radius
+
+
+def _element_loads(turbine: Turbine, blade: BemBlade, vx: np.ndarray, vy: np.ndarray, phi: np.ndarray,
+                   pitch: float, induction_pitch: float) -> tuple[np.ndarray, np.ndarray]:
+    """Normal and tangential load [N] of each element at inflow angle ``phi`` with the blade at ``pitch``: the
+    induction from the lift at ``induction_pitch`` (the pitch itself, or, for a frozen wake, the one the wake is
+    frozen at), dF_n = 1/2 rho W^2 c (c_l cos phi + c_d sin phi) dr, dF_t = 1/2 rho W^2 c (c_l sin phi - c_d cos phi)
+    dr."""
+    cl, cd = blade.polars.coefficients(phi - pitch - blade.twist)
+    lift = cl if induction_pitch == pitch else blade.polars.coefficients(phi - induction_pitch - blade.twist)[0]
+    a, a_prime, _, _ = induction_factors(phi, lift, prandtl_loss(np.sin(phi), blade), blade.local_solidity)
+    w2 = (vx * (1.0 - a)) ** 2 + (vy * (1.0 + a_prime)) ** 2
+    q = 0.5 * turbine.environment.air_density * w2 * blade.chord * blade.width
+    return q * (cl * np.cos(phi) + cd * np.sin(phi)), q * (cl * np.sin(phi) - cd * np.cos(phi))
+
+
 def rotor_performance(turbine: Turbine, wind_speed: float, rotor_speed: float, pitch: float,
                       blade: BemBlade | None = None) -> RotorPerformance:
     """Steady aerodynamic performance of the rotor in uniform wind along the shaft.
@@ -342,16 +363,9 @@ def rotor_performance(turbine: Turbine, wind_speed: float, rotor_speed: float, p
         raise ValueError(f"wind_speed, rotor_speed: expected > 0, found {wind_speed}, {rotor_speed}")
     blade = blade or BemBlade.from_turbine(turbine)
     cos_cone = math.cos(turbine.rotor.cone_angle)
-    vx = np.full(blade.radius.shape, wind_speed * cos_cone)
-    vy = rotor_speed * blade.radius
+    vx, vy = _axial_inflow(turbine, blade, wind_speed, rotor_speed)
     phi = solve_inflow_angle(vx, vy, np.asarray(pitch, dtype=float), blade)
-    cl, cd = blade.polars.coefficients(phi - pitch - blade.twist)
-    loss = prandtl_loss(np.sin(phi), blade)
-    a, a_prime, _, _ = induction_factors(phi, cl, loss, blade.local_solidity)
-    w2 = (vx * (1.0 - a)) ** 2 + (vy * (1.0 + a_prime)) ** 2
-    q = 0.5 * turbine.environment.air_density * w2 * blade.chord * blade.width
-    normal = q * (cl * np.cos(phi) + cd * np.sin(phi))
-    tangential = q * (cl * np.sin(phi) - cd * np.cos(phi))
+    normal, tangential = _element_loads(turbine, blade, vx, vy, phi, pitch, pitch)
     b = turbine.rotor.number_of_blades
     thrust = float(b * np.sum(normal) * cos_cone)
     torque = float(b * np.sum(tangential * blade.radius))
@@ -390,19 +404,13 @@ def pitch_sensitivity(turbine: Turbine, wind_speed: float, rotor_speed: float, p
     angle of attack phi - theta - twist moves with the pitch.
     """
     blade = blade or BemBlade.from_turbine(turbine)
-    cone = math.cos(turbine.rotor.cone_angle)
-    vx, vy = np.full(blade.radius.shape, wind_speed * cone), rotor_speed * blade.radius
+    vx, vy = _axial_inflow(turbine, blade, wind_speed, rotor_speed)
     frozen = solve_inflow_angle(vx, vy, np.asarray(pitch), blade)
 
     def power(angle: float) -> float:
         phi = frozen if frozen_wake else solve_inflow_angle(vx, vy, np.asarray(angle), blade)
         induced_by = pitch if frozen_wake else angle  # a frozen wake keeps the unperturbed pitch's induction
-        lift = blade.polars.coefficients(phi - induced_by - blade.twist)[0]
-        a, a_prime, _, _ = induction_factors(phi, lift, prandtl_loss(np.sin(phi), blade), blade.local_solidity)
-        cl, cd = blade.polars.coefficients(phi - angle - blade.twist)
-        w2 = (vx * (1.0 - a)) ** 2 + (vy * (1.0 + a_prime)) ** 2
-        tangential = 0.5 * turbine.environment.air_density * w2 * blade.chord * blade.width * (
-            cl * np.sin(phi) - cd * np.cos(phi))
+        _, tangential = _element_loads(turbine, blade, vx, vy, phi, angle, induced_by)
         return turbine.rotor.number_of_blades * float(np.sum(tangential * blade.radius)) * rotor_speed
 
     step = 1e-4
