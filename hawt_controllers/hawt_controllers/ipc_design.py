@@ -44,7 +44,7 @@ from hawt_controllers.ipc import HarmonicIpcConfig, design_prefilter
 from hawt_controllers.ipc_tuning import IntegralGainDesign, design_integral_gain
 from hawt_controllers.limits import PitchLimits
 from hawt_controllers.linear_models import ColemanModel, load_models, state_space_response, tilt_yaw_response
-from hawt_controllers.tunings import FILE_NAMES, PACKAGED, TuningError, tuning_file, turbine_folder
+from hawt_controllers.tunings import PACKAGED, TuningError, tuning_file, tuning_path
 from hawt_controllers.loop_assembly import LoopAssembler
 from hawt_controllers.lqg_design import _MOMENT_UNIT, _PITCH_UNIT
 from hawt_controllers.lqg_ipc import integrator_ipc
@@ -421,8 +421,8 @@ def main(argv: Sequence[str] = None) -> None:
         turbine = turbine_from(args.turbine)
     except (OSError, ValueError) as error:
         parser.exit(2, f"ipc_design: --turbine: {error}\n")
-    args.output = args.output or _tuning_path(args.turbine, "ipc")
-    args.retuned_output = args.retuned_output or _tuning_path(args.turbine, "ipc_retuned")
+    args.output = args.output or tuning_path(args.turbine, "ipc")
+    args.retuned_output = args.retuned_output or tuning_path(args.turbine, "ipc_retuned")
     if args.retuned_only:
         nodes = yaml.safe_load(args.output.read_text())
     else:
@@ -437,12 +437,6 @@ def main(argv: Sequence[str] = None) -> None:
                        () if args.measured or models is None else load_models(models))
         _write(args.output, nodes, f"IPC parameters of the {turbine.name}", argv)
     _write(args.retuned_output, retuned(nodes), f"The retuned 1P controller, derived from {args.output.name}", argv)
-
-
-def _tuning_path(turbine: str, kind: str) -> Path:
-    """Where the ``kind`` tuning of ``turbine`` is written: the packaged file, or the file in the turbine's folder."""
-    folder = turbine_folder(turbine)
-    return PACKAGED[turbine][kind] if folder is None else folder / FILE_NAMES[kind]
 
 
 if __name__ == "__main__":

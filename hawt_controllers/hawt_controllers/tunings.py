@@ -25,7 +25,7 @@ from hawt_plant.turbine import PACKAGED_TURBINES
 
 from .rosco_input import rosco_files
 
-__all__ = ["FILE_NAMES", "PACKAGED", "TuningError", "tuning_file", "turbine_folder"]
+__all__ = ["FILE_NAMES", "PACKAGED", "TuningError", "tuning_file", "tuning_path", "turbine_folder"]
 
 FILE_NAMES = {"cpc": "cpc.yaml", "ipc": "ipc.yaml", "ipc_retuned": "ipc_retuned.yaml", "linear": "linear.npz",
               "discon": "DISCON.IN"}
@@ -57,6 +57,13 @@ def turbine_folder(turbine: str) -> Optional[Path]:
     return path if path.is_dir() else path.parent
 
 
+def tuning_path(turbine: str, kind: str) -> Path:
+    """Where the ``kind`` tuning of ``turbine`` is (or is to be written): the packaged file, or the file of that
+    kind in the turbine's folder; not checked to exist (:func:`tuning_file` checks)."""
+    folder = turbine_folder(turbine)
+    return PACKAGED[turbine][kind] if folder is None else folder / FILE_NAMES[kind]
+
+
 def tuning_file(turbine: str, kind: str) -> Path:
     """The ``kind`` tuning of ``turbine`` (see the module notes), checked to exist.
 
@@ -75,7 +82,7 @@ def tuning_file(turbine: str, kind: str) -> Path:
             raise TuningError(f"turbine {turbine}: no packaged {kind} tuning (packaged: "
                               + ", ".join(f"{name} {'/'.join(kinds)}" for name, kinds in PACKAGED.items()) + ")")
         return PACKAGED[turbine][kind]
-    path = folder / FILE_NAMES[kind]
+    path = tuning_path(turbine, kind)
     if not path.is_file():
         raise TuningError(f"turbine {turbine}: no {kind} tuning {path}; write it with: "
                           + _WRITERS[kind].format(t=folder, f=path))

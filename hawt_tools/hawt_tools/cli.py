@@ -460,7 +460,7 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
                                              jonkman_comparison, write_design)
     from hawt_controllers.exceptions import ConfigurationError
     from hawt_controllers.rosco_input import read_settings
-    from hawt_controllers.tunings import FILE_NAMES, turbine_folder
+    from hawt_controllers.tunings import tuning_path, turbine_folder
     from hawt_plant.turbine import TurbineDefinitionError, turbine_from
 
     if args.discon and not Path(args.discon).is_file():
@@ -478,7 +478,7 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
         print(format_comparison("against Jonkman et al. (2009), hawt_controllers/data/nrel5mw_baseline.yaml",
                                 jonkman_comparison(design)))
     folder = turbine_folder(args.turbine)
-    output = args.output or (folder / FILE_NAMES["cpc"] if folder is not None else None)
+    output = args.output or (tuning_path(args.turbine, "cpc") if folder is not None else None)
     if output:
         try:
             path = write_design(design, output)
