@@ -316,7 +316,7 @@ class TurbineModel:
         self._induction = np.zeros((2, b, n))  # axial and tangential induction factors a, a'
         self._inflow_filter = np.zeros((3, b, n))
         generator = self._turbine.generator
-        target_power = generator.rated_power / (generator.efficiency * self._turbine.drivetrain.gearbox_efficiency)
+        target_power = self._turbine.rated_mechanical_power
         refine_pitch = pitch is None and rotor_speed is None and op.pitch > actuator.min_angle
         for _ in range(_RESET_ITERATIONS):
             shaft, tower_residual = self._passage_mean_loads()

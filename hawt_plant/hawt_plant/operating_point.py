@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 from hawt_plant.bem import BemBlade, RotorPerformance, rotor_performance
 from hawt_plant.turbine import Turbine
 
-__all__ = ["OperatingPoint", "baseline_operating_point"]
+__all__ = ["OperatingPoint", "baseline_operating_point", "schedule_rotor_speed"]
 
 _PITCH_SEARCH_LIMIT = 0.8  # [rad] the rated-power pitch is searched below this (46°)
 
@@ -22,6 +22,14 @@ class OperatingPoint:
     rotor_speed: float
     pitch: float
     performance: RotorPerformance
+
+
+def schedule_rotor_speed(turbine: Turbine, wind_speed: float) -> float:
+    """The baseline schedule's rotor speed [rad/s] in ``wind_speed`` [m/s]: the optimal tip-speed ratio's, limited
+    to [min_rotor_speed, rated_rotor_speed] (Jonkman et al. 2009 ch. 7)."""
+    schedule = turbine.schedule
+    speed = schedule.optimal_tip_speed_ratio * wind_speed / turbine.rotor.tip_radius
+    return min(max(speed, schedule.min_rotor_speed), schedule.rated_rotor_speed)
 
 
 def baseline_operating_point(turbine: Turbine, wind_speed: float, blade: BemBlade | None = None) -> OperatingPoint:
@@ -50,12 +58,10 @@ def baseline_operating_point(turbine: Turbine, wind_speed: float, blade: BemBlad
     if not (math.isfinite(wind_speed) and wind_speed > 0.0):
         raise ValueError(f"wind_speed: expected a finite value > 0 m/s, found {wind_speed}")
     blade = blade or BemBlade.from_turbine(turbine)
-    schedule = turbine.schedule
-    speed = turbine.schedule.optimal_tip_speed_ratio * wind_speed / turbine.rotor.tip_radius
-    speed = min(max(speed, schedule.min_rotor_speed), schedule.rated_rotor_speed)
+    speed = schedule_rotor_speed(turbine, wind_speed)
     pitch = turbine.pitch_actuator.min_angle
     performance = rotor_performance(turbine, wind_speed, speed, pitch, blade)
-    rated = turbine.generator.rated_power / (turbine.generator.efficiency * turbine.drivetrain.gearbox_efficiency)
+    rated = turbine.rated_mechanical_power
     if performance.power > rated:
         def excess(angle: float) -> float:
             return rotor_performance(turbine, wind_speed, speed, angle, blade).power - rated

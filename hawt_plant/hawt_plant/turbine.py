@@ -374,6 +374,12 @@ class Turbine:
         return self.rotor.tip_radius - self.rotor.hub_radius
 
     @property
+    def rated_mechanical_power(self) -> float:
+        """Aerodynamic (shaft) power at rated [W]: the rated electrical power over the generator and gearbox
+        efficiencies."""
+        return self.generator.rated_power / (self.generator.efficiency * self.drivetrain.gearbox_efficiency)
+
+    @property
     def hub_height(self) -> float:
         """Height of the rotor apex above ground [m]."""
         return (

@@ -25,6 +25,7 @@ from scipy.optimize import brentq, minimize
 
 from hawt_plant.bem import BemBlade, rotor_performance
 from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, tower_modal_properties
+from hawt_plant.operating_point import schedule_rotor_speed
 from hawt_plant.turbine import Turbine
 
 __all__ = ["TurbineSummary", "format_summary", "peak_power_coefficient", "turbine_summary"]
@@ -130,13 +131,11 @@ def peak_power_coefficient(turbine: Turbine, blade: BemBlade | None = None) -> t
 def _bem_rated_wind_speed(turbine: Turbine, blade: BemBlade) -> float:
     """The wind speed where the schedule at the lowest pitch first gives rated mechanical power (NaN: not below
     cut-out)."""
-    schedule, radius = turbine.schedule, turbine.rotor.tip_radius
-    rated = turbine.generator.rated_power / (turbine.generator.efficiency * turbine.drivetrain.gearbox_efficiency)
+    schedule, rated = turbine.schedule, turbine.rated_mechanical_power
 
     def excess(wind_speed: float) -> float:
-        speed = min(max(schedule.optimal_tip_speed_ratio * wind_speed / radius, schedule.min_rotor_speed),
-                    schedule.rated_rotor_speed)
-        return rotor_performance(turbine, wind_speed, speed, turbine.pitch_actuator.min_angle, blade).power - rated
+        return rotor_performance(turbine, wind_speed, schedule_rotor_speed(turbine, wind_speed),
+                                 turbine.pitch_actuator.min_angle, blade).power - rated
 
     speeds = np.arange(schedule.cut_in_wind_speed, schedule.cut_out_wind_speed + 1e-9, 0.5)
     above = [v for v in speeds if excess(v) > 0.0]
