@@ -28,8 +28,7 @@ fields of ``hawt_msgs/TurbineState``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any, ClassVar, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, ClassVar, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
 from hawt_core.command_interfaces import BLADE_PITCH, COLLECTIVE_PITCH, GENERATOR_TORQUE, harmonic_interface
 from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_values
@@ -47,8 +46,7 @@ def mean_pitch(pitch: Any) -> float:
     return sum(values) / len(values) if len(values) else math.nan
 
 
-@dataclass(frozen=True)
-class CollectiveContribution:
+class CollectiveContribution(NamedTuple):
     """``collective_pitch`` and ``generator_torque`` (``hawt_msgs/CollectivePitch``).
 
     Attributes
@@ -71,14 +69,13 @@ class CollectiveContribution:
     region: int = 0
     wind_speed_estimate: float = math.nan
 
-    interfaces: ClassVar[Tuple[str, ...]] = (COLLECTIVE_PITCH, GENERATOR_TORQUE)
+    interfaces = (COLLECTIVE_PITCH, GENERATOR_TORQUE)
 
     def finite(self) -> bool:
         return math.isfinite(self.pitch) and math.isfinite(self.generator_torque)
 
 
-@dataclass(frozen=True)
-class HarmonicContribution:
+class HarmonicContribution(NamedTuple):
     """``harmonic/<n>``: the cos/sin pitch demand of harmonic n [rad] and its phase offset φ_n [rad]."""
 
     harmonic: int
@@ -97,13 +94,12 @@ class HarmonicContribution:
         return math.isfinite(self.cos) and math.isfinite(self.sin) and math.isfinite(self.phase_offset)
 
 
-@dataclass(frozen=True)
-class BladeContribution:
+class BladeContribution(NamedTuple):
     """``blade_pitch``: additive pitch increment per blade in the rotating frame [rad], blade 1 first."""
 
     increment: Tuple[float, ...]
 
-    interfaces: ClassVar[Tuple[str, ...]] = (BLADE_PITCH,)
+    interfaces = (BLADE_PITCH,)
 
     def scaled(self, factor: float) -> "BladeContribution":
         return BladeContribution(tuple(factor * value for value in self.increment))
@@ -120,6 +116,7 @@ class ControllerFailure(RuntimeError):
     """
 
 
+# A contribution is built every step by every controller: named tuples, as cheap to build as a tuple.
 Contribution = Union[CollectiveContribution, HarmonicContribution, BladeContribution]
 
 ACTIVE_PARAMETER = ParameterSpec(

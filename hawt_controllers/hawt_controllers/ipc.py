@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -146,12 +147,12 @@ class HarmonicIpcConfig:
     schedule_factors: tuple[float, ...] = ()
     ramp_time: float = 5.0
 
-    @property
+    @cached_property
     def soft_start_enabled(self) -> bool:
         """True unless both soft-start bounds are 0."""
         return not (self.soft_start_begin == 0.0 and self.soft_start_end == 0.0)
 
-    @property
+    @cached_property
     def uses_operating_point(self) -> bool:
         """True if the soft start or the gain schedule needs an operating point."""
         return self.soft_start_enabled or len(self.schedule_breakpoints) > 0
@@ -321,6 +322,7 @@ class HarmonicIpc:
         self.ramp_target = 0.0
         self.ramp_rate = math.inf
         self._filtered = [0.0, 0.0]
+        self._saturation = NormSaturation(config.max_amplitude)  # rebuilt only when the limit changes
 
     @property
     def active(self) -> bool:
@@ -431,12 +433,14 @@ class HarmonicIpc:
             demand = [0.0, 0.0]
         else:
             limit = min(self.config.max_amplitude, max(pitch_headroom, 0.0))
+            if limit != self._saturation.limit:
+                self._saturation = NormSaturation(limit)
             demand = [self.ramp * value for value in self.law.update_values(
                 self._filtered,
                 dt,
                 kp=factor * self.config.proportional_gain,
                 ki=factor * self.config.integral_gain,
-                saturation=NormSaturation(limit),
+                saturation=self._saturation,
             )]
         return IpcOutput(
             harmonic=int(self.config.harmonic),

@@ -60,6 +60,9 @@ class PitchLimits:
         require_positive("max_rate", self.max_rate)
 
 
+_FLAGS = tuple(LimitFlag(bits) for bits in range(4))  # by ANGLE_SATURATED | RATE_SATURATED bits
+
+
 class LimitedPitch(NamedTuple):
     """Result of :func:`limit_pitch`.
 
@@ -67,17 +70,17 @@ class LimitedPitch(NamedTuple):
     ----------
     pitch : ndarray, shape (B,)
         Limited pitch per blade [rad].
-    angle_saturated : ndarray of bool, shape (B,)
+    angle_saturated : tuple of bool, length B
         Blades whose demand was outside [min_angle, max_angle].
-    rate_saturated : ndarray of bool, shape (B,)
+    rate_saturated : tuple of bool, length B
         Blades whose rate limit was active.
     flags : LimitFlag
         OR of the flags over all blades.
     """
 
     pitch: np.ndarray
-    angle_saturated: np.ndarray
-    rate_saturated: np.ndarray
+    angle_saturated: tuple[bool, ...]
+    rate_saturated: tuple[bool, ...]
     flags: LimitFlag
 
 
@@ -111,10 +114,12 @@ def limit_pitch(demand: ArrayLike, previous: ArrayLike, dt: float, limits: Pitch
     low, high, step = limits.min_angle, limits.max_angle, limits.max_rate * dt
     pitch, angle_saturated, rate_saturated = [], [], []
     for wanted, last in zip(demand, previous):  # per blade on floats: numpy's per-call cost on B values is larger
-        clamped = min(max(wanted, low), high)
-        change = min(max(clamped - last, -step), step)
-        pitch.append(min(max(last + change, low), high))
+        clamped = low if wanted < low else high if wanted > high else wanted
+        wanted_change = clamped - last
+        change = -step if wanted_change < -step else step if wanted_change > step else wanted_change
+        value = last + change
+        pitch.append(low if value < low else high if value > high else value)
         angle_saturated.append(clamped != wanted)
-        rate_saturated.append(change != clamped - last)
-    flags = LimitFlag(LimitFlag.ANGLE_SATURATED * any(angle_saturated) | LimitFlag.RATE_SATURATED * any(rate_saturated))
-    return LimitedPitch(np.array(pitch), np.array(angle_saturated), np.array(rate_saturated), flags)
+        rate_saturated.append(change != wanted_change)
+    flags = _FLAGS[any(angle_saturated) | any(rate_saturated) << 1]
+    return LimitedPitch(np.array(pitch), tuple(angle_saturated), tuple(rate_saturated), flags)

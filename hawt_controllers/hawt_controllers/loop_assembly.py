@@ -19,8 +19,7 @@ the result does not depend on the order in which they arrived.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Iterable, Optional, Tuple
+from typing import Iterable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -67,8 +66,7 @@ def extrapolated_azimuth(azimuth: float, rotor_speed: float, delay: float) -> fl
     return azimuth + rotor_speed * delay
 
 
-@dataclass(frozen=True)
-class AssembledCommand:
+class AssembledCommand(NamedTuple):
     """The pitch command of one step (fields of ``hawt_msgs/PitchCommand``).
 
     Attributes
@@ -120,6 +118,9 @@ class LoopAssembler:
         InputError
             A blade contribution of the wrong length.
         """
+        return np.array(self._individual(contributions, azimuth))
+
+    def _individual(self, contributions: Iterable[Tuple[Contribution, float]], azimuth: float) -> List[float]:
         total = [0.0] * self.blades
         for contribution, weight in sorted(contributions, key=_order):
             if isinstance(contribution, HarmonicContribution):
@@ -132,15 +133,15 @@ class LoopAssembler:
             else:
                 continue
             total = [t + weight * p for t, p in zip(total, part)]
-        return np.array(total)
+        return total
 
-    def command(self, collective: float, individual: np.ndarray, previous: np.ndarray) -> AssembledCommand:
+    def command(self, collective: float, individual: Sequence[float], previous: np.ndarray) -> AssembledCommand:
         """The limited command of ``collective`` + ``individual``, rate-limited from ``previous`` [rad]."""
-        limited = limit_pitch([collective + i for i in individual.tolist()], previous, self.dt, self.limits)
+        limited = limit_pitch([collective + i for i in individual], previous, self.dt, self.limits)
         return AssembledCommand(limited.pitch, collective, limited.pitch - collective, limited.flags)
 
     def assemble(self, collective: float, contributions: Iterable[Tuple[Contribution, float]], azimuth: float,
                  previous: np.ndarray) -> AssembledCommand:
         """The command of one step: :meth:`individual` at ``azimuth`` added to ``collective``, then limited."""
-        return self.command(collective, self.individual(contributions, azimuth), previous)
+        return self.command(collective, self._individual(contributions, azimuth), previous)
 
