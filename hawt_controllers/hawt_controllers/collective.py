@@ -482,13 +482,6 @@ class BaselineCollectiveController:
         # feedback made 3P IPC unstable on the NREL 5 MW, measured in this project).
         limited = limit_pitch([demand], [self.pitch_command], dt, self.pitch_limits)
         self.pitch_command = float(limited.pitch[0])
-        return CollectiveOutput(
-            pitch=self.pitch_command,
-            generator_torque=torque,
-            generator_speed_filtered=speed,
-            region=region,
-            wind_speed_estimate=math.nan,
-            gain_factor=gain,
-            pitch_saturated=bool(self.pitch_integrator.saturated or limited.flags),
-            torque_saturated=torque_saturated,
-        )
+        # positional (a named tuple's keywords cost more than its arithmetic): the fields in CollectiveOutput's order
+        return CollectiveOutput(self.pitch_command, torque, speed, region, math.nan, gain,
+                                bool(self.pitch_integrator.saturated or limited.flags), torque_saturated)

@@ -17,7 +17,7 @@ from hawt_core.command_interfaces import parse_interface
 
 from .controller import BladeContribution, CollectiveContribution, Contribution, HarmonicContribution
 
-__all__ = ["message_type", "to_message", "from_message", "topic_of"]
+__all__ = ["message_type", "to_message", "from_message"]
 
 _TYPES = {"collective": CollectivePitch, "harmonic": HarmonicPitch, "blade": BladePitch}
 
@@ -25,11 +25,6 @@ _TYPES = {"collective": CollectivePitch, "harmonic": HarmonicPitch, "blade": Bla
 def message_type(interface: str) -> type:
     """The message class that carries ``interface``'s contributions."""
     return _TYPES[parse_interface(interface).kind]
-
-
-def topic_of(contribution: Contribution) -> str:
-    """The topic a contribution is published on."""
-    return parse_interface(contribution.interfaces[0]).topic
 
 
 def to_message(contribution: Contribution, step: int, header: Any, controller: str) -> Any:

@@ -30,13 +30,15 @@ from __future__ import annotations
 import math
 from typing import Any, ClassVar, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
-from hawt_core.command_interfaces import BLADE_PITCH, COLLECTIVE_PITCH, GENERATOR_TORQUE, harmonic_interface
+from hawt_core.command_interfaces import (BLADE_PITCH, COLLECTIVE_PITCH, GENERATOR_TORQUE, harmonic_interface,
+                                          parse_interface)
 from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_values
 from hawt_core.plant_description import PlantDescription
 
 __all__ = [
     "Controller", "CollectiveContribution", "HarmonicContribution", "BladeContribution", "Contribution",
-    "OutputRamp", "controller_parameters", "update_or_hold", "mean_pitch", "ACTIVE_PARAMETER", "ControllerFailure",
+    "OutputRamp", "contribution_topic", "controller_parameters", "update_or_hold", "mean_pitch", "ACTIVE_PARAMETER",
+    "ControllerFailure",
 ]
 
 
@@ -69,7 +71,9 @@ class CollectiveContribution(NamedTuple):
     region: int = 0
     wind_speed_estimate: float = math.nan
 
-    interfaces = (COLLECTIVE_PITCH, GENERATOR_TORQUE)
+    @property
+    def interfaces(self) -> Tuple[str, ...]:
+        return (COLLECTIVE_PITCH, GENERATOR_TORQUE)
 
     def finite(self) -> bool:
         return math.isfinite(self.pitch) and math.isfinite(self.generator_torque)
@@ -99,7 +103,9 @@ class BladeContribution(NamedTuple):
 
     increment: Tuple[float, ...]
 
-    interfaces = (BLADE_PITCH,)
+    @property
+    def interfaces(self) -> Tuple[str, ...]:
+        return (BLADE_PITCH,)
 
     def scaled(self, factor: float) -> "BladeContribution":
         return BladeContribution(tuple(factor * value for value in self.increment))
@@ -118,6 +124,11 @@ class ControllerFailure(RuntimeError):
 
 # A contribution is built every step by every controller: named tuples, as cheap to build as a tuple.
 Contribution = Union[CollectiveContribution, HarmonicContribution, BladeContribution]
+
+
+def contribution_topic(contribution: Contribution) -> str:
+    """The topic a contribution is published on: its (first) interface's (DESIGN §4.1)."""
+    return parse_interface(contribution.interfaces[0]).topic
 
 ACTIVE_PARAMETER = ParameterSpec(
     "active", True, "state at start: active (ramps in over the controller's ramp time) or inactive; later "
@@ -219,8 +230,9 @@ def update_or_hold(core: "Controller", step: int, loads: Any, state: Any,
         contributions = core.update(step, loads, state)
     except ValueError as error:
         return held, str(error)
-    if not all(c.finite() for c in contributions):
-        return held, f"output not finite: {contributions}"
+    for contribution in contributions:
+        if not contribution.finite():
+            return held, f"output not finite: {contributions}"
     return contributions, None
 
 

@@ -40,9 +40,9 @@ from hawt_msgs.msg import PlantDescription as PlantDescriptionMessage
 from hawt_msgs.srv import SwitchControllers
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 
-from hawt_controllers.contribution_messages import from_message, message_type, to_message, topic_of
-from hawt_controllers.controller import (Contribution, Controller, ControllerFailure, controller_parameters,
-                                         update_or_hold)
+from hawt_controllers.contribution_messages import from_message, message_type, to_message
+from hawt_controllers.controller import (Contribution, Controller, ControllerFailure, contribution_topic,
+                                         controller_parameters, update_or_hold)
 from hawt_controllers.switch_listener import AWAIT_SCHEDULE, SwitchListener
 from hawt_controllers.switching import Switch, ramp_steps
 from hawt_core.command_interfaces import parse_interface
@@ -362,5 +362,5 @@ class ControllerNode(LifecycleNode):
 
     def _publish(self, answer: _Answer) -> None:
         for contribution in answer.contributions:
-            self.publishers_by_topic[topic_of(contribution)].publish(
+            self.publishers_by_topic[contribution_topic(contribution)].publish(
                 to_message(contribution, answer.step, answer.header, self.name))

@@ -442,18 +442,9 @@ class HarmonicIpc:
                 ki=factor * self.config.integral_gain,
                 saturation=self._saturation,
             )]
-        return IpcOutput(
-            harmonic=int(self.config.harmonic),
-            cos=demand[0],
-            sin=demand[1],
-            phase_offset=float(self.config.phase_offset),
-            filtered_cos=self._filtered[0],
-            filtered_sin=self._filtered[1],
-            gain_factor=factor,
-            ramp=self.ramp,
-            active=self.active,
-            saturated=self.law.saturated,
-        )
+        # positional (a named tuple's keywords cost more than its arithmetic): the fields in IpcOutput's order
+        return IpcOutput(int(self.config.harmonic), demand[0], demand[1], float(self.config.phase_offset),
+                         self._filtered[0], self._filtered[1], factor, self.ramp, self.active, self.law.saturated)
 
     def _rate(self, ramp_time: float | None) -> float:
         time = self.config.ramp_time if ramp_time is None else require_nonnegative("ramp_time", ramp_time)

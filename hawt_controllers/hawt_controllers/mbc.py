@@ -229,17 +229,24 @@ def mbc_forward_sample(blade_values: Sequence[float], azimuth: float, harmonic: 
     >>> [round(v, 12) + 0.0 for v in mbc_forward_sample(m, psi, 1)]
     [0.0, 1.0, 0.0]
     """
-    values = finite_floats("blade_values", blade_values)
-    psi, = finite_floats("azimuth", (azimuth,))
+    values = blade_values.tolist() if isinstance(blade_values, np.ndarray) else list(blade_values)
     n_blades = len(values)
     spacing = 2.0 * math.pi / n_blades
     cos = sin = 0.0
-    for i, value in enumerate(values):
-        angle = harmonic * (psi + spacing * i)
-        cos += value * math.cos(angle)
-        sin += value * math.sin(angle)
+    try:
+        for i, value in enumerate(values):
+            angle = harmonic * (azimuth + spacing * i)
+            cos += value * math.cos(angle)
+            sin += value * math.sin(angle)
+        mean = sum(values) / n_blades
+        checked = math.isfinite(mean + cos + sin + azimuth)  # NaN or inf in any input shows in the sums
+    except (TypeError, ValueError):  # not numbers; an infinite azimuth
+        checked = False
+    if not checked:  # name the input at fault (a finite input that overflowed leaves the sums infinite)
+        finite_floats("blade_values", values)
+        finite_floats("azimuth", (azimuth,))
     scale = 2.0 / n_blades
-    return HarmonicComponents(mean=sum(values) / n_blades, cos=scale * cos, sin=scale * sin)
+    return HarmonicComponents(mean, scale * cos, scale * sin)
 
 
 def mbc_inverse_sample(cos: float, sin: float, azimuth: float, harmonic: int, n_blades: int,
@@ -254,12 +261,13 @@ def mbc_inverse_sample(cos: float, sin: float, azimuth: float, harmonic: int, n_
     InputError
         For NaN/inf.
     """
-    c, s, psi, phi = finite_floats("cos, sin, azimuth, phase_offset", (cos, sin, azimuth, phase_offset))
+    if not (math.isfinite(cos) and math.isfinite(sin) and math.isfinite(azimuth) and math.isfinite(phase_offset)):
+        finite_floats("cos, sin, azimuth, phase_offset", (cos, sin, azimuth, phase_offset))
     spacing = 2.0 * math.pi / n_blades
     pitch = []
     for i in range(n_blades):
-        angle = harmonic * (psi + spacing * i) + phi
-        pitch.append(c * math.cos(angle) + s * math.sin(angle))
+        angle = harmonic * (azimuth + spacing * i) + phase_offset
+        pitch.append(cos * math.cos(angle) + sin * math.sin(angle))
     return pitch
 
 

@@ -22,7 +22,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from hawt_controllers.controller import (CollectiveContribution, Contribution, Controller, HarmonicContribution,
-                                         controller_parameters, update_or_hold)
+                                         contribution_topic, controller_parameters, update_or_hold)
 from hawt_controllers.loop_assembly import LoopAssembler
 from hawt_controllers.switching import (ControllerInfo, Switch, SwitchRefused, parse_schedule, plan_switch,
                                         ramp_steps)
@@ -68,10 +68,6 @@ class _Controller:
         state = "active" if self.publish_until == math.inf else "inactive"
         return ControllerInfo(self.name, self.core.TYPE, self.core.claims(), state, self.core.SWITCHABLE,
                               self.publish_until if math.isfinite(self.publish_until) else 0.0)
-
-
-def _topic(contribution: Contribution) -> str:
-    return parse_interface(contribution.interfaces[0]).topic
 
 
 class InProcessRun:
@@ -126,7 +122,7 @@ class InProcessRun:
 
     def _apply(self, switch: Switch, step: int) -> None:
         """What every controller node does with a switch at its step (hawt_controllers.controller_node)."""
-        outgoing_last = {_topic(c): c for ctl in self.controllers if ctl.name in dict(switch.deactivate)
+        outgoing_last = {contribution_topic(c): c for ctl in self.controllers if ctl.name in dict(switch.deactivate)
                          for c in ctl.last}
         incoming = dict(switch.activate)
         for controller in self.controllers:
@@ -166,7 +162,7 @@ class InProcessRun:
                 continue
             for contribution in contributions:
                 if record is not None:
-                    record.add(_topic(contribution), _contribution_row(contribution, k, controller.name))
+                    record.add(contribution_topic(contribution), _contribution_row(contribution, k, controller.name))
                 if isinstance(contribution, CollectiveContribution):
                     collective = contribution
                 else:
