@@ -13,6 +13,7 @@ frequency from the blade's edge stiffness for what needs it (the speed filter of
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -130,6 +131,13 @@ def polynomial_mode(coefficients: np.ndarray, x: np.ndarray) -> tuple[np.ndarray
     return phi, d1, d2
 
 
+def _blade_stations(turbine: Turbine) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The blade's integration grid: x (fraction of the length), s [m] from the root and the mass density [kg/m]."""
+    structure = turbine.blade_structure
+    x = np.linspace(0.0, 1.0, _GRID_POINTS)
+    return x, x * turbine.blade_length, np.interp(x, structure.span_fraction, structure.mass_density)
+
+
 def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
     """Mass moments and first-flap-mode integrals of the turbine's blade.
 
@@ -143,9 +151,7 @@ def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
     """
     structure = turbine.blade_structure
     length = turbine.blade_length
-    x = np.linspace(0.0, 1.0, _GRID_POINTS)
-    s = x * length
-    mu = np.interp(x, structure.span_fraction, structure.mass_density)
+    x, s, mu = _blade_stations(turbine)
     ei = np.interp(x, structure.span_fraction, structure.flap_stiffness)
     phi, d1, d2 = polynomial_mode(structure.flap_mode_shape, x)
     cos_cone = np.cos(turbine.rotor.cone_angle)
@@ -166,6 +172,17 @@ def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
         centrifugal_stiffness=float(trapezoid(axial * (d1 / length) ** 2, s)),
         damping_ratio=structure.flap_damping_ratio,
     )
+
+
+def rotor_inertia(turbine: Turbine, blade: BladeModalProperties) -> float:
+    """J_rotor [kg m^2]: the hub's inertia about the shaft and the coned blades' second mass moments about it.
+
+    ``blade`` is :func:`blade_modal_properties` of ``turbine`` (its moments are about the blade root).
+    """
+    rotor = turbine.rotor
+    rh, cb = rotor.hub_radius, math.cos(rotor.cone_angle)
+    return rotor.hub_inertia + rotor.number_of_blades * cb * cb * (
+        blade.second_moment + 2.0 * rh * blade.first_moment + rh * rh * blade.mass)
 
 
 def blade_edgewise_frequency(turbine: Turbine) -> float:
@@ -191,9 +208,7 @@ def blade_edgewise_frequency(turbine: Turbine) -> float:
     """
     structure = turbine.blade_structure
     length = turbine.blade_length
-    x = np.linspace(0.0, 1.0, _GRID_POINTS)
-    s = x * length
-    mu = np.interp(x, structure.span_fraction, structure.mass_density)
+    x, s, mu = _blade_stations(turbine)
     ei = np.interp(x, structure.span_fraction, structure.edge_stiffness)
     basis = np.eye(5)
     shapes = [polynomial_mode(row, x) for row in basis]

@@ -41,7 +41,7 @@ import numpy as np
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
-from hawt_plant.modal import blade_modal_properties, polynomial_mode, tower_modal_properties
+from hawt_plant.modal import blade_modal_properties, polynomial_mode, rotor_inertia, tower_modal_properties
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
@@ -579,7 +579,7 @@ class TurbineModel:
         self._gearbox_ratio = drivetrain.gearbox_ratio
         self._torsional_stiffness = drivetrain.torsional_stiffness
         self._torsional_damping = drivetrain.torsional_damping
-        self._rotor_inertia = rotor.hub_inertia + b * cb * cb * self._mass_moments[2]
+        self._rotor_inertia = rotor_inertia(t, blade)
         self._generator_inertia = drivetrain.generator_inertia  # high-speed shaft
         self._hub_inertia = rotor.hub_inertia
         # Tower: generalized masses include the rigid nacelle and hub moving with the tower

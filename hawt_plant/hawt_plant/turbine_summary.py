@@ -24,7 +24,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize
 
 from hawt_plant.bem import BemBlade, rotor_performance
-from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, tower_modal_properties
+from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, rotor_inertia, tower_modal_properties
 from hawt_plant.operating_point import schedule_rotor_speed
 from hawt_plant.turbine import Turbine
 
@@ -153,12 +153,10 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
     omega = schedule.rated_rotor_speed
     top = rotor.hub_mass + turbine.nacelle.mass + rotor.number_of_blades * blade.mass
     tower = {direction: tower_modal_properties(turbine, direction, top) for direction in ("fa", "ss")}
-    hub = rotor.hub_radius
-    rotor_inertia = rotor.hub_inertia + rotor.number_of_blades * math.cos(rotor.cone_angle) ** 2 * (
-        blade.second_moment + 2.0 * hub * blade.first_moment + hub * hub * blade.mass)
+    inertia = rotor_inertia(turbine, blade)
     drivetrain = turbine.drivetrain
     generator_inertia = drivetrain.generator_inertia * drivetrain.gearbox_ratio**2
-    torsion_inertia = 1.0 / (1.0 / rotor_inertia + 1.0 / generator_inertia)
+    torsion_inertia = 1.0 / (1.0 / inertia + 1.0 / generator_inertia)
 
     def hertz(stiffness: float, mass: float) -> float:
         return math.sqrt(stiffness / mass) / (2.0 * math.pi)
@@ -169,7 +167,7 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         rated_generator_torque=turbine.generator.rated_torque, gearbox_ratio=drivetrain.gearbox_ratio,
         rated_wind_speed=schedule.rated_wind_speed, bem_rated_wind_speed=_bem_rated_wind_speed(turbine, bem),
         max_power_coefficient=cp, optimal_tip_speed_ratio=tsr, optimal_pitch=pitch,
-        schedule_tip_speed_ratio=schedule.optimal_tip_speed_ratio, rotor_inertia=rotor_inertia,
+        schedule_tip_speed_ratio=schedule.optimal_tip_speed_ratio, rotor_inertia=inertia,
         blade_flap_frequency=hertz(blade.stiffness, blade.modal_mass),
         blade_flap_frequency_rated=hertz(blade.stiffness + omega**2 * blade.centrifugal_stiffness, blade.modal_mass),
         tower_fa_frequency=hertz(tower["fa"].stiffness, tower["fa"].modal_mass + top),
