@@ -239,14 +239,19 @@ def mbc_forward_sample(blade_values: Sequence[float], azimuth: float, harmonic: 
             cos += value * math.cos(angle)
             sin += value * math.sin(angle)
         mean = sum(values) / n_blades
-        checked = math.isfinite(mean + cos + sin + azimuth)  # NaN or inf in any input shows in the sums
     except (TypeError, ValueError):  # not numbers; an infinite azimuth
-        checked = False
-    if not checked:  # name the input at fault (a finite input that overflowed leaves the sums infinite)
-        finite_floats("blade_values", values)
-        finite_floats("azimuth", (azimuth,))
+        _check_sample(values, azimuth)
+        raise
+    if not math.isfinite(mean + cos + sin + azimuth):  # NaN or inf in any input shows in the sums
+        _check_sample(values, azimuth)  # (finite input that overflowed: infinite components, as mbc_forward)
     scale = 2.0 / n_blades
     return HarmonicComponents(mean, scale * cos, scale * sin)
+
+
+def _check_sample(blade_values: List[float], azimuth: float) -> None:
+    """Raise :class:`InputError` naming the input of one sample that is NaN, infinite or not a number."""
+    finite_floats("blade_values", blade_values)
+    finite_floats("azimuth", (azimuth,))
 
 
 def mbc_inverse_sample(cos: float, sin: float, azimuth: float, harmonic: int, n_blades: int,
