@@ -60,6 +60,15 @@ def _wait_until(condition, what: str, timeout: float = 120.0) -> None:
         time.sleep(0.05)
 
 
+def _scheduler_address(path: Path) -> str | None:
+    """The address the dask scheduler wrote, or None while the file is missing or not yet complete (it is written,
+    not renamed into place: a fresh-clone run once read it empty)."""
+    try:
+        return json.loads(path.read_text())["address"]
+    except (OSError, ValueError, KeyError):
+        return None
+
+
 def _rows(output: Path) -> dict:
     """Stored cases by key, without the wall time."""
     rows = [json.loads(path.read_text()) for path in (output / "cases").glob("*.json")]
@@ -112,8 +121,8 @@ def test_on_a_cluster_with_a_worker_killed_every_case_is_stored_once_and_equal_t
     try:
         from distributed import Client
 
-        _wait_until(address_file.exists, "the scheduler's address file")
-        address = json.loads(address_file.read_text())["address"]
+        _wait_until(lambda: _scheduler_address(address_file), "address in the scheduler's file")
+        address = _scheduler_address(address_file)
         with Client(address, timeout=60) as client:
             client.wait_for_workers(2, timeout=120)
         output = tmp_path / "cluster"
