@@ -4,9 +4,20 @@ A free ROS domain id is reserved for the whole run (``domain_coordinator`` holds
 a port for it, so two runs on one machine take different ids) and discovery is
 kept on this host. Every node the tests start, in this process or in child
 processes, inherits both through the environment.
+
+Before any test starts, the shared-memory files that killed DDS participants left in /dev/shm
+are removed with Fast DDS's own tool (``fastdds shm clean``: only files whose owner no longer
+holds their lock). Fast DDS reopens such files when a new participant takes the same port, and
+that can crash or silence it (eProsima/Fast-DDS#6501, #5053). Seen here once: a fresh-clone run on
+a machine where a day of runs had left 82 such segments failed three tests that way (a plant
+killed by SIGSEGV inside libfastdds, a lockstep graph whose commands never reached its plant, a
+viewer that got no data); the same run passed once they were removed.
 """
 import importlib.metadata
 import os
+import re
+import shutil
+import subprocess
 import sys
 from pathlib import Path
 
@@ -25,10 +36,31 @@ def _reserve_domain():
 
 
 _DOMAIN = _reserve_domain()
+_CLEANED = pytest.StashKey[str]()
+
+
+def _remove_dead_participants_files() -> str:
+    """Run ``fastdds shm clean``; what it removed, as a line for the report header."""
+    tool = shutil.which("fastdds")
+    if tool is None:
+        return "shared memory of dead DDS participants: not checked (no fastdds tool on PATH)"
+    result = subprocess.run([tool, "shm", "clean"], capture_output=True, text=True, timeout=60)
+    counts = dict((what, int(number)) for number, what in
+                  re.findall(r"(\d+) zombie (ports|segments) cleaned", result.stdout))
+    if result.returncode != 0 or len(counts) != 2:
+        return f"shared memory of dead DDS participants: fastdds shm clean failed: {result.stderr.strip()[-300:]}"
+    return (f"shared memory of dead DDS participants: {counts['segments']} segments and {counts['ports']} ports "
+            "removed")
+
+
+def pytest_configure(config):
+    if not hasattr(config, "workerinput"):  # once, in the process that starts the workers, before any test
+        config.stash[_CLEANED] = _remove_dead_participants_files()
 
 
 def pytest_report_header(config):
-    return f"ROS_DOMAIN_ID={os.environ['ROS_DOMAIN_ID']} (reserved for this run), discovery LOCALHOST"
+    return [f"ROS_DOMAIN_ID={os.environ['ROS_DOMAIN_ID']} (reserved for this run), discovery LOCALHOST",
+            config.stash.get(_CLEANED, "")]
 
 
 def pytest_unconfigure(config):
