@@ -47,14 +47,17 @@ def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribu
     """The ipc graph's ipc_h1 SIGKILLed: reported, lost by mbc (its contribution fades), started again 1 s later,
     answering again; the run completes. 120 s simulated: the respawned process (1 s delay, then Python's start,
     discovery, configure) must come back before the plant ends, which took more than the 8 s of wall time a 30 s
-    run left once in a fresh-clone CI run."""
+    run left once in a fresh-clone CI run. On a busy machine the new process may miss a step's 1 s once more
+    while it settles (once in a fresh-clone CI run: lost again at step 2590, back at 2898): every loss is
+    reported and followed by the controller's return."""
     bag = tmp_path / "respawned.mcap"
     assert _run_killing(bag, "respawned", 120, "ipc_h1") == 0
     recording = read_recording(bag, "respawned")
     (respawn,) = recording.events_of("node_respawn")
-    (lost,) = recording.events_of("contribution_lost")
-    (returned,) = recording.events_of("contribution_returned")
+    lost, returned = recording.events_of("contribution_lost"), recording.events_of("contribution_returned")
     assert "/respawned/ipc_h1 ended (killed by SIGKILL); respawning in 1 s" in respawn["detail"]
-    assert "control/ipc/h1" in lost["detail"] and "control/ipc/h1" in returned["detail"]
-    assert respawn["step"] <= lost["step"] < returned["step"] < 12000
+    assert lost and len(lost) == len(returned), (lost, returned)
+    assert all("control/ipc/h1" in event["detail"] for event in lost + returned)
+    steps = [step for pair in zip(lost, returned) for step in (pair[0]["step"], pair[1]["step"])]
+    assert respawn["step"] <= steps[0] and steps == sorted(set(steps)) and steps[-1] < 12000, steps
     assert recording.events_of("finished")
