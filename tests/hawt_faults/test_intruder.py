@@ -1,6 +1,7 @@
 """Only the graph's command source commands the plant: another publisher on control/pitch_command is refused
 (identified by its publisher GID), reported as an intruder, and changes nothing of the run."""
 import math
+import re
 
 import numpy as np
 import pytest
@@ -54,9 +55,12 @@ def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, pr
     plant = ("plant/blade_loads", "plant/state")
     assert step_differences(alone.bag, run.bag, [f"/alone_ls/{t}" for t in plant],
                             [f"/{namespace}/{t}" for t in plant]) == []
+    (finished,) = recording.events_of("finished")
+    refused = int(re.search(r"(\d+) commands from 1 intruders refused", finished["detail"]).group(1))
+    assert refused > 10, finished["detail"]  # the plant saw the intruder at many steps (the recorder may see fewer:
+    # it records a publisher from its discovery on, which a busy machine once delayed to the intruder's last command)
     commands = read_recording(alone.bag, "alone_ls").commands.fields, recording.commands.fields
     sourced = [np.asarray(c["generator_torque"]) != 0.0 for c in commands]  # the intruder's rows have 0 torque
-    assert np.count_nonzero(~sourced[1]) > 10, "the intruder's commands are in the bag"
     for name in ("step", "pitch", "generator_torque"):
         first, second = (np.asarray(c[name])[keep] for c, keep in zip(commands, sourced))
         assert np.array_equal(np.unique(first, axis=0), np.unique(second, axis=0)), name
