@@ -174,15 +174,20 @@ def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
     )
 
 
-def rotor_inertia(turbine: Turbine, blade: BladeModalProperties) -> float:
-    """J_rotor [kg m^2]: the hub's inertia about the shaft and the coned blades' second mass moments about it.
+def hub_centre_moments(turbine: Turbine, blade: BladeModalProperties) -> tuple[float, float, float]:
+    """The blade's mass [kg] and its first [kg m] and second [kg m^2] mass moments along the blade about the hub
+    centre (r = r_hub + s); ``blade`` is :func:`blade_modal_properties` of ``turbine`` (moments about the root)."""
+    rh = turbine.rotor.hub_radius
+    return (blade.mass, blade.first_moment + rh * blade.mass,
+            blade.second_moment + 2.0 * rh * blade.first_moment + rh * rh * blade.mass)
 
-    ``blade`` is :func:`blade_modal_properties` of ``turbine`` (its moments are about the blade root).
-    """
+
+def rotor_inertia(turbine: Turbine, blade: BladeModalProperties) -> float:
+    """J_rotor [kg m^2]: the hub's inertia about the shaft and the coned blades' second mass moments about it
+    (``blade`` as in :func:`hub_centre_moments`)."""
     rotor = turbine.rotor
-    rh, cb = rotor.hub_radius, math.cos(rotor.cone_angle)
-    return rotor.hub_inertia + rotor.number_of_blades * cb * cb * (
-        blade.second_moment + 2.0 * rh * blade.first_moment + rh * rh * blade.mass)
+    cb = math.cos(rotor.cone_angle)
+    return rotor.hub_inertia + rotor.number_of_blades * cb * cb * hub_centre_moments(turbine, blade)[2]
 
 
 def blade_edgewise_frequency(turbine: Turbine) -> float:

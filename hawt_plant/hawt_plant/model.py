@@ -41,7 +41,8 @@ import numpy as np
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
-from hawt_plant.modal import blade_modal_properties, polynomial_mode, rotor_inertia, tower_modal_properties
+from hawt_plant.modal import (blade_modal_properties, hub_centre_moments, polynomial_mode, rotor_inertia,
+                              tower_modal_properties)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
@@ -564,11 +565,7 @@ class TurbineModel:
         inertia_translation = np.concatenate((sums, sums, sums[[0, 2]]))
         inertia_nodding = np.concatenate((nod, nod, np.zeros(2)))
         inertia_flap = np.array([mass @ mode, mass @ (span * mode), mass @ (mode * mode)])
-        self._mass_moments = (
-            blade.mass,
-            blade.first_moment + rh * blade.mass,
-            blade.second_moment + 2.0 * rh * blade.first_moment + rh * rh * blade.mass,
-        )
+        self._mass_moments = hub_centre_moments(t, blade)
         p0, p1 = blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment
         self._flap_mass = blade.modal_mass
         self._flap_stiffness = blade.stiffness
