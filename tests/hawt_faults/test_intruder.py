@@ -25,12 +25,15 @@ def _intrude(intruder, run, until_step: int) -> None:
                            f"plant step {until_step} and the plant's intruder event")
 
 
-def _the_intruder_was_refused_and_named(recording, namespace: str) -> None:
+def _the_intruder_was_refused_and_named(recording, namespace: str) -> int:
+    """Checks the intruder event and the finished event's count; returns how many commands the plant refused."""
     (event,) = recording.events_of("intruder")
     assert event["level"] == ControlEvent.ERROR and event["source"] == f"/{namespace}/plant"
     assert " from /fault_probe refused: only " f"/{namespace}/mbc may command this plant" in event["detail"]
     (finished,) = recording.events_of("finished")
-    assert "from 1 intruders refused" in finished["detail"]
+    refused = re.search(r"(\d+) commands from 1 intruders refused", finished["detail"])
+    assert refused, finished["detail"]
+    return int(refused.group(1))
 
 
 def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, probe):
@@ -51,13 +54,11 @@ def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, pr
     run.finish()
 
     recording = read_recording(run.bag, namespace)
-    _the_intruder_was_refused_and_named(recording, namespace)
+    refused = _the_intruder_was_refused_and_named(recording, namespace)
     plant = ("plant/blade_loads", "plant/state")
     assert step_differences(alone.bag, run.bag, [f"/alone_ls/{t}" for t in plant],
                             [f"/{namespace}/{t}" for t in plant]) == []
-    (finished,) = recording.events_of("finished")
-    refused = int(re.search(r"(\d+) commands from 1 intruders refused", finished["detail"]).group(1))
-    assert refused > 10, finished["detail"]  # the plant saw the intruder at many steps (the recorder may see fewer:
+    assert refused > 10, refused  # the plant saw the intruder at many steps (the recorder may see fewer:
     # it records a publisher from its discovery on, which a busy machine once delayed to the intruder's last command)
     commands = read_recording(alone.bag, "alone_ls").commands.fields, recording.commands.fields
     sourced = [np.asarray(c["generator_torque"]) != 0.0 for c in commands]  # the intruder's rows have 0 torque
