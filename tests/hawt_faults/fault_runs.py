@@ -53,7 +53,8 @@ def graph_outliving(folder: Path, graph: str, *nodes: str) -> Path:
 class Probe(ProbeNode):
     """A node in the test process that follows one turbine's steps and events and can publish pitch commands.
 
-    ``steps[topic]`` is the newest step seen on each followed topic (-1 before the first).
+    ``steps[topic]`` is the newest step seen on each followed topic (-1 before the first); ``published`` counts the
+    pitch commands it has sent.
     """
 
     def __init__(self, namespace: str, harmonics: Iterable[int] = ()) -> None:
@@ -68,6 +69,7 @@ class Probe(ProbeNode):
         self.events: List[ControlEvent] = []
         self.node.create_subscription(ControlEvent, f"/{namespace}/control/events", self.events.append, _PROBE_QOS)
         self.commands = self.node.create_publisher(PitchCommand, f"/{namespace}/control/pitch_command", _PROBE_QOS)
+        self.published = 0
 
     def _on_step(self, topic: str, step: int) -> None:
         self.steps[topic] = max(self.steps[topic], step)
@@ -119,6 +121,7 @@ class Probe(ProbeNode):
             if condition():
                 return True
             self.commands.publish(command(self.plant_step))
+            self.published += 1
             return False
         self.wait_while_launched(published_and_holds, launcher, what)
 
