@@ -19,8 +19,11 @@ holds back on it (its ``recorder_window``), so a lockstep recording is complete 
 first step at any machine load. The progress topic is not recorded.
 
 Stopping: SIGINT or SIGTERM, or the death of the process that started the recorder, ends
-discovery, the messages already on their way are taken until the topics are quiet for 0.1 s
-(at most 1 s), and the bag is finished (summary and statistics) and verified: what a
+the recording, and what was queued then is taken (:func:`take_backlog`): each topic until it has
+been quiet for 0.1 s or delivers a message received after the stop, however long that takes (a
+lockstep plant may be its ``recorder_window`` ahead: a 1 s limit once cut the last 488 steps of a
+run stopped by ``--duration`` on a busy machine); a second signal ends it at once. Then the bag
+is finished (summary and statistics) and verified: what a
 realtime recording could not keep up with is named in one line (``hawt bag verify``'s
 verdict), never silently. Chunks are closed at least every ``chunk_interval`` so a SIGKILL
 loses at most that much (``hawt bag recover``). A write error (full disk) stops the
@@ -55,10 +58,10 @@ from .verification import verify_bag
 from .writer import BagWriter
 
 __all__ = ["Recorder", "RecorderOptions", "TopicDiscovery", "adapted_qos", "add_record_arguments", "main",
-           "options_from", "record", "visible"]
+           "options_from", "record", "take_backlog", "visible"]
 
 _QUIET = 0.1
-_DRAIN_LIMIT = 1.0
+"""[s] A topic that delivers nothing for this long after the stop has delivered what was queued."""
 _PROGRESS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.VOLATILE)
 
@@ -174,9 +177,8 @@ class Recorder(Node):
         self.writer = writer
         self.counts: dict[str, int] = {}
         self.stamps: dict[str, float] = {}
-        self._log_times: dict[str, int] = {}  # the latest log time written per topic [ns]
+        self.log_times: dict[str, int] = {}  # the latest log time written per topic [ns, system clock]
         self.failure: Optional[str] = None
-        self.last_message = time.monotonic()
         self._pattern = re.compile(options.regex) if options.regex else None
         self._wanted = {"/" + t.strip("/") for t in options.topics}
         self._recorded = {}
@@ -201,11 +203,11 @@ class Recorder(Node):
         channel = self.writer.add_topic(topic, type_name, offers)
         stamped = has_header(type_name)
         self.counts[topic] = 0
-        self._log_times[topic] = 0
+        self.log_times[topic] = 0
 
         def write(data: bytes, info) -> None:
-            received = max(info["received_timestamp"], self._log_times.get(topic, 0))  # delivery order kept
-            self._log_times[topic] = received
+            received = max(info["received_timestamp"], self.log_times.get(topic, 0))  # delivery order kept
+            self.log_times[topic] = received
             publish = received
             if stamped and len(data) >= 12:
                 publish = header_stamp_ns(data)
@@ -217,7 +219,6 @@ class Recorder(Node):
             self.counts[topic] += 1
             if stamped:
                 self.stamps[topic] = publish * 1e-9
-            self.last_message = time.monotonic()
 
         self._recorded[topic] = self.create_subscription(kind, topic, write, qos, raw=True)
         self.get_logger().info(f"recording {topic} [{type_name}] "
@@ -240,6 +241,34 @@ class Recorder(Node):
         if self.failure is None:
             self.failure = reason
             self.get_logger().error(reason)
+
+
+def take_backlog(executor: SingleThreadedExecutor, recorder: Recorder, stopped_at: int,
+                 interrupted: Callable[[], bool]) -> None:
+    """Take and write what was queued for ``recorder`` when the recording stopped at ``stopped_at`` [ns, system
+    clock, as the middleware's receive times].
+
+    A topic is done when it delivers a message received after the stop (a publisher still running: its queue is
+    empty) or has delivered nothing for ``_QUIET`` s of wall time and for as many executor turns as there are
+    topics and timers (a process the machine did not run for a while has not seen its topics quiet). Ends when
+    every topic is done, on a write error, or when ``interrupted()`` (a second signal).
+    """
+    last: dict[str, tuple[int, int, float]] = {}  # topic: (count, turn, wall time) when its count last changed
+    turn = 0
+    while recorder.failure is None and not interrupted():
+        executor.spin_once(timeout_sec=0.01)
+        turn += 1
+        now = time.monotonic()
+        turns = len(recorder.counts) + 4
+        done = True
+        for topic, count in recorder.counts.items():
+            if last.get(topic, (None,))[0] != count:
+                last[topic] = (count, turn, now)
+            if recorder.log_times[topic] < stopped_at and (turn - last[topic][1] < turns or
+                                                           now - last[topic][2] < _QUIET):
+                done = False
+        if done:
+            return
 
 
 def add_record_arguments(parser: argparse.ArgumentParser) -> None:
@@ -294,10 +323,8 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
             report(f"recording to {options.output} (Ctrl-C to stop)")
             while not stop and recorder.failure is None and not launcher_gone():
                 executor.spin_once(timeout_sec=0.05)
-            drain_end = time.monotonic() + _DRAIN_LIMIT
-            while recorder.failure is None and time.monotonic() < drain_end and \
-                    time.monotonic() - recorder.last_message < _QUIET:
-                executor.spin_once(timeout_sec=0.02)
+            stopped = len(stop)
+            take_backlog(executor, recorder, time.time_ns(), lambda: len(stop) > stopped)
             counts, failure = recorder.counts, recorder.failure
             executor.shutdown()
             recorder.destroy_node()

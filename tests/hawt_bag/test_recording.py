@@ -11,6 +11,8 @@ from mcap.reader import make_reader
 from mcap.stream_reader import StreamReader, breakup_chunk
 from mcap.records import Chunk, Message
 from mcap_ros2.decoder import DecoderFactory
+from rclpy.duration import Duration
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 
 from hawt_bag.errors import BagError
@@ -135,6 +137,33 @@ def test_sigkill_loses_at_most_the_open_chunk_and_sigterm_finishes_the_bag(proce
         steps = read_topic_columns(reader, "/t/loads").fields["step"]
     assert steps.size == in_complete_chunks > 100
     assert np.array_equal(steps, np.arange(steps[0], steps[0] + steps.size))
+
+
+def test_a_stopped_recorder_first_takes_everything_queued_for_it(processes, probe, tmp_path):
+    """Six topics of 8000 messages each, sent as fast as this process can to a recorder that writes each in a chunk
+    of its own (slow): it is stopped (SIGINT) as soon as its subscriptions have acknowledged the last, with thousands
+    still to take and write (about 18 000, 2 s of work, on a quiet 2-core machine). The bag holds all 48 000, in
+    order. (A lockstep plant may be its recorder_window ahead when a wall-clock --duration stops a graph; a drain
+    limited to 1 s once cut the last 488 steps of such a run.)"""
+    count, topics = 8000, [f"/backlog/t{k}" for k in range(6)]
+    bag = tmp_path / "backlog.mcap"
+    recorder = processes.hawt("record", "-o", str(bag), "--regex", "^/backlog/", "--chunk-size", "1")
+    wait_for_file(bag, recorder)
+    reliable = QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE)
+    publishers = [probe.node.create_publisher(hawt_msgs.msg.BladeLoads, topic, reliable) for topic in topics]
+    probe.wait_until(lambda: all(p.get_subscription_count() == 1 for p in publishers), "the recorder's subscriptions",
+                     alive=recorder)
+    for step in range(count):
+        for publisher in publishers:
+            publisher.publish(hawt_msgs.msg.BladeLoads(step=step))
+    for publisher in publishers:
+        assert publisher.wait_for_all_acked(Duration(seconds=120)), publisher.topic_name
+    code, out, err = processes.stop(recorder, timeout=120)
+    assert code == 0, err
+    assert f"recorded {len(topics) * count} messages on {len(topics)} topics" in out, out
+    with BagReader(bag) as reader:
+        for topic in topics:
+            assert np.array_equal(read_topic_columns(reader, topic).fields["step"], np.arange(count)), topic
 
 
 def test_launch_record_starts_the_recorder_first_and_stops_it_last(hawt_cli, tmp_path):
