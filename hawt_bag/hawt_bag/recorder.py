@@ -249,20 +249,20 @@ def take_backlog(executor: SingleThreadedExecutor, recorder: Recorder, stopped_a
     clock, as the middleware's receive times].
 
     A topic is done when it delivers a message received after the stop (a publisher still running: its queue is
-    empty) or has delivered nothing for ``_QUIET`` s of wall time and for as many executor turns as there are
-    topics and timers (a process the machine did not run for a while has not seen its topics quiet). Ends when
-    every topic is done, on a write error, or when ``interrupted()`` (a second signal).
+    empty) or has delivered nothing for ``_QUIET`` s of wall time and for a whole round of the executor (a turn
+    per topic and timer, and one more: a process the machine did not run for a while has not seen its topics
+    quiet). Ends when every topic is done, on a write error, or when ``interrupted()`` (a second signal).
     """
     last: dict[str, tuple[int, int, float]] = {}  # topic: (count, turn, wall time) when its count last changed
-    turn = 0
+    turn, timers = 0, len(list(recorder.timers))
     while recorder.failure is None and not interrupted():
         executor.spin_once(timeout_sec=0.01)
         turn += 1
         now = time.monotonic()
-        turns = len(recorder.counts) + 4
+        turns = len(recorder.counts) + timers + 1
         done = True
         for topic, count in recorder.counts.items():
-            if last.get(topic, (None,))[0] != count:
+            if topic not in last or last[topic][0] != count:
                 last[topic] = (count, turn, now)
             if recorder.log_times[topic] < stopped_at and (turn - last[topic][1] < turns or
                                                            now - last[topic][2] < _QUIET):

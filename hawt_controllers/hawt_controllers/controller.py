@@ -130,6 +130,7 @@ def contribution_topic(contribution: Contribution) -> str:
     """The topic a contribution is published on: its (first) interface's (DESIGN §4.1)."""
     return parse_interface(contribution.interfaces[0]).topic
 
+
 ACTIVE_PARAMETER = ParameterSpec(
     "active", True, "state at start: active (ramps in over the controller's ramp time) or inactive; later "
     "switches come from controller_manager or lifecycle transitions", read_only=True)

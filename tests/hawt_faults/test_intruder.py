@@ -20,7 +20,8 @@ def _intrude(intruder, run, until_step: int, commands: int = 0) -> None:
     """The intruder answers every plant step it sees, from the plant's current step to ``until_step``, until the
     plant has reported it and until it has sent ``commands`` commands: the plant may discover the intruder's publisher
     only after its first commands (a fresh-clone run's lockstep plant had run past step 400 before, and no intruder
-    event came), and a lockstep plant may run the steps faster than a busy intruder sends (one sent about ten)."""
+    event came), and a lockstep plant may run the steps faster than a busy intruder sends (a fresh-clone CI
+    run's plant refused only 8)."""
     intruder.publish_until(lambda step: PitchCommand(step=step, pitch=FEATHERED, generator_torque=0.0),
                            lambda: (intruder.plant_step >= until_step and intruder.reported("intruder")
                                     and intruder.published >= commands), run.launcher,
