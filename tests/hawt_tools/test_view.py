@@ -62,6 +62,16 @@ def _take(frame: bytes, seen: Seen, decode) -> None:
         seen.time = max(seen.time, struct.unpack_from("<Q", frame, 1)[0])
 
 
+def _as_client(graph: LaunchedGraph, client):
+    """Run the coroutine ``client``; if the view closes its connection, fail with the graph's last lines (its
+    cause: a fresh-clone CI run's view once closed it with no status before 300 loads had come)."""
+    try:
+        return asyncio.run(client)
+    except websockets.ConnectionClosed as closed:
+        raise AssertionError(f"the view closed the connection ({closed}); the graph's last lines:\n"
+                             f"{graph.tail()}") from closed
+
+
 async def _watch(port: int, topic: str, count: int, parameter: str) -> Seen:
     """Subscribe to ``topic`` and take ``count`` of its messages; then get ``parameter``, subscribe to its updates
     and set it to 1.5 times its value (the answers interleave with more messages, which are kept too)."""
@@ -103,7 +113,7 @@ def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that
         port = int(re.search(r"ws://127\.0\.0\.1:(\d+)", "".join(graph.lines)).group(1))
         (viewer,) = [child for child in psutil.Process(graph.process.pid).children(recursive=True)
                      if "hawt_tools/view" in " ".join(child.cmdline())]
-        seen = asyncio.run(_watch(port, "/viewed/plant/blade_loads", 300, parameter))
+        seen = _as_client(graph, _watch(port, "/viewed/plant/blade_loads", 300, parameter))
         changed = len(graph.lines)
         graph.wait_for_line("t=", after=changed)  # a report after the change: its step is in the bag
         graph.process.send_signal(signal.SIGINT)
@@ -160,7 +170,7 @@ def test_the_time_goes_to_the_clients_at_most_every_time_period_of_wall_time():
                     count += isinstance(frame, bytes) and frame[0] == _TIME
                 return count, time.monotonic() - wall
 
-        count, wall = asyncio.run(count_time_messages())
+        count, wall = _as_client(graph, count_time_messages())
         graph.process.send_signal(signal.SIGINT)
         assert graph.finish() == 0, graph.tail()
     # A few more than wall / TIME_PERIOD: the client's clock starts after its connection, and messages sent before
