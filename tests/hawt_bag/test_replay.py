@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from hawt_msgs.msg import BladeLoads
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 
 from hawt_analysis.synthetic_run import synthetic_channels
 from hawt_bag.column_writing import TopicData, write_topics
@@ -70,6 +71,21 @@ class _Arrivals:
             assert time.monotonic() < deadline, f"{len(self.items)} of {count} messages arrived"
             time.sleep(0.02)
 
+    def first_of_each_step(self, count: int, timeout: float = 30.0) -> list:
+        """The first arrival of each of the steps 0 … ``count`` - 1, in step order, once all have arrived (a step
+        replay sends a step again when its answer is late, and the relay answers each copy)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            with self.lock:
+                first = {}
+                for _, data in self.items:
+                    first.setdefault(deserialize_message(data, BladeLoads).step, data)
+            if len(first) >= count or time.monotonic() >= deadline:
+                break
+            time.sleep(0.02)
+        assert sorted(first) == list(range(count)), f"steps arrived: {sorted(first)}"
+        return [first[step] for step in range(count)]
+
 
 def test_replay_at_rate_one_keeps_the_recorded_spacing(processes, probe, tmp_path):
     """Messages recorded 20 ms apart are published about 20 ms apart (loose bound; figures in bench_bag.py)."""
@@ -111,18 +127,18 @@ def test_step_replay_through_the_relay_gives_exactly_the_recorded_relayed_messag
     assert code == 0, err
     processes.stop(relay)
 
+    arrivals = _Arrivals(probe, "/t/relayed")  # before the relay: it then knows this reader by its first answer
     relay = processes.hawt("launch", str(relay_graph))
-    arrivals = _Arrivals(probe, "/t/relayed")
     arrivals.wait_matched()
     replay = processes.hawt("replay", str(recorded), "--topics", "/t/loads", "--step-trigger", "/t/relayed")
     out, err = replay.communicate(timeout=120)
     assert replay.returncode == 0, err
     assert f"in {count} steps" in out
+    payload = arrivals.first_of_each_step(count)
     processes.stop(relay)
 
     with BagReader(recorded) as reader:
         expected = read_topic_columns(reader, "/t/relayed").fields
-    payload = [data for _, data in arrivals.items]
     replayed = tmp_path / "replayed.mcap"
     with BagWriter(replayed) as writer:
         channel = writer.add_topic("/t/relayed", "hawt_msgs/msg/BladeLoads")
