@@ -37,6 +37,7 @@ import types
 import warnings
 from dataclasses import replace
 from pathlib import Path
+from typing import Iterable
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -78,6 +79,15 @@ SHEAR = 0.2
 
 
 # --------------------------------------------------------------------------------------------- CCBlade
+
+def save_figure(figure: Figure, legended: Iterable, path: Path) -> None:
+    """Give each axes of ``legended`` its legend and a light grid, lay ``figure`` out and save it to ``path``."""
+    for axes in legended:
+        axes.legend()
+        axes.grid(alpha=0.3)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+
 
 def ccblade_classes() -> tuple[type, type]:
     """WISDEM's CCBlade and CCAirfoil, imported without running ``wisdem/__init__.py``.
@@ -235,14 +245,11 @@ def surfaces_section(turbine: Turbine, out: Path) -> tuple[list[str], bool]:
                                   (as_rosco, "CCBlade as ROSCO", ":"), ((rosco_cp, None), "ROSCO's file", "x")):
         left.plot(tsr, cp[:, zero], style, label=label)
     left.set(xlabel="tip-speed ratio λ", ylabel="Cp", title="Cp at β = 0", ylim=(0.0, 0.55))
-    left.legend()
-    left.grid(alpha=0.3)
     image = right.pcolormesh(np.degrees(pitch), tsr, np.where(region, plant[0] - like[0], np.nan), cmap="RdBu_r",
                              vmin=-CP_TOLERANCE, vmax=CP_TOLERANCE, shading="nearest")
     figure.colorbar(image, ax=right, label="ΔCp")
     right.set(xlabel="pitch β [deg]", ylabel="λ", title="plant − CCBlade like for like (Cp > 0.2)")
-    figure.tight_layout()
-    figure.savefig(out / "cp_surface.png", dpi=110)
+    save_figure(figure, [left], out / "cp_surface.png")
     lines = [
         "## 1. Cp and Ct surfaces against CCBlade",
         "",
@@ -377,11 +384,7 @@ def operation_section(turbine: Turbine, out: Path) -> tuple[list[str], bool]:
     right.plot(REGION_3[:, 0], values[:, 2], "s:", label="plant, equilibrium (induction re-solved)")
     right.plot(REGION_3[:, 0], REGION_3[:, 2], "x--", label="Jonkman et al. 2009")
     right.set(xlabel="wind [m/s]", ylabel="dP/dθ [MW/rad]", title="Pitch sensitivity of the aerodynamic power")
-    for axes in (left, right):
-        axes.legend()
-        axes.grid(alpha=0.3)
-    figure.tight_layout()
-    figure.savefig(out / "steady_operation.png", dpi=110)
+    save_figure(figure, [left, right], out / "steady_operation.png")
     return [
         "## 3. Steady operation in region 3",
         "",
@@ -494,10 +497,7 @@ def harmonics_section(turbine: Turbine, out: Path, revolutions: int) -> tuple[li
             axes.plot(np.degrees(azimuth[order]), moment[order] / 1e6, "-", label=f"plant, {label}")
         axes.plot(np.degrees(grid), reference / 1e6, "o", label="CCBlade + centrifugal (rigid)")
         axes.set(xlabel="azimuth of blade 1 [deg]", ylabel="M_oop [MN·m]", title=f"{wind:g} m/s, shear {SHEAR}")
-        axes.legend()
-        axes.grid(alpha=0.3)
-    figure.tight_layout()
-    figure.savefig(out / "root_moment_harmonics.png", dpi=110)
+    save_figure(figure, panels, out / "root_moment_harmonics.png")
     return [
         "## 4. Blade-root flap moment in shear and tilt",
         "",
