@@ -245,6 +245,7 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
     sd, discon = _read_servodyn(deck, main, files)
     length = _number(ed, "TipRad", files["ed"]) - _number(ed, "HubRad", files["ed"])
     aerodynamics, airfoils = _blade_aerodynamics(deck, ad, ad_blade, length, files)
+    torsion = _torsion_frequency(ed, blade, files)
     definition = {
         "name": Sourced(fst.stem, f"{fst.name}: the deck's name"),
         "source": Sourced(f"OpenFAST deck {fst.name} ({deck.vt['description'].strip()}), imported by hawt turbine "
@@ -254,13 +255,13 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
         "nacelle": _nacelle(ed, files["ed"]),
         "blade": {"aerodynamics": aerodynamics, "structure": _blade_structure(blade, length, files["blade"])},
         "tower": _tower(ed, tower, ad, files),
-        "drivetrain": _drivetrain(ed, blade, files),
+        "drivetrain": _drivetrain(ed, torsion, files["ed"]),
         "generator": _generator(sd, discon, files["sd"]),
         "pitch_actuator": _pitch_actuator(discon),
         "operation": _operation(discon, _number(ed, "GBRatio", files["ed"]), files["ed"]),
     }
     return ImportedTurbine(deck=fst, definition=definition, airfoils=airfoils,
-                           approximations=tuple(_approximations(ed, blade, ad, discon, files)),
+                           approximations=tuple(_approximations(ed, torsion, ad, discon, files)),
                            not_modelled=tuple(_not_modelled(main, ed, ad, ad_blade, sd, files)))
 
 
@@ -543,11 +544,11 @@ def _tower(ed: Mapping[str, Any], tower: Mapping[str, Any], ad: Mapping[str, Any
     }
 
 
-def _torsion_frequency(ed: Mapping[str, Any], blade: Mapping[str, Any], stiffness: float, files: Mapping[str, str]
-                       ) -> float:
-    """Free-free torsion frequency [Hz] of rotor and generator on a low-speed shaft of this ``stiffness``, the
+def _torsion_frequency(ed: Mapping[str, Any], blade: Mapping[str, Any], files: Mapping[str, str]) -> float:
+    """Free-free torsion frequency [Hz] of rotor and generator on the deck's low-speed shaft (DTTorSpr), the
     rotor's inertia that of the hub and the coned blades' distributed mass (as the plant sums it)."""
     ed_file, blade_file = files["ed"], files["blade"]
+    stiffness = _number(ed, "DTTorSpr", ed_file)
     hub_radius = _number(ed, "HubRad", ed_file)
     span = _array(blade, "BlFract", blade_file) * (_number(ed, "TipRad", ed_file) - hub_radius)
     density = _number(blade, "AdjBlMs", blade_file) * _array(blade, "BMassDen", blade_file)
@@ -558,10 +559,9 @@ def _torsion_frequency(ed: Mapping[str, Any], blade: Mapping[str, Any], stiffnes
     return math.sqrt(stiffness * (1.0 / rotor + 1.0 / generator)) / (2.0 * math.pi)
 
 
-def _drivetrain(ed: Mapping[str, Any], blade: Mapping[str, Any], files: Mapping[str, str]) -> Dict[str, Sourced]:
-    file = files["ed"]
+def _drivetrain(ed: Mapping[str, Any], frequency: float, file: str) -> Dict[str, Sourced]:
+    """The drivetrain; ``frequency`` [Hz] is the deck's shaft torsion (:func:`_torsion_frequency`)."""
     stiffness = _number(ed, "DTTorSpr", file)
-    frequency = _torsion_frequency(ed, blade, stiffness, files)
     spring = Sourced(stiffness, f"{file} DTTorSpr")
     if not ed["DrTrDOF"] and frequency > RIGID_TORSION_FREQUENCY:
         spring = Sourced(stiffness * (RIGID_TORSION_FREQUENCY / frequency) ** 2,
@@ -634,16 +634,16 @@ def _operation(discon: _Discon, gearbox_ratio: float, ed_file: str) -> Dict[str,
     }
 
 
-def _approximations(ed: Mapping[str, Any], blade: Mapping[str, Any], ad: Mapping[str, Any], discon: _Discon,
+def _approximations(ed: Mapping[str, Any], torsion: float, ad: Mapping[str, Any], discon: _Discon,
                     files: Mapping[str, str]) -> List[str]:
-    """How values were approximated where the plant's definition has no place for the deck's."""
+    """How values were approximated where the plant's definition has no place for the deck's (``torsion``: the
+    shaft's frequency [Hz], :func:`_torsion_frequency`)."""
     ed_file, out = files["ed"], []
     if ed["TowerBsHt"]:
         out.append(f"the tower stands on a base {ed['TowerBsHt']:g} m high ({ed_file} TowerBsHt): the plant's tower "
                    "is clamped at the ground, so the tower, rotor and hub height are that much lower")
     if ed["YawBrMass"]:
         out.append(f"the yaw bearing's {ed['YawBrMass']:g} kg ({ed_file} YawBrMass) is lumped into the nacelle")
-    torsion = _torsion_frequency(ed, blade, _number(ed, "DTTorSpr", ed_file), files)
     if not ed["DrTrDOF"]:
         out.append(f"{ed_file} DrTrDOF = False (a rigid drivetrain): the plant's shaft twists, with DTTorSpr or the "
                    f"stiffness of a {RIGID_TORSION_FREQUENCY:g} Hz torsion, whichever is softer")
