@@ -45,11 +45,19 @@ def _graph(folder: Path, executable: str, name: str, parameters: dict, remaps: d
 class _Arrivals:
     """Subscribes the probe to a topic and keeps (time of publication [s], serialized message) of each arrival: the
     publisher's source timestamp, not this process's time of arrival, which a busy machine delays as much as the
-    replay's (a fresh-clone CI run timed 0.92 s from the first arrival to the last of a replay of 1.18 s)."""
+    replay's (a fresh-clone CI run timed 0.92 s from the first arrival to the last of a replay of 1.18 s). Also keeps
+    the first message of each step: a step replay sends a step again when its answer is late, and a relay answers
+    each copy.
+
+    A replayer that has ended has had its messages acknowledged, but the probe's thread may not have taken the last
+    ones yet: wait for them (``wait_for``) before reading ``items``.
+    """
 
     def __init__(self, probe, topic: str) -> None:
+        self.probe = probe
         self.lock = threading.Lock()
         self.items = []
+        self.first_of_step = {}  # step: the first serialized message of that step
         self.subscription = probe.node.create_subscription(
             BladeLoads, topic, self._arrived, QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE),
             raw=True)
@@ -57,34 +65,21 @@ class _Arrivals:
     def _arrived(self, data: bytes, info) -> None:
         with self.lock:
             self.items.append((info["source_timestamp"] * 1e-9, data))
+            self.first_of_step.setdefault(deserialize_message(data, BladeLoads).step, data)
 
     def wait_matched(self, timeout: float = 30.0) -> None:
-        deadline = time.monotonic() + timeout
-        while self.subscription.get_publisher_count() < 1:
-            assert time.monotonic() < deadline, "the probe's subscription was not matched"
-            time.sleep(0.02)
+        self.probe.wait_until(lambda: self.subscription.get_publisher_count() >= 1,
+                              "match of the probe's subscription", timeout=timeout)
 
     def wait_for(self, count: int, timeout: float = 30.0) -> None:
         """Return once ``count`` messages have arrived; fail after ``timeout`` s."""
-        deadline = time.monotonic() + timeout
-        while len(self.items) < count:
-            assert time.monotonic() < deadline, f"{len(self.items)} of {count} messages arrived"
-            time.sleep(0.02)
+        self.probe.wait_until(lambda: len(self.items) >= count, f"{count} messages", timeout=timeout)
 
     def first_of_each_step(self, count: int, timeout: float = 30.0) -> list:
-        """The first arrival of each of the steps 0 … ``count`` - 1, in step order, once all have arrived (a step
-        replay sends a step again when its answer is late, and the relay answers each copy)."""
-        deadline = time.monotonic() + timeout
-        while True:
-            with self.lock:
-                first = {}
-                for _, data in self.items:
-                    first.setdefault(deserialize_message(data, BladeLoads).step, data)
-            if len(first) >= count or time.monotonic() >= deadline:
-                break
-            time.sleep(0.02)
-        assert sorted(first) == list(range(count)), f"steps arrived: {sorted(first)}"
-        return [first[step] for step in range(count)]
+        """The first message of each of the steps 0 … ``count`` - 1, in step order, once they have arrived."""
+        self.probe.wait_until(lambda: len(self.first_of_step) >= count, f"{count} steps", timeout=timeout)
+        assert sorted(self.first_of_step) == list(range(count)), f"steps arrived: {sorted(self.first_of_step)}"
+        return [self.first_of_step[step] for step in range(count)]
 
 
 def test_replay_at_rate_one_keeps_the_recorded_spacing(processes, probe, tmp_path):
@@ -102,6 +97,7 @@ def test_replay_at_rate_one_keeps_the_recorded_spacing(processes, probe, tmp_pat
     out, err = replay.communicate(timeout=60)
     assert replay.returncode == 0, err
     assert f"replayed {n} messages" in out and "warning" not in err  # nobody else publishes /timed/loads
+    arrivals.wait_for(n)
     times = np.array([t for t, _ in arrivals.items])
     assert times.size == n
     spacing = np.diff(times)
@@ -167,10 +163,8 @@ def test_paused_replay_plays_one_message_per_play_next_and_resumes_on_the_parame
     next_publisher = probe.node.create_publisher(Empty, "/hawt_player/play_next", 10)
     replay = processes.hawt("replay", str(bag), "--start-paused", "--wait-for-subscribers")
     arrivals.wait_matched()
-    deadline = time.monotonic() + 30
-    while next_publisher.get_subscription_count() < 1:
-        assert time.monotonic() < deadline
-        time.sleep(0.02)
+    probe.wait_until(lambda: next_publisher.get_subscription_count() >= 1, "the player's play_next subscription",
+                     timeout=30)
     time.sleep(1.0)
     assert arrivals.items == []
     for _ in range(3):
@@ -183,6 +177,7 @@ def test_paused_replay_plays_one_message_per_play_next_and_resumes_on_the_parame
     out, err = replay.communicate(timeout=60)
     assert replay.returncode == 0, err
     assert future.result().results[0].successful
+    arrivals.wait_for(n)
     assert len(arrivals.items) == n
 
 
