@@ -57,6 +57,23 @@ def test_read_field_samples_like_the_original(generated, tmp_path):
         assert np.all(difference.max(axis=1) <= 1.01 * _quantum(generated) + 1e-5)
 
 
+def test_openfast_io_reads_the_written_field_as_hawt_does(generated, tmp_path):
+    """NREL's own reader (openfast-io's TurbSimFile, as InflowWind lays the file out) gets the same velocities at
+    the same grid nodes, times and hub reference: the file hawt validate gives OpenFAST is the plant's field."""
+    from openfast_io.turbsim_file import TurbSimFile
+
+    write_bts(tmp_path / "field.bts", generated)
+    theirs = TurbSimFile(str(tmp_path / "field.bts"))
+    ours = read_bts(tmp_path / "field.bts")
+    # openfast-io: u[component, t, y, z]; hawt: velocity_grid[t, z, y, component]
+    np.testing.assert_allclose(np.transpose(theirs["u"], (1, 3, 2, 0)), ours.velocity_grid, atol=1e-5)
+    np.testing.assert_allclose(theirs["y"], ours.grid_y, atol=1e-4)
+    np.testing.assert_allclose(theirs["z"], ours.grid_z, atol=1e-4)
+    assert (theirs["dt"], theirs["uRef"], theirs["zRef"]) == pytest.approx(
+        (generated.time_step, generated.mean_speed, generated.hub_height))
+    assert theirs["ID"] == 8  # periodic, as generated
+
+
 def test_non_periodic_field_round_trips_with_inflowwind_time_shift(tmp_path):
     """A non-periodic field (file id 7) keeps x_offset = half the grid width, as InflowWind sets it."""
     values = np.random.default_rng(1).normal(8.0, 1.0, size=(5, 2, 3, 3))
