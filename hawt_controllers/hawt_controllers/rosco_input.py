@@ -15,10 +15,12 @@ opens it without a status check and a missing one would end the process.
 from __future__ import annotations
 
 import importlib.metadata
+import shutil
 from pathlib import Path
 from typing import Dict, Mapping, Tuple
 
-__all__ = ["rosco_files", "is_rosco_input", "read_settings", "write_private_input", "RELATIVE_PATH_SETTINGS"]
+__all__ = ["rosco_files", "is_rosco_input", "read_settings", "write_private_input", "copy_input",
+           "RELATIVE_PATH_SETTINGS"]
 
 RELATIVE_PATH_SETTINGS = ("PerfFileName", "OL_Filename")
 """Settings ROSCO resolves relative to the input file's folder."""
@@ -79,20 +81,46 @@ def write_private_input(infile: Path, target: Path, settings: Mapping[str, str])
     missing = [name for name in settings if name not in read_settings(infile)]
     if missing:
         raise KeyError(f"{infile}: no setting {', '.join(missing)}")
-    lines = []
-    for line in infile.read_text(errors="replace").splitlines():
-        value, name, comment = _split(line)
-        if name in settings:
-            value = f"{settings[name]:<20s}"
-        elif name in RELATIVE_PATH_SETTINGS:
-            path = value.strip().strip('"')
-            if path and path != "unused" and not Path(path).is_absolute():
-                value = f'"{infile.parent / path}"    '
-        lines.append(f"{value}!{comment}" if name else line)
-    Path(target).write_text("\n".join(lines) + "\n")
+    _rewrite(infile, Path(target), lambda name, path: settings.get(name) if name in settings else
+             (f'"{infile.parent / path}"' if path and path != "unused" and not Path(path).is_absolute() else None))
     written = read_settings(target)
     performance = Path(written["PerfFileName"].strip('"'))
     if written.get("WE_Mode", "0") != "0" and not performance.is_file():
         raise FileNotFoundError(f"{infile}: PerfFileName {performance}: no such file (ROSCO's wind speed estimator "
                                 "needs it)")
     return Path(target)
+
+
+def _rewrite(infile: Path, target: Path, replacement) -> None:
+    """Write ``infile`` to ``target`` with each setting whose ``replacement(name, path)`` is not None replaced by
+    it (``path``: the value of a RELATIVE_PATH_SETTINGS line without quotes, else None)."""
+    lines = []
+    for line in infile.read_text(errors="replace").splitlines():
+        value, name, comment = _split(line)
+        path = value.strip().strip('"') if name in RELATIVE_PATH_SETTINGS else None
+        new = replacement(name, path) if name else None
+        lines.append(f"{new:<20s} !{comment}" if new is not None else (f"{value}!{comment}" if name else line))
+    target.write_text("\n".join(lines) + "\n")
+
+
+def copy_input(infile: Path, target: Path) -> Path:
+    """Copy the ROSCO input ``infile`` to ``target`` with the files it names (PerfFileName, OL_Filename) beside it,
+    its paths rewritten to their names: a folder that can move. Returns ``target``.
+
+    Raises
+    ------
+    FileNotFoundError
+        A file the input names is not there.
+    """
+    infile, target = Path(infile).resolve(), Path(target)
+    names = {}
+    for name in RELATIVE_PATH_SETTINGS:
+        path = read_settings(infile).get(name, "").strip('"')
+        if path and path != "unused":
+            source = infile.parent / path
+            if not source.is_file():
+                raise FileNotFoundError(f"{infile}: {name} {path}: no such file")
+            shutil.copyfile(source, target.parent / source.name)
+            names[name] = f'"{source.name}"'
+    _rewrite(infile, target, lambda name, path: names.get(name))
+    return target

@@ -15,6 +15,7 @@ A value is stored as ``round(slope * v + offset)``, so ``v = (stored - offset) /
 Grid node (iz, iy) lies at y = (iy - (n_y - 1) / 2) dy, z = z_bottom + iz dz;
 tower point i at y = 0, z = z_bottom - i dz.
 """
+import math
 import struct
 from pathlib import Path
 
@@ -91,7 +92,8 @@ def read_bts(path: Path | str) -> TurbulentWind:
                          x_offset=_inflowwind_x_offset(periodic, grid_y))
 
 
-def write_bts(path: Path | str, wind: TurbulentWind, description: str = "Written by hawt_plant") -> None:
+def write_bts(path: Path | str, wind: TurbulentWind, description: str = "Written by hawt_plant",
+              tower: bool = False) -> None:
     """Write a field as a TurbSim ``.bts`` file that OpenFAST InflowWind reads (WindType = 3).
 
     Parameters
@@ -104,12 +106,17 @@ def write_bts(path: Path | str, wind: TurbulentWind, description: str = "Written
         half the grid width if not), since a ``.bts`` file stores neither.
     description : str
         ASCII text stored in the header.
+    tower : bool
+        Also write tower points (y = 0, every dz from the grid's bottom down to the ground) holding the bottom row's
+        velocity at y = 0: what the field gives there (points below the grid take the bottom row's value), so that
+        InflowWind, which refuses a point below a grid without tower points (AeroDyn's tower nodes), sees the same
+        wind on the tower.
 
     Notes
     -----
     Scaling as TurbSim's ``WrBinTURBSIM``: per component, the range
     [min, max] of the field is mapped onto [-32768, 32767], so the
-    quantisation error is at most (max - min) / 65535 / 2. No tower points are written.
+    quantisation error is at most (max - min) / 65535 / 2.
     """
     grid_y, grid_z = wind.grid_y, wind.grid_z
     if abs(grid_y[0] + grid_y[-1]) > 1e-6 * max(1.0, abs(grid_y[0])):
@@ -133,8 +140,11 @@ def write_bts(path: Path | str, wind: TurbulentWind, description: str = "Written
     scaling = [float(value) for pair in zip(slopes, offsets) for value in pair]
     dz = float(grid_z[1] - grid_z[0]) if n_z > 1 else 0.0
     dy = float(grid_y[1] - grid_y[0]) if n_y > 1 else 0.0
-    header = _HEADER.pack(_PERIODIC_ID if wind.periodic else _NON_PERIODIC_ID, n_z, n_y, 0, n_t, dz, dy,
+    n_tower = int(math.floor(float(grid_z[0]) / dz + 1e-9)) + 1 if tower and dz > 0.0 else 0
+    centre = stored[:, 0, (n_y - 1) // 2: n_y // 2 + 1, :].astype(np.float64).mean(axis=1)  # (n_t, 3) at y = 0
+    columns = np.repeat(np.rint(centre)[:, None, :], n_tower, axis=1).astype("<i2")  # (n_t, n_tower, 3)
+    header = _HEADER.pack(_PERIODIC_ID if wind.periodic else _NON_PERIODIC_ID, n_z, n_y, n_tower, n_t, dz, dy,
                           wind.time_step, wind.mean_speed, wind.hub_height, float(grid_z[0]), *scaling, len(text))
     with open(path, "wb") as handle:
         handle.write(header + text)
-        handle.write(stored.tobytes())
+        handle.write(np.concatenate((stored.reshape(n_t, -1), columns.reshape(n_t, -1)), axis=1).tobytes())

@@ -572,7 +572,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise GraphError(f"-o {out}: cannot create the report folder ({error.strerror})") from None
-    graph = find_graph("rosco")
+    graph = find_graph("validation")
     print(f"hawt validate {args.turbine}: {len(cases)} case(s) in OpenFAST ({openfast}) and in hawt, deck {deck}, "
           f"report in {out}", flush=True)
     results = []
@@ -959,7 +959,7 @@ def _parser() -> argparse.ArgumentParser:
     validate = commands.add_parser(
         "validate", help="the turbine's cases side by side in OpenFAST and in hawt, ROSCO on both, and a report",
         description="Run each case in OpenFAST (the turbine's own deck, with only TMax, the wind, the initial "
-                    "state, the controller and the outputs changed) and in hawt's rosco graph in process, with the "
+                    "state, the controller and the outputs changed) and in hawt's validation graph (plant, ROSCO, mbc) in process, with the "
                     "same ROSCO library and DISCON.IN and the same wind (turbulent: the plant's field as a TurbSim "
                     ".bts both read), analyse both with hawt's analysis over the same window, and write "
                     "validation.md, index.html with plots and validation.json. Cases: steady-V or turbulent-V "
@@ -972,7 +972,7 @@ def _parser() -> argparse.ArgumentParser:
                                                                       "steady, 600 turbulent)")
     validate.add_argument("-o", "--output", metavar="DIR", help="report folder (default: validation-T)")
     validate.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
-                          help="a parameter of hawt's rosco graph (e.g. -p plant.skewed_wake:=false)")
+                          help="a parameter of hawt's validation graph (e.g. -p plant.skewed_wake:=false)")
     validate.set_defaults(run=_cmd_validate)
 
     transfer = commands.add_parser(

@@ -26,8 +26,8 @@ from typing import Callable, List, Optional, Tuple
 from openfast_io.FAST_reader import InputReader_OpenFAST
 from openfast_io.FAST_writer import InputWriter_OpenFAST
 
-__all__ = ["CaseInputs", "DeckNotFound", "FIXED_BOTTOM", "OpenFastFailed", "WrittenCase", "deck_of", "keep_deck",
-           "openfast_executable", "output_of", "read_deck", "run_openfast", "write_case"]
+__all__ = ["CaseInputs", "DeckNotFound", "FIXED_BOTTOM", "OpenFastFailed", "WrittenCase", "deck_hub_height",
+           "deck_of", "keep_deck", "openfast_executable", "output_of", "read_deck", "run_openfast", "write_case"]
 
 OPENFAST_ENVIRONMENT = "HAWT_OPENFAST"
 """The environment variable that names an OpenFAST executable when ``--openfast`` is not given."""
@@ -92,18 +92,32 @@ def deck_of(turbine: str) -> Path:
     return decks[0]
 
 
-def read_deck(deck: Path) -> dict:
-    """openfast-io's ``fst_vt`` of the deck (every module's inputs), DeckNotFound naming the deck if unreadable."""
+def read_deck(deck: Path) -> Tuple[dict, Tuple[str, ...]]:
+    """openfast-io's ``fst_vt`` of the deck (every module's inputs) on a rigid base, and the main input's switches
+    set to get there (:data:`FIXED_BOTTOM`): the modules of the substructure, waves and mooring are not read, since
+    no case runs them (openfast-io may not read their versions either). DeckNotFound naming the deck if unreadable.
+    """
     deck = Path(deck)
     if not deck.is_file():
         raise DeckNotFound(f"{deck}: no such OpenFAST deck")
     reader = InputReader_OpenFAST()
     reader.FAST_InputFile, reader.FAST_directory = deck.name, str(deck.parent.resolve())
+    switched: List[str] = []
+    read_main = reader.read_MainInput
+
+    def main_input_on_a_rigid_base() -> None:
+        read_main()
+        for (module, key), value in FIXED_BOTTOM.items():
+            if module == "Fst" and reader.fst_vt["Fst"].get(key, value) != value:
+                switched.append(f"Fst {key} = {value} (was {reader.fst_vt['Fst'][key]})")
+                reader.fst_vt["Fst"][key] = value
+
+    reader.read_MainInput = main_input_on_a_rigid_base
     try:
         reader.execute()
     except Exception as error:  # openfast-io raises what its parsers meet: ValueError, IndexError, KeyError, ...
         raise DeckNotFound(f"{deck}: openfast-io cannot read it ({type(error).__name__}: {error})") from None
-    return reader.fst_vt
+    return reader.fst_vt, tuple(switched)
 
 
 def _write(fst_vt: dict, folder: Path, name: str) -> Path:
@@ -114,10 +128,33 @@ def _write(fst_vt: dict, folder: Path, name: str) -> Path:
 
 
 def keep_deck(deck: Path, turbine_folder: Path) -> Path:
-    """Copy ``deck`` into ``turbine_folder/openfast/`` (every module openfast-io reads, written by its writer, so
-    the files' paths point inside the copy), for ``hawt validate`` to write its cases from; returns the ``.fst``."""
-    fst_vt = read_deck(deck)
-    folder = Path(turbine_folder) / DECK_FOLDER
+    """Keep what ``hawt validate`` and the turbine's ``rosco`` graph need of ``deck`` in ``turbine_folder``: the deck
+    on a rigid base (:func:`read_deck`) in ``openfast/``, every module written by openfast-io's writer so its paths
+    point inside the copy, and the ROSCO input ServoDyn names as ``DISCON.IN`` with its Cp/Ct/Cq file beside it (the
+    turbine's ``discon`` tuning, :mod:`hawt_controllers.tunings`), which the copy's ServoDyn names. The folder can
+    move. Returns the copy's ``.fst``.
+
+    Raises
+    ------
+    DeckNotFound
+        The deck, or a file its ROSCO input names, cannot be read.
+    """
+    from hawt_controllers.rosco_input import copy_input
+    from hawt_controllers.tunings import FILE_NAMES
+
+    fst_vt, _ = read_deck(deck)
+    turbine_folder = Path(turbine_folder)
+    folder = turbine_folder / DECK_FOLDER
+    servo = fst_vt["ServoDyn"]
+    discon = Path(servo["DLL_InFile"])
+    if not discon.is_absolute():
+        discon = Path(deck).parent / Path(fst_vt["Fst"]["ServoFile"]).parent / discon
+    try:
+        turbine_folder.mkdir(parents=True, exist_ok=True)
+        copy_input(discon, turbine_folder / FILE_NAMES["discon"])
+    except (OSError, FileNotFoundError) as error:
+        raise DeckNotFound(f"{deck}: ServoDyn DLL_InFile: {error}") from None
+    servo["DLL_InFile"] = f"../{FILE_NAMES['discon']}"
     if folder.exists():
         shutil.rmtree(folder)
     folder.mkdir(parents=True)
@@ -181,6 +218,11 @@ def _hub_height(fst_vt: dict) -> float:
     return float(ed["TowerHt"] + ed["Twr2Shft"] + ed["OverHang"] * math.sin(math.radians(ed["ShftTilt"])))
 
 
+def deck_hub_height(deck: Path) -> float:
+    """The hub height of ``deck`` [m] (:func:`_hub_height`), where its cases put the reference wind."""
+    return _hub_height(read_deck(deck)[0])
+
+
 def write_case(deck: Path, folder: Path, name: str, inputs: CaseInputs) -> WrittenCase:
     """Write the inputs of one case into ``folder`` from ``deck``.
 
@@ -191,17 +233,15 @@ def write_case(deck: Path, folder: Path, name: str, inputs: CaseInputs) -> Writt
     ValueError
         A channel of ``inputs.channels`` that no module of the deck's OutList knows.
     """
-    fst_vt = read_deck(deck)
-    changed: List[str] = []
+    fst_vt, switched = read_deck(deck)
+    changed: List[str] = list(switched)
 
     def put(module: str, key: str, value) -> None:
         if fst_vt[module].get(key) != value:
             changed.append(f"{module} {key} = {value:.6g}" if isinstance(value, float) else f"{module} {key} = {value}")
         fst_vt[module][key] = value
 
-    for (module, key), value in FIXED_BOTTOM.items():
-        if key in fst_vt[module]:
-            put(module, key, value)
+    put("ElastoDyn", "YawDOF", FIXED_BOTTOM[("ElastoDyn", "YawDOF")])
     hub = _hub_height(fst_vt)
     put("Fst", "TMax", float(inputs.duration))
     put("Fst", "TStart", 0.0)

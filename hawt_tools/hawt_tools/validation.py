@@ -1,6 +1,6 @@
 """``hawt validate``: the same cases in OpenFAST and in hawt, with the same controller and wind, side by side.
 
-For each :class:`ValidationCase` the turbine's ``rosco`` graph runs in process (``hawt run``, recorded to MCAP) and
+For each :class:`ValidationCase` the turbine's ``validation`` graph (plant, ROSCO, mbc) runs in process (``hawt run``, recorded to MCAP) and
 OpenFAST runs the turbine's own deck (:mod:`hawt_tools.openfast_case`) with the same ROSCO library and DISCON.IN,
 the same wind (steady power law; turbulent: the plant's own field written as a TurbSim ``.bts`` that both read) and
 the same initial state (hawt's operating point at step 0: rotor speed, pitch, azimuth, tower-top displacement).
@@ -24,7 +24,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from hawt_analysis.summary import summarize
-from hawt_tools.openfast_case import CaseInputs, WrittenCase, output_of, run_openfast, write_case
+from hawt_tools.openfast_case import CaseInputs, WrittenCase, deck_hub_height, output_of, run_openfast, write_case
 
 __all__ = ["Check", "Figure", "DEFAULT_CASES", "STEADY_CHECKS", "TURBULENT_CHECKS", "ValidationCase", "CaseResult",
            "case_figures", "compare_figures", "parse_case", "run_case", "write_report"]
@@ -232,7 +232,7 @@ class CaseResult:
 
 
 def _hawt_overrides(case: ValidationCase, turbine: str, bts: Optional[Path]) -> Tuple[Dict[str, str], List[str]]:
-    """The ``rosco`` graph's launch arguments and ``-p`` overrides for ``case``."""
+    """The ``validation`` graph's launch arguments and ``-p`` overrides for ``case``."""
     arguments = {"turbine": turbine, "wind_speed": str(case.wind_speed), "shear_exponent": str(case.shear_exponent),
                  "duration": str(case.duration), "wind_type": "bts" if bts is not None else "steady"}
     return arguments, ([f"plant.bts_file:={bts}"] if bts is not None else [])
@@ -247,7 +247,25 @@ def _turbulent_field(case: ValidationCase, turbine, folder: Path) -> Path:
                                     hub_height=turbine.hub_height, turbulence_class=case.turbulence_class,
                                     seed=case.seed, field_duration=max(600.0, case.duration)))
     path = folder / f"{case.name}.bts"
-    write_bts(path, wind, f"hawt validate {case.name}: IEC Kaimal class {case.turbulence_class}, seed {case.seed}")
+    write_bts(path, wind, f"hawt validate {case.name}: IEC Kaimal class {case.turbulence_class}, seed {case.seed}",
+              tower=True)
+    return path
+
+
+def _field_at_hub(bts: Path, hub_height: float) -> Path:
+    """``bts`` with its grid raised to centre on ``hub_height`` (same velocities), for a deck whose hub is higher
+    than the plant's (a turbine whose substructure the import lowered); ``bts`` itself if the hubs agree."""
+    from hawt_plant.bts import read_bts, write_bts
+    from hawt_plant.turbulence import TurbulentWind
+
+    wind = read_bts(bts)
+    if abs(hub_height - wind.hub_height) < 1e-3:
+        return bts
+    raised = TurbulentWind(wind.velocity_grid, time_step=wind.time_step, grid_y=wind.grid_y,
+                           grid_z=wind.grid_z + (hub_height - wind.hub_height), mean_speed=wind.mean_speed,
+                           hub_height=hub_height, periodic=wind.periodic, x_offset=wind.x_offset)
+    path = bts.with_name(f"{bts.stem}-hub{hub_height:.1f}.bts")
+    write_bts(path, raised, f"{bts.stem} raised to a hub at {hub_height:.2f} m", tower=True)
     return path
 
 
@@ -255,7 +273,7 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
              parameters: Sequence[str] = (), progress: Callable[[str], None] = print) -> CaseResult:
     """Run ``case`` in OpenFAST (in a thread) and in hawt (here) at once, then analyse both over the same window.
 
-    ``graph_path`` is the ``rosco`` graph; ``parameters`` are more ``-p NODE.PARAM:=VALUE`` for hawt's side.
+    ``graph_path`` is the ``validation`` graph; ``parameters`` are more ``-p NODE.PARAM:=VALUE`` for hawt's side.
     """
     from hawt_analysis.openfast_output import openfast_channel_names, read_openfast_output
     from hawt_bag.plant_run import load_plant_run
@@ -280,12 +298,14 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     check_graph_parameters(graph, plan)
     output = start.output
     discon = write_private_input(tuning_file(turbine, "discon"), folder / "DISCON.IN", {})
-    written: WrittenCase = write_case(deck, folder, case.name, CaseInputs(
+    inputs = CaseInputs(
         duration=case.duration, wind_speed=case.wind_speed, shear_exponent=case.shear_exponent,
         rotor_speed=float(output.rotor_speed), pitch=tuple(float(p) for p in output.pitch),
         azimuth=float(output.azimuth), tower_top=(float(output.tower_top_fa_disp), float(output.tower_top_ss_disp)),
         discon_library=rosco_files()[0], discon_input=discon,
-        channels=openfast_channel_names(start.description.blades), bts_file=bts))
+        channels=openfast_channel_names(start.description.blades),
+        bts_file=_field_at_hub(bts, deck_hub_height(deck)) if bts is not None else None)
+    written: WrittenCase = write_case(deck, folder, case.name, inputs)
 
     failure: List[BaseException] = []
     walls: Dict[str, float] = {}
@@ -308,7 +328,12 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     if bag.exists():
         bag.unlink()
     began = time.monotonic()
-    run_graph(graph, plan, bag, case.duration, lambda line: progress(f"  {case.name}: hawt {line}"))
+    def hawt_progress(line: str) -> None:
+        if failure:  # OpenFAST has failed: no use in finishing hawt's side
+            raise failure[0]
+        progress(f"  {case.name}: hawt {line}")
+
+    run_graph(graph, plan, bag, case.duration, hawt_progress)
     walls["hawt"] = time.monotonic() - began
     thread.join()
     if failure:

@@ -74,6 +74,25 @@ def test_openfast_io_reads_the_written_field_as_hawt_does(generated, tmp_path):
     assert theirs["ID"] == 8  # periodic, as generated
 
 
+def test_tower_points_carry_the_fields_wind_below_the_grid_down_to_the_ground(generated, tmp_path):
+    """With tower points (InflowWind refuses a point below a grid without them), openfast-io reads every dz from the
+    grid's bottom to the ground the bottom row's wind at y = 0, which is what the field gives there; hawt's reader
+    reads the same grid as without them."""
+    from openfast_io.turbsim_file import TurbSimFile
+
+    write_bts(tmp_path / "field.bts", generated, tower=True)
+    theirs, ours = TurbSimFile(str(tmp_path / "field.bts")), read_bts(tmp_path / "field.bts")
+    bottom = generated.grid_z[0]
+    dz = generated.grid_z[1] - bottom
+    assert theirs["zTwr"][0] == pytest.approx(bottom) and 0.0 <= theirs["zTwr"][-1] < dz
+    heights = theirs["zTwr"]
+    for k in range(5):
+        field = generated.velocity(k * generated.time_step, np.zeros_like(heights), np.zeros_like(heights), heights)
+        np.testing.assert_allclose(theirs["uTwr"][:, k, :], field, atol=2 * _quantum(generated).max())
+    write_bts(tmp_path / "plain.bts", generated)
+    np.testing.assert_array_equal(ours.velocity_grid, read_bts(tmp_path / "plain.bts").velocity_grid)
+
+
 def test_non_periodic_field_round_trips_with_inflowwind_time_shift(tmp_path):
     """A non-periodic field (file id 7) keeps x_offset = half the grid width, as InflowWind sets it."""
     values = np.random.default_rng(1).normal(8.0, 1.0, size=(5, 2, 3, 3))

@@ -39,9 +39,9 @@ def test_a_turbine_without_a_deck_is_refused_with_how_to_get_one(tmp_path):
 def test_a_case_changes_what_it_sets_and_nothing_else(tmp_path):
     """TMax, the steady inflow at the hub, the initial state, the controller and the outputs as asked; the rigid
     base and no yaw DOF; every other input as the deck has it."""
-    deck = read_deck(deck_of("nrel_5mw"))
+    deck, _ = read_deck(deck_of("nrel_5mw"))
     written = write_case(deck_of("nrel_5mw"), tmp_path, "steady-18", _inputs())
-    case = read_deck(written.fst)
+    case, _ = read_deck(written.fst)
     assert written.hub_height == pytest.approx(90.0, abs=1e-3)
     assert case["Fst"]["TMax"] == 120.0 and case["Fst"]["OutFileFmt"] == 2
     inflow = case["InflowWind"]
@@ -70,7 +70,7 @@ def test_a_case_changes_what_it_sets_and_nothing_else(tmp_path):
 def test_a_turbulent_case_reads_the_plants_field_from_a_bts_file(tmp_path):
     field = tmp_path / "field.bts"
     written = write_case(deck_of("nrel_5mw"), tmp_path / "case", "turbulent-18", _inputs(bts_file=field))
-    inflow = read_deck(written.fst)["InflowWind"]
+    inflow = read_deck(written.fst)[0]["InflowWind"]
     assert inflow["WindType"] == 3 and Path(inflow["FileName_BTS"]) == field.resolve()
 
 
@@ -83,11 +83,29 @@ def test_an_imported_turbine_keeps_a_copy_of_its_deck_that_validate_finds(tmp_pa
     copy = keep_deck(deck_of("nrel_5mw"), tmp_path)
     assert copy == tmp_path / "openfast" / "NREL-5MW.fst"
     assert deck_of(str(tmp_path)) == copy
-    original, kept = read_deck(deck_of("nrel_5mw")), read_deck(copy)
+    (original, _), (kept, _) = read_deck(deck_of("nrel_5mw")), read_deck(copy)
     assert kept["ElastoDyn"]["TipRad"] == original["ElastoDyn"]["TipRad"]
     assert kept["AeroDyn"]["UA_Mod"] == original["AeroDyn"]["UA_Mod"]
     assert all(Path(p).is_relative_to(tmp_path) or not Path(p).is_absolute()
                for p in (kept["Fst"]["EDFile"], kept["Fst"]["AeroFile"]))
+
+
+def test_the_kept_deck_and_its_rosco_input_move_with_the_turbine_folder(tmp_path):
+    """The ROSCO input becomes the turbine's discon tuning with its Cp/Ct/Cq file beside it by name, and the copy's
+    ServoDyn names it relatively: the folder moved elsewhere still gives ROSCO its performance table."""
+    from hawt_controllers.rosco_input import read_settings
+    from hawt_controllers.tunings import tuning_file
+
+    keep_deck(deck_of("nrel_5mw"), tmp_path / "before")
+    (tmp_path / "before").rename(tmp_path / "after")
+    folder = tmp_path / "after"
+    discon = tuning_file(str(folder), "discon")
+    assert discon == folder / "DISCON.IN"
+    performance = read_settings(discon)["PerfFileName"].strip('"')
+    assert performance == "Cp_Ct_Cq.NREL5MW.txt" and (folder / performance).is_file()
+    kept, _ = read_deck(deck_of(str(folder)))
+    assert kept["ServoDyn"]["DLL_InFile"].endswith("DISCON.IN")
+    assert (folder / "openfast" / kept["ServoDyn"]["DLL_InFile"]).resolve() == discon.resolve()
 
 
 def test_the_executable_comes_from_the_option_or_the_environment_else_one_line(tmp_path, monkeypatch):
