@@ -10,7 +10,8 @@ from hawt_tools.cli import find_graph, main
 from hawt_tools.graph_file import GraphError, load_graph
 from hawt_tools.launcher import package_prefix
 
-GRAPHS = ("baseline", "controllers", "identification", "ipc", "lqg", "repetitive", "rosco", "rosco_ipc", "switching")
+GRAPHS = ("baseline", "controllers", "identification", "ipc", "lqg", "repetitive", "rosco", "rosco_ipc", "switching",
+          "validation")
 
 
 @pytest.mark.parametrize("name", GRAPHS)

@@ -79,3 +79,15 @@ def test_bad_input_is_one_line_and_exit_2_before_anything_runs(arguments, messag
     _, err = capsys.readouterr()
     assert err.count("\n") == 1 and message in err, err
     assert not list(tmp_path.iterdir())  # no report folder left behind
+
+
+def test_an_imported_turbine_runs_hawts_side_with_the_rosco_input_the_import_kept(tmp_path, capsys):
+    """hawt turbine import keeps the deck and its ROSCO input; the validation graph (no cpc tuning needed) then runs
+    ROSCO on that turbine, and validate finds the deck, with no hand edit."""
+    from hawt_tools.openfast_case import deck_of
+
+    folder = tmp_path / "nrel5mw"
+    assert main(["turbine", "import", str(deck_of("nrel_5mw")), "-o", str(folder)]) == 0
+    assert deck_of(str(folder)) == folder / "openfast" / "NREL-5MW.fst"
+    assert main(["run", "validation", f"turbine:={folder}", "duration:=1"]) == 0
+    assert "finished 100 steps" in capsys.readouterr().out
