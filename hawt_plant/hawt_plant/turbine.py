@@ -2,6 +2,8 @@
 
 A turbine definition is one YAML file (``turbines/<name>/turbine.yaml``) plus one YAML file
 per airfoil polar (``airfoils/<name>.yaml`` beside it). SI units throughout (m, kg, s, rad).
+An optional ``aerodynamics`` section says which aerodynamic models the plant runs for this turbine
+(:class:`AerodynamicOptions`, each with its source); a definition without it keeps hawt's defaults.
 The NREL 5 MW reference turbine (Jonkman et al. 2009, NREL/TP-500-38060) ships with the
 package; :func:`nrel_5mw` loads it. The loader checks every key and names the file and the
 key of the first problem it finds in a :class:`TurbineDefinitionError`.
@@ -16,8 +18,9 @@ turns clockwise seen from upwind.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
@@ -26,6 +29,8 @@ import yaml
 from hawt_core.plant_description import PlantDescription
 
 __all__ = [
+    "AERODYNAMIC_OPTIONS",
+    "AerodynamicOptions",
     "AirfoilPolar",
     "BladeAerodynamics",
     "BladeStructure",
@@ -338,6 +343,63 @@ class OperatingSchedule:
     optimal_tip_speed_ratio: float
 
 
+AERODYNAMIC_OPTIONS = ("tower_shadow", "tower_drag", "skewed_wake", "unsteady_airfoil", "dynamic_inflow")
+"""The aerodynamic options of :class:`AerodynamicOptions`, by the names the plant's parameters and
+:class:`hawt_plant.model.ModelConfig` give them."""
+
+NO_SECTION = "hawt's default (the definition has no aerodynamics section)"
+"""The source of an option a definition does not give."""
+
+
+def _default_sources() -> Mapping[str, str]:
+    return MappingProxyType(dict.fromkeys(AERODYNAMIC_OPTIONS, NO_SECTION))
+
+
+@dataclass(frozen=True)
+class AerodynamicOptions:
+    """Which aerodynamic models the plant runs for a turbine (unless its parameter of the same name says otherwise).
+
+    The defaults are what a definition without an ``aerodynamics`` section gets (hawt's defaults before
+    definitions carried them); :func:`hawt_plant.plant_setup.make_plant` resolves the plant's parameters against
+    them.
+
+    Attributes
+    ----------
+    tower_shadow : bool
+        The tower's influence on the blade elements: potential flow ahead of an upwind rotor (AeroDyn
+        TwrPotent = 1); for a downwind rotor the potential flow and Powles' wake behind the tower (TwrShadow = 1).
+    tower_drag : bool
+        Aerodynamic drag on the tower (AeroDyn TwrAero).
+    skewed_wake : bool
+        Pitt & Peters' skewed-wake correction of the axial induction (AeroDyn Skew_Mod = 1 with
+        SkewRedistr_Mod = 1).
+    unsteady_airfoil : bool
+        Hansen-Gaunaa-Madsen dynamic stall on the elements whose polar has unsteady parameters (AeroDyn
+        UA_Mod = 4).
+    dynamic_inflow : bool
+        Øye's dynamic inflow instead of the quasi-steady induction (AeroDyn DBEMT_Mod = 2).
+    sources : Mapping[str, str]
+        Option name -> where its value comes from (a deck's file and key, or hawt's reason); not compared.
+    """
+
+    tower_shadow: bool = True
+    tower_drag: bool = True
+    skewed_wake: bool = False
+    unsteady_airfoil: bool = False
+    dynamic_inflow: bool = False
+    sources: Mapping[str, str] = field(default_factory=_default_sources, compare=False)
+
+    def overridden(self, values: Mapping[str, bool], source: str) -> "AerodynamicOptions":
+        """These options with ``values`` (name -> bool) in place of the definition's, each with the source
+        ``source`` and its name, e.g. ``plant parameter skewed_wake``."""
+        return replace(self, **values, sources=MappingProxyType(
+            {**self.sources, **{name: f"{source} {name}" for name in values}}))
+
+    def text(self) -> str:
+        """The options in one line: ``tower_shadow on, tower_drag on, skewed_wake off, ...``."""
+        return ", ".join(f"{name} {'on' if getattr(self, name) else 'off'}" for name in AERODYNAMIC_OPTIONS)
+
+
 @dataclass(frozen=True)
 class Environment:
     """Air density [kg/m^3] and gravitational acceleration [m/s^2]."""
@@ -367,6 +429,7 @@ class Turbine:
     generator: Generator
     pitch_actuator: PitchActuator
     schedule: OperatingSchedule
+    aerodynamics: AerodynamicOptions
 
     @property
     def blade_length(self) -> float:
@@ -471,6 +534,8 @@ def load_turbine(path: str | Path) -> Turbine:
         generator=_generator(doc.section("generator")),
         pitch_actuator=_pitch_actuator(doc.section("pitch_actuator")),
         schedule=_schedule(doc.section("operation")),
+        aerodynamics=_aerodynamics(doc.section("aerodynamics"), path.name) if doc.has("aerodynamics")
+        else AerodynamicOptions(),
     )
 
 
@@ -524,6 +589,9 @@ class _Section:
 
     def has(self, key: str) -> bool:
         return key in self._data
+
+    def keys(self) -> tuple[str, ...]:
+        return tuple(self._data)
 
     def raw(self, key: str) -> Any:
         if key not in self._data:
@@ -742,6 +810,27 @@ def _schedule(s: _Section) -> OperatingSchedule:
         rated_rotor_speed=s.number("rated_rotor_speed", low=min_speed),
         optimal_tip_speed_ratio=s.number("optimal_tip_speed_ratio", low=0.0),
     )
+
+
+def _aerodynamics(s: _Section, file: str) -> AerodynamicOptions:
+    """Each option ``true``/``false`` (its source: this file and key) or ``{value: true, source: text}``; an
+    option left out keeps hawt's default."""
+    unknown = sorted(set(s.keys()) - set(AERODYNAMIC_OPTIONS))
+    if unknown:
+        raise s.error(unknown[0], f"no such option (expected {', '.join(AERODYNAMIC_OPTIONS)})")
+    values, sources = {}, dict(AerodynamicOptions().sources)
+    for name in AERODYNAMIC_OPTIONS:
+        if not s.has(name):
+            continue
+        raw = s.raw(name)
+        if isinstance(raw, bool):
+            values[name], sources[name] = raw, f"{file} aerodynamics.{name}"
+        elif isinstance(raw, dict) and set(raw) == {"value", "source"} and isinstance(raw["value"], bool) \
+                and isinstance(raw["source"], str) and raw["source"]:
+            values[name], sources[name] = raw["value"], raw["source"]
+        else:
+            raise s.error(name, f"expected true or false, or {{value: true or false, source: text}}, found {raw!r}")
+    return AerodynamicOptions(**values, sources=MappingProxyType(sources))
 
 
 def _airfoil(path: Path) -> AirfoilPolar:

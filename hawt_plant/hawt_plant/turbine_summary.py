@@ -14,6 +14,9 @@ the plant's modal model (:mod:`hawt_plant.modal`), each on its own:
   sqrt(K (1 / J_rotor + 1 / (N^2 J_generator))), J_rotor the hub's and the coned blades' inertia about the shaft;
 - blade edgewise: the plant has no such mode; :func:`hawt_plant.modal.blade_edgewise_frequency` estimates it from
   the edge stiffness (standing still).
+
+It also lists the definition's aerodynamic options (what the plant runs unless its parameters say otherwise), each
+with its source.
 """
 from __future__ import annotations
 
@@ -26,7 +29,7 @@ from scipy.optimize import brentq, minimize
 from hawt_plant.bem import BemBlade, rotor_performance
 from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, rotor_inertia, tower_modal_properties
 from hawt_plant.operating_point import schedule_rotor_speed
-from hawt_plant.turbine import Turbine
+from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine
 
 __all__ = ["TurbineSummary", "format_summary", "peak_power_coefficient", "turbine_summary"]
 
@@ -73,6 +76,8 @@ class TurbineSummary:
         Free-free shaft torsion [Hz].
     blade_edge_frequency : float
         First edgewise mode standing still, estimated (module notes) [Hz].
+    aerodynamics : AerodynamicOptions
+        The definition's aerodynamic options, with their sources.
     """
 
     name: str
@@ -96,6 +101,7 @@ class TurbineSummary:
     tower_ss_frequency: float
     drivetrain_frequency: float
     blade_edge_frequency: float
+    aerodynamics: AerodynamicOptions
 
 
 def peak_power_coefficient(turbine: Turbine, blade: BemBlade | None = None) -> tuple[float, float, float]:
@@ -174,6 +180,7 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         tower_ss_frequency=hertz(tower["ss"].stiffness, tower["ss"].modal_mass + top),
         drivetrain_frequency=hertz(drivetrain.torsional_stiffness, torsion_inertia),
         blade_edge_frequency=blade_edgewise_frequency(turbine),
+        aerodynamics=turbine.aerodynamics,
     )
 
 
@@ -195,4 +202,7 @@ def format_summary(summary: TurbineSummary) -> str:
         f"rated speed, blade edgewise {s.blade_edge_frequency:.3f} Hz standing (estimated); tower fore-aft "
         f"{s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; drivetrain torsion "
         f"{s.drivetrain_frequency:.3f} Hz",
+        "aerodynamics (what the plant runs; its parameter of the same name, true or false, overrides one):",
+        *(f"  {name} {'on' if getattr(s.aerodynamics, name) else 'off'}: {s.aerodynamics.sources[name]}"
+          for name in AERODYNAMIC_OPTIONS),
     ])

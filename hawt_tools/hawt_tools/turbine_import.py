@@ -36,7 +36,14 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
   (``rosco/toolbox/controller.py``: WE_FOPoles_N - PC_GS_n values below rated, PC_GS_n + 1 from rated): cut-in
   WE_FOPoles_v(1), rated WE_FOPoles_v(WE_FOPoles_N - PC_GS_n), cut-out WE_FOPoles_v(WE_FOPoles_N); rotor speeds
   VS_MinOMSpd / GBRatio and PC_RefSpd / GBRatio; VS_TSRopt;
-- environment: AD AirDens (the ``.fst`` AirDens when AD says "default"), ``.fst`` Gravity.
+- environment: AD AirDens (the ``.fst`` AirDens when AD says "default"), ``.fst`` Gravity;
+- aerodynamics (the plant's aerodynamic options, :class:`hawt_plant.turbine.AerodynamicOptions`, each written with
+  its source so that ``hawt turbine show`` and a run can say where it came from; :func:`aerodynamic_options`):
+  tower_shadow from AD TwrPotent (and TwrShadow for a downwind rotor), tower_drag from TwrAero, skewed_wake from
+  Skew_Mod and SkewRedistr_Mod, unsteady_airfoil from UA_Mod, dynamic_inflow from Wake_Mod and DBEMT_Mod (OpenFAST
+  4: dynamic BEMT is Wake_Mod = 1 with DBEMT_Mod > 0; Wake_Mod = 2 is the older inputs' DBEMT). What the plant
+  does differently (another UA or DBEMT model, the Bak correction, drag in the induction, no tip loss, ...) is an
+  approximation or not modelled, listed with the others.
 
 Decks the import refuses, with the file and key named (:class:`DeckError`): a missing file; CompElast other than
 1 (BeamDyn blades or SimpleElastoDyn: the plant's blade is ElastoDyn's), CompAero other than 2 (no AeroDyn blade),
@@ -61,8 +68,9 @@ from openfast_io.FAST_reader import InputReader_OpenFAST
 
 from hawt_controllers.rosco_input import read_settings
 
-__all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "DeckError", "ImportedAirfoil", "ImportedTurbine", "Sourced",
-           "aerodynamic_elements", "import_deck", "turbine_text", "write_turbine"]
+__all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "AerodynamicMapping", "DeckError", "ImportedAirfoil",
+           "ImportedTurbine", "Sourced", "aerodynamic_elements", "aerodynamic_options", "import_deck", "turbine_text",
+           "write_turbine"]
 
 DEFAULT_ACTUATOR = (11.11, 0.6)
 """Natural frequency [rad/s] and damping ratio [-] of the pitch actuator of a deck without actuator dynamics
@@ -84,10 +92,25 @@ class DeckError(ValueError):
 
 @dataclass(frozen=True)
 class Sourced:
-    """A value of the turbine definition and where it comes from: the deck's file and key, and any conversion."""
+    """A value of the turbine definition and where it comes from: the deck's file and key, and any conversion.
+
+    ``in_file``: the definition file holds the source with the value (``{value: ..., source: ...}``, read by the
+    loader, as for the aerodynamic options); otherwise it is the comment after the value.
+    """
 
     value: Any
     source: str
+    in_file: bool = False
+
+
+@dataclass(frozen=True)
+class AerodynamicMapping:
+    """The plant's aerodynamic options for a deck's AeroDyn input (:func:`aerodynamic_options`): the definition's
+    ``aerodynamics`` section (option -> :class:`Sourced`), and where the plant does differently."""
+
+    section: Dict[str, Sourced]
+    approximations: Tuple[str, ...]
+    not_modelled: Tuple[str, ...]
 
 
 @dataclass(frozen=True, eq=False)
@@ -260,9 +283,11 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
         "pitch_actuator": _pitch_actuator(discon),
         "operation": _operation(discon, _number(ed, "GBRatio", files["ed"]), files["ed"]),
     }
+    aero = aerodynamic_options(ad, definition["rotor"].get("position") is not None, files["ad"])
+    definition["aerodynamics"] = aero.section
     return ImportedTurbine(deck=fst, definition=definition, airfoils=airfoils,
-                           approximations=tuple(_approximations(ed, torsion, ad, discon, files)),
-                           not_modelled=tuple(_not_modelled(main, ed, ad, ad_blade, sd, files)))
+                           approximations=tuple(_approximations(ed, torsion, ad, discon, files)) + aero.approximations,
+                           not_modelled=tuple(_not_modelled(main, ed, ad, ad_blade, sd, files)) + aero.not_modelled)
 
 
 _UNSUPPORTED = {
@@ -634,6 +659,143 @@ def _operation(discon: _Discon, gearbox_ratio: float, ed_file: str) -> Dict[str,
     }
 
 
+_UA_MODELS = {2: "B-L Gonzalez", 3: "B-L Minnema/Pierce", 4: "B-L HGM 4-states", 5: "B-L HGM+vortex 5 states",
+               6: "Oye", 7: "Boeing-Vertol"}
+_DBEMT_MODELS = {-1: "frozen wake, for linearisation", 0: "no dynamic wake", 1: "constant tau1",
+                 2: "time-dependent tau1", 3: "constant tau1, continuous formulation"}
+
+
+def _is_default(value: Any) -> bool:
+    """An AeroDyn input given as ``default`` (openfast-io keeps the word, quoted or not)."""
+    return isinstance(value, str) and value.strip('"').lower() == "default"
+
+
+def aerodynamic_options(ad: Mapping[str, Any], downwind: bool, file: str) -> AerodynamicMapping:
+    """The plant's aerodynamic options for an AeroDyn input as openfast-io reads it (``fst_vt['AeroDyn']``).
+
+    Parameters
+    ----------
+    ad : mapping
+        AeroDyn's inputs: Wake_Mod, DBEMT_Mod, tau1_const, TwrPotent, TwrShadow, TwrAero, Skew_Mod, SkewMomCorr,
+        SkewRedistr_Mod, SkewRedistrFactor, UA_Mod, UAStartRad, UAEndRad, TipLoss, HubLoss, TanInd, AIDrag,
+        TIDrag, BEM_Mod, SectAvg.
+    downwind : bool
+        The rotor is downwind of the tower (ElastoDyn OverHang > 0).
+    file : str
+        The AeroDyn file's name, for the sources.
+
+    Returns
+    -------
+    AerodynamicMapping
+
+    Notes
+    -----
+    - tower_shadow: an upwind rotor's is AeroDyn's potential flow, TwrPotent > 0 (2, Bak's correction: the
+      baseline potential flow); the downstream shadow (TwrShadow > 0) does not reach its blades. A downwind
+      rotor's is the potential flow and Powles' wake together, TwrPotent > 0 or TwrShadow > 0.
+    - tower_drag: TwrAero.
+    - skewed_wake: Skew_Mod = 1 with SkewRedistr_Mod = 1 (Pitt & Peters, the default) or 2 (a vortex cylinder:
+      Pitt & Peters instead).
+    - unsteady_airfoil: UA_Mod > 0; the plant's is Hansen-Gaunaa-Madsen's (UA_Mod 4), any other an approximation.
+    - dynamic_inflow: Wake_Mod = 1 with DBEMT_Mod > 0 (OpenFAST 4), or Wake_Mod = 2 (the DBEMT of older inputs);
+      the plant's is Øye's, as DBEMT_Mod = 2 (time-dependent tau1). Wake_Mod 0 (no induction) and 3 (OLAF) are
+      not modelled: the plant's induction is BEM's, quasi-steady.
+    - The plant's BEM always has Prandtl's tip and hub losses and the tangential induction and leaves the drag
+      out of the induction (TipLoss = HubLoss = TanInd = True, AIDrag = TIDrag = False): another setting is an
+      approximation.
+    """
+    section: Dict[str, Sourced] = {}
+    approximations: List[str] = []
+    not_modelled: List[str] = []
+
+    def option(name: str, value: bool, source: str) -> None:
+        section[name] = Sourced(bool(value), f"{file} {source}", in_file=True)
+
+    potent, shadow = int(ad["TwrPotent"]), int(ad["TwrShadow"])
+    if not downwind:
+        option("tower_shadow", potent > 0, f"TwrPotent = {potent}" + (" (potential flow)" if potent else ""))
+        if potent == 2:
+            approximations.append(f"{file} TwrPotent = 2 (potential flow with Bak's correction): the plant's tower "
+                                  "shadow is the baseline potential flow (TwrPotent = 1)")
+        if shadow:
+            not_modelled.append(f"the tower's downstream shadow ({file} TwrShadow = {shadow}): the blades of the "
+                                "upwind rotor stay ahead of the tower")
+    else:
+        option("tower_shadow", potent > 0 or shadow > 0,
+               f"TwrPotent = {potent}, TwrShadow = {shadow} (downwind rotor: potential flow and wake)")
+        if (potent > 0 or shadow > 0) and (potent, shadow) != (1, 1):
+            approximations.append(f"{file} TwrPotent = {potent}, TwrShadow = {shadow}: behind the tower the plant has "
+                                  "the baseline potential flow and Powles' wake together (TwrPotent = TwrShadow = 1)")
+    option("tower_drag", ad["TwrAero"], f"TwrAero = {ad['TwrAero']}")
+
+    skew, redistribution = int(ad["Skew_Mod"]), ad["SkewRedistr_Mod"]
+    redistribution = 1 if _is_default(redistribution) else int(redistribution)
+    option("skewed_wake", skew == 1 and redistribution > 0,
+           f"Skew_Mod = {skew}" + (f", SkewRedistr_Mod = {ad['SkewRedistr_Mod']} (Pitt & Peters)"
+                                   if skew == 1 and redistribution == 1 else
+                                   f", SkewRedistr_Mod = {ad['SkewRedistr_Mod']}" if skew == 1 else ""))
+    if skew == 1 and redistribution == 2:
+        approximations.append(f"{file} SkewRedistr_Mod = 2 (vortex cylinder): the plant's skewed wake is Pitt & "
+                              "Peters' (SkewRedistr_Mod = 1)")
+    factor = ad.get("SkewRedistrFactor")
+    if skew == 1 and redistribution > 0 and not _is_default(factor) and \
+            not math.isclose(float(factor), 15.0 * math.pi / 32.0, rel_tol=1e-6):
+        approximations.append(f"{file} SkewRedistrFactor = {float(factor):g}: the plant's Pitt & Peters constant "
+                              "is 15 pi/32")
+    if skew == 1 and ad.get("SkewMomCorr"):
+        not_modelled.append(f"the skew momentum correction ({file} SkewMomCorr = True)")
+
+    ua = int(ad["UA_Mod"])
+    option("unsteady_airfoil", ua > 0, f"UA_Mod = {ua}" + (f" ({_UA_MODELS.get(ua, 'unknown')})" if ua else ""))
+    if ua:
+        model = "its model" if ua == 4 else "Hansen-Gaunaa-Madsen's (UA_Mod = 4) in its place"
+        approximations.append(f"{file} UA_Mod = {ua} ({_UA_MODELS.get(ua, 'unknown')}): the plant's unsteady airfoil "
+                              f"is {model}, from each table's alpha0, C_nalpha and Cd0; the tables' other UA "
+                              "coefficients are not used")
+        start, end = float(ad.get("UAStartRad", 0.0)), float(ad.get("UAEndRad", 1.0))
+        if (start, end) != (0.0, 1.0):
+            approximations.append(f"{file} UAStartRad = {start:g}, UAEndRad = {end:g}: the plant's unsteady airfoil "
+                                  "acts on every element whose polar has UA coefficients")
+
+    wake, dbemt = int(ad["Wake_Mod"]), int(ad["DBEMT_Mod"])
+    if wake == 1:
+        option("dynamic_inflow", dbemt > 0,
+               f"Wake_Mod = 1 (BEMT), DBEMT_Mod = {dbemt} ({_DBEMT_MODELS.get(dbemt, 'unknown')})")
+        if dbemt > 0:
+            constant = f", not the constant tau1 = {float(ad['tau1_const']):g} s" if dbemt in (1, 3) else ""
+            approximations.append(f"{file} DBEMT_Mod = {dbemt} ({_DBEMT_MODELS.get(dbemt, 'unknown')}): the plant's "
+                                  "dynamic inflow is Øye's filter on each element's axial induction (Hansen 2008 "
+                                  f"§10.2), tau1 from the element's induction and inflow{constant}; the tangential "
+                                  "induction stays quasi-steady")
+        elif dbemt == -1:
+            approximations.append(f"{file} DBEMT_Mod = -1 (frozen wake, for linearisation): the plant's induction is "
+                                  "quasi-steady")
+    elif wake == 2:
+        option("dynamic_inflow", True, f"Wake_Mod = 2 (DBEMT, the older inputs' switch), DBEMT_Mod = {dbemt}")
+        approximations.append(f"{file} Wake_Mod = 2 (DBEMT): the plant's dynamic inflow is Øye's filter on each "
+                              "element's axial induction (Hansen 2008 §10.2); the tangential induction stays "
+                              "quasi-steady")
+    else:
+        option("dynamic_inflow", False, f"Wake_Mod = {wake}")
+        not_modelled.append(f"{file} Wake_Mod = {wake} ({'no induction' if wake == 0 else 'OLAF free vortex wake'}): "
+                            "the plant's induction is BEM's, quasi-steady")
+
+    always = [f"{key} = False" for key in ("TipLoss", "HubLoss", "TanInd") if not ad[key]]
+    if always:
+        approximations.append(f"{file} {', '.join(always)}: the plant's BEM always has Prandtl's tip and hub losses "
+                              "and the tangential induction")
+    drag = [f"{key} = True" for key in ("AIDrag", "TIDrag") if ad[key] and (key == "AIDrag" or ad["TanInd"])]
+    if drag:
+        approximations.append(f"{file} {', '.join(drag)}: the plant's induction leaves the drag out (as AIDrag = "
+                              "TIDrag = False); the loads include it")
+    if int(ad.get("BEM_Mod", 1)) != 1:
+        approximations.append(f"{file} BEM_Mod = {ad['BEM_Mod']}: the plant's BEM is the legacy one (BEM_Mod = 1)")
+    if ad.get("SectAvg"):
+        not_modelled.append(f"sector averaging ({file} SectAvg = True): each element sees the wind at its own "
+                            "position")
+    return AerodynamicMapping(section, tuple(approximations), tuple(not_modelled))
+
+
 def _approximations(ed: Mapping[str, Any], torsion: float, ad: Mapping[str, Any], discon: _Discon,
                     files: Mapping[str, str]) -> List[str]:
     """How values were approximated where the plant's definition has no place for the deck's (``torsion``: the
@@ -659,9 +821,6 @@ def _approximations(ed: Mapping[str, Any], torsion: float, ad: Mapping[str, Any]
     drag = np.asarray(ad["TwrCd"], dtype=float)
     if np.any(drag != drag[0]):
         out.append(f"{files['ad']} TwrCd varies along the tower: the plant's tower drag and wake use its mean")
-    if not ad["TwrAero"]:
-        out.append(f"{files['ad']} TwrAero = False: the plant's tower drag is its tower_drag parameter (on by "
-                   "default)")
     return out
 
 
@@ -679,13 +838,6 @@ def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[st
                    f"{ed['TwSSDOF2']}; {tower_file} TwFAM2Sh, TwSSM2Sh)")
     if ed["YawDOF"] or sd["YCMode"]:
         out.append(f"nacelle yaw ({ed_file} YawDOF = {ed['YawDOF']}; {files['sd']} YCMode = {sd['YCMode']})")
-    if ad["UA_Mod"]:
-        out.append(f"AeroDyn's unsteady airfoil model ({ad_file} UA_Mod = {ad['UA_Mod']}): the plant's (its "
-                   "unsteady_airfoil parameter, off by default) is Hansen-Gaunaa-Madsen's (UA_Mod 4) from each "
-                   "table's alpha0, C_nalpha and Cd0; the other UA coefficients are not used")
-    if ad["DBEMT_Mod"] > 0:
-        out.append(f"AeroDyn's dynamic BEM ({ad_file} DBEMT_Mod = {ad['DBEMT_Mod']}): the plant's induction is "
-                   "quasi-steady or follows Øye's dynamic inflow (its dynamic_inflow parameter)")
     out.append(f"the deck's inflow ({main['InflowFile']}): the plant's wind comes from its own parameters")
     out.append(f"the controller's tuning ({files['discon']}: gains, filters, set points); ROSCO itself reads it (the "
                "discon controller)")
@@ -706,8 +858,6 @@ def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[st
     bend = max(np.max(np.abs(ad_blade["BlCrvAC"])), np.max(np.abs(ad_blade["BlSwpAC"])))
     if bend:
         out.append(f"blade prebend and sweep ({files['ad_blade']} BlCrvAC, BlSwpAC: up to {bend:.3g} m)")
-    if ad["Wake_Mod"] != 1:
-        out.append(f"{ad_file} Wake_Mod = {ad['Wake_Mod']}: the plant's induction is BEM's")
     if ad["NacelleDrag"]:
         out.append(f"nacelle drag ({ad_file} NacelleDrag = True)")
     if sd["HSSBrMode"]:
@@ -740,7 +890,9 @@ def _yaml_value(value: Any) -> str:
 def _section_lines(section: Mapping[str, Any], indent: str) -> List[str]:
     lines = []
     for key, item in section.items():
-        if isinstance(item, Sourced):
+        if isinstance(item, Sourced) and item.in_file:
+            lines.append(f"{indent}{key}: {{value: {_yaml_value(item.value)}, source: {_yaml_value(item.source)}}}")
+        elif isinstance(item, Sourced):
             lines.append(f"{indent}{key}: {_yaml_value(item.value)}  # {item.source}")
         else:
             lines.append(f"{indent}{key}:")

@@ -139,3 +139,61 @@ def test_invalid_unsteady_parameter_is_named(editable_copy, tmp_path):
     path.write_text(path.read_text().replace("lift_slope: 6.2047", "lift_slope: -6.2047"))
     with pytest.raises(TurbineDefinitionError, match=r"DU21_A17\.yaml: unsteady\.lift_slope: expected a value > 0"):
         load_turbine(editable_copy(["name"], "edited"))
+
+
+def test_the_packaged_nrel_5mw_takes_the_options_of_its_aerodyn_deck(turbine):
+    """NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: TwrPotent 1, TwrAero True, Skew_Mod 1 and UA_Mod 3 give tower
+    shadow, tower drag, skewed wake and unsteady airfoil; dynamic inflow stays off (quasi-steady, as the linear
+    models assume; the deck's DBEMT_Mod 2 is OpenFAST 4's dynamic BEMT), its source says so."""
+    options = turbine.aerodynamics
+    assert (options.tower_shadow, options.tower_drag, options.skewed_wake, options.unsteady_airfoil,
+            options.dynamic_inflow) == (True, True, True, True, False)
+    for name, key in (("tower_shadow", "TwrPotent = 1"), ("tower_drag", "TwrAero = True"),
+                      ("skewed_wake", "Skew_Mod = 1"), ("unsteady_airfoil", "UA_Mod = 3")):
+        assert options.sources[name].startswith(f"NRELOffshrBsline5MW_Onshore_AeroDyn15.dat {key}"), name
+    assert options.sources["dynamic_inflow"].startswith("hawt: quasi-steady") and \
+        "DBEMT_Mod = 2" in options.sources["dynamic_inflow"]
+
+
+def test_the_two_bladed_variants_keep_the_decks_options_and_the_downwind_one_says_why_its_shadow_is_on():
+    """Derived from turbine.yaml, both variants have its options; the downwind rotor's tower shadow (potential flow
+    and Powles' wake) names hawt's reason instead of TwrPotent."""
+    from hawt_plant.turbine import nrel_5mw, nrel_5mw_two_bladed, nrel_5mw_two_bladed_downwind
+
+    base = nrel_5mw().aerodynamics
+    for variant in (nrel_5mw_two_bladed(), nrel_5mw_two_bladed_downwind()):
+        assert variant.aerodynamics == base
+    downwind = nrel_5mw_two_bladed_downwind().aerodynamics.sources
+    assert "Powles' wake" in downwind["tower_shadow"] and downwind["skewed_wake"] == base.sources["skewed_wake"]
+
+
+def test_a_definition_without_an_aerodynamics_section_keeps_hawts_defaults(editable_copy):
+    """An older file loads unchanged: tower shadow and tower drag on, the rest off, each source saying so."""
+    from hawt_plant.turbine import NO_SECTION, AerodynamicOptions
+
+    options = load_turbine(editable_copy(["aerodynamics"], None)).aerodynamics
+    assert options == AerodynamicOptions(tower_shadow=True, tower_drag=True, skewed_wake=False,
+                                         unsteady_airfoil=False, dynamic_inflow=False)
+    assert set(options.sources.values()) == {NO_SECTION}
+
+
+def test_an_option_given_as_true_or_false_names_the_file_and_key_as_its_source(editable_copy):
+    """``dynamic_inflow: true`` without a source: on, its source the definition's file and key; an option left
+    out of the section keeps hawt's default."""
+    editable_copy(["aerodynamics", "tower_drag"], None)
+    options = load_turbine(editable_copy(["aerodynamics", "dynamic_inflow"], True)).aerodynamics
+    assert options.dynamic_inflow and options.sources["dynamic_inflow"] == "turbine.yaml aerodynamics.dynamic_inflow"
+    assert options.tower_drag and options.sources["tower_drag"].startswith("hawt's default")
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("skewed_wake", "yes", r"aerodynamics\.skewed_wake: expected true or false, or \{value: true or false, "
+                           r"source: text\}, found 'yes'"),
+    ("skewed_wake", {"value": True}, r"aerodynamics\.skewed_wake: expected true or false"),
+    ("skew", True, r"aerodynamics\.skew: no such option \(expected tower_shadow, tower_drag, skewed_wake, "
+                   r"unsteady_airfoil, dynamic_inflow\)"),
+], ids=["not a boolean", "no source", "unknown option"])
+def test_a_bad_aerodynamic_option_is_named_with_its_file_and_key(editable_copy, key, value, message):
+    """A value that is not true/false (or {value, source}), or an option the plant does not have."""
+    with pytest.raises(TurbineDefinitionError, match=rf"turbine\.yaml: {message}"):
+        load_turbine(editable_copy(["aerodynamics", key], value))

@@ -60,10 +60,15 @@ def test_the_modes_are_the_modal_models_one_at_a_time(summary):
         math.sqrt(turbine.drivetrain.torsional_stiffness * (1 / rotor + 1 / generator)) / (2 * math.pi))
 
 
-def test_the_text_names_rated_values_cp_max_and_first_modes(summary):
-    """Four lines: the turbine, its rated values, Cp-max with its tip-speed ratio, the first modes."""
+def test_the_text_names_rated_values_cp_max_first_modes_and_the_aerodynamic_options(summary):
+    """Four lines: the turbine, its rated values, Cp-max with its tip-speed ratio, the first modes; then the
+    aerodynamic options, one line each with its source."""
     lines = format_summary(summary).splitlines()
-    assert len(lines) == 4
+    assert len(lines) == 4 + 1 + 5
     assert lines[1].startswith("rated: 5 MW electrical, rotor 12.10 rpm")
     assert lines[2].startswith(f"Cp-max {summary.max_power_coefficient:.4f} at tip-speed ratio")
     assert lines[3].startswith("first modes: blade flap")
+    assert lines[4].startswith("aerodynamics")
+    assert lines[8] == ("  unsteady_airfoil on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat UA_Mod = 3 (B-L "
+                        "Minnema/Pierce; the plant's is Hansen-Gaunaa-Madsen's, UA_Mod = 4)")
+    assert lines[9].startswith("  dynamic_inflow off: hawt: quasi-steady induction")

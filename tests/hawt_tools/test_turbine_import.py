@@ -95,6 +95,10 @@ MATCHES = {
     "schedule.rated_wind_speed": EXACT,
     "schedule.cut_out_wind_speed": EXACT,
     "schedule.rated_rotor_speed": (1e-9, 0.0, "DISCON.IN PC_RefSpd / GBRatio = 122.90967 / 97"),
+    "aerodynamics.tower_shadow": (0.0, 0.0, "AeroDyn15 TwrPotent = 1"),
+    "aerodynamics.tower_drag": (0.0, 0.0, "AeroDyn15 TwrAero = True"),
+    "aerodynamics.skewed_wake": (0.0, 0.0, "AeroDyn15 Skew_Mod = 1, SkewRedistr_Mod = default"),
+    "aerodynamics.unsteady_airfoil": (0.0, 0.0, "AeroDyn15 UA_Mod = 3"),
 }
 """Field of the definition -> (relative tolerance, absolute tolerance, why) of the import against the shipped."""
 
@@ -103,8 +107,11 @@ DELIBERATE = {
     "pitch_actuator.max_rate": (0.1396263, 0.1745, "Jonkman baseline 8 deg/s; DISCON.IN PC_MaxRat"),
     "schedule.min_rotor_speed": (0.7225663, 34.64286 / 97.0, "Jonkman's 6.9 rpm; DISCON.IN VS_MinOMSpd / GBRatio"),
     "schedule.optimal_tip_speed_ratio": (7.55, 7.5, "Jonkman's region 2; DISCON.IN VS_TSRopt"),
+    "aerodynamics.dynamic_inflow": (False, True, "hawt keeps the quasi-steady induction the linear models assume; "
+                                                 "AeroDyn15 Wake_Mod = 1 with DBEMT_Mod = 2, OpenFAST 4's dynamic BEMT"),
 }
-"""Field -> (the shipped value, from Jonkman et al. 2009; the deck's value, which the import gives; sources)."""
+"""Field -> (the shipped value, from Jonkman et al. 2009 or hawt's choice; the deck's value, which the import gives;
+sources)."""
 
 
 def _field(turbine, path: str):
@@ -127,17 +134,32 @@ def test_the_nrel_5mw_deck_gives_the_shipped_definition_within_each_fields_toler
 def test_the_shipped_values_from_jonkman_2009_are_the_only_other_differences(imported_5mw, path):
     """Where the shipped file takes a value from Jonkman et al. (2009), the import gives the deck's instead."""
     shipped, deck, _ = DELIBERATE[path]
+    if isinstance(shipped, bool):
+        assert (_field(nrel_5mw(), path), _field(imported_5mw, path)) == (shipped, deck)
+        return
     assert _field(nrel_5mw(), path) == pytest.approx(shipped, rel=1e-9)
     assert _field(imported_5mw, path) == pytest.approx(deck, rel=1e-6)
 
 
 def test_every_field_of_the_definition_is_compared():
-    """MATCHES and DELIBERATE cover every field of every part of a turbine (the airfoils are compared below)."""
+    """MATCHES and DELIBERATE cover every field of every part of a turbine (the airfoils are compared below, the
+    aerodynamic options' sources in the next test: they are not compared values)."""
     turbine = nrel_5mw()
     fields = {f"{part.name}.{field.name}" for part in dataclasses.fields(turbine)
               if dataclasses.is_dataclass(getattr(turbine, part.name))
-              for field in dataclasses.fields(getattr(turbine, part.name))}
+              for field in dataclasses.fields(getattr(turbine, part.name)) if field.compare}
     assert fields == set(MATCHES) | set(DELIBERATE)
+
+
+def test_the_shipped_aerodynamic_options_name_the_sources_the_import_writes(imported_5mw):
+    """The shipped NREL 5 MW's options that follow the deck have the import's sources word for word; its
+    dynamic_inflow names hawt's reason and the deck's switches."""
+    shipped, imported = nrel_5mw().aerodynamics.sources, imported_5mw.aerodynamics.sources
+    for name in ("tower_shadow", "tower_drag", "skewed_wake"):
+        assert shipped[name] == imported[name], name
+    assert shipped["unsteady_airfoil"].startswith(imported["unsteady_airfoil"][:-1])
+    assert imported["dynamic_inflow"].endswith("Wake_Mod = 1 (BEMT), DBEMT_Mod = 2 (time-dependent tau1)")
+    assert shipped["dynamic_inflow"].startswith("hawt: quasi-steady induction")
 
 
 def test_the_nrel_5mw_polars_are_the_shipped_ones(imported_5mw):
@@ -172,6 +194,99 @@ def test_the_unsteady_parameters_are_the_decks_ua_tables(imported_5mw):
         assert (math.degrees(expected.alpha0), expected.cd0) == pytest.approx((v13_alpha0, v13_cd0))
 
 
+OPTIONS = ("tower_shadow", "tower_drag", "skewed_wake", "unsteady_airfoil", "dynamic_inflow")
+
+DECK_AERODYNAMICS = {
+    NREL_5MW: ((True, True, True, True, True), [
+        "UA_Mod = 3 (B-L Minnema/Pierce): the plant's unsteady airfoil is Hansen-Gaunaa-Madsen's (UA_Mod = 4) in its "
+        "place", "DBEMT_Mod = 2 (time-dependent tau1): the plant's dynamic inflow is Øye's filter"]),
+    IEA_15MW: ((True, True, True, True, True), [
+        "UA_Mod = 3 (B-L Minnema/Pierce)", "UAStartRad = 0.1, UAEndRad = 1", "AIDrag = True, TIDrag = True: the "
+        "plant's induction leaves the drag out", "the tower's downstream shadow (IEA-15-240-RWT-Monopile_AeroDyn15.dat "
+        "TwrShadow = 1): the blades of the upwind rotor stay ahead of the tower"]),
+    NREL_2P8: ((False, False, True, True, True), [
+        "NREL-2p8-127_AeroDyn15.dat TwrPotent = 0", "NREL-2p8-127_AeroDyn15.dat TwrAero = False",
+        "AIDrag = True, TIDrag = True"]),
+}
+"""Deck -> (its options in OPTIONS' order; what turbine.yaml must say about them: sources, approximations, what
+is not modelled). All three: Wake_Mod 1 with DBEMT_Mod 2, Skew_Mod 1, UA_Mod 3; the IEA 15 MW also has the
+downstream tower shadow and UA from 10 % of the radius, the 2.8-127 no tower influence or drag; both these put the
+drag into the induction."""
+
+
+@pytest.mark.parametrize("deck", sorted(DECK_AERODYNAMICS))
+def test_each_deck_gives_the_aerodynamic_options_of_its_aerodyn_input(imported_deck, deck):
+    """The imported definition's options are its AeroDyn input's (DECK_AERODYNAMICS), each with the AeroDyn file and
+    switch as its source, and the file lists what the plant does differently."""
+    options, lines = DECK_AERODYNAMICS[deck]
+    text = (imported_deck(deck) / "turbine.yaml").read_text()
+    aerodynamics = load_turbine(imported_deck(deck) / "turbine.yaml").aerodynamics
+    assert tuple(getattr(aerodynamics, name) for name in OPTIONS) == options
+    assert all(re.match(r"\S+_AeroDyn15\.dat ", aerodynamics.sources[name]) for name in OPTIONS), aerodynamics.sources
+    for line in lines:
+        assert line in text, line
+
+
+def _aerodyn(**changes):
+    """AeroDyn inputs as openfast-io reads the NREL 5 MW's, with ``changes``."""
+    return {"Wake_Mod": 1, "DBEMT_Mod": 0, "tau1_const": 4.0, "TwrPotent": 1, "TwrShadow": 0, "TwrAero": True,
+            "Skew_Mod": 1, "SkewMomCorr": False, "SkewRedistr_Mod": "default", "SkewRedistrFactor": '"default"',
+            "UA_Mod": 0, "UAStartRad": 0.0, "UAEndRad": 1.0, "TipLoss": True, "HubLoss": True, "TanInd": True,
+            "AIDrag": False, "TIDrag": False, "BEM_Mod": 1, "SectAvg": False, **changes}
+
+
+@pytest.mark.parametrize("changes, downwind, options, line", [
+    ({}, False, {}, None),
+    ({"UA_Mod": 4}, False, {"unsteady_airfoil": True}, "UA_Mod = 4 (B-L HGM 4-states): the plant's unsteady "
+                                                       "airfoil is its model"),
+    ({"UA_Mod": 3}, False, {"unsteady_airfoil": True}, "UA_Mod = 3 (B-L Minnema/Pierce): the plant's unsteady "
+                                                       "airfoil is Hansen-Gaunaa-Madsen's (UA_Mod = 4) in its place"),
+    ({"TwrPotent": 2}, False, {}, "TwrPotent = 2 (potential flow with Bak's correction): the plant's tower shadow is "
+                                  "the baseline potential flow"),
+    ({"TwrPotent": 0, "TwrAero": False}, False, {"tower_shadow": False, "tower_drag": False}, None),
+    ({"TwrPotent": 0, "TwrShadow": 1}, True, {}, "TwrPotent = 0, TwrShadow = 1: behind the tower the plant has the "
+                                                 "baseline potential flow and Powles' wake together"),
+    ({"TwrShadow": 1}, True, {}, None),
+    ({"Skew_Mod": 0}, False, {"skewed_wake": False}, None),
+    ({"SkewRedistr_Mod": 0}, False, {"skewed_wake": False}, None),
+    ({"SkewRedistr_Mod": 2}, False, {}, "SkewRedistr_Mod = 2 (vortex cylinder): the plant's skewed wake is Pitt & "
+                                        "Peters'"),
+    ({"SkewRedistrFactor": 1.0}, False, {}, "SkewRedistrFactor = 1: the plant's Pitt & Peters constant is 15 pi/32"),
+    ({"SkewMomCorr": True}, False, {}, "the skew momentum correction (AD.dat SkewMomCorr = True)"),
+    ({"DBEMT_Mod": 2}, False, {"dynamic_inflow": True}, "DBEMT_Mod = 2 (time-dependent tau1): the plant's dynamic "
+                                                        "inflow is Øye's filter on each element's axial induction"),
+    ({"DBEMT_Mod": 1}, False, {"dynamic_inflow": True}, "not the constant tau1 = 4 s"),
+    ({"DBEMT_Mod": -1}, False, {}, "DBEMT_Mod = -1 (frozen wake, for linearisation): the plant's induction is "
+                                   "quasi-steady"),
+    ({"Wake_Mod": 2, "DBEMT_Mod": 2}, False, {"dynamic_inflow": True}, "Wake_Mod = 2 (DBEMT): the plant's dynamic "
+                                                                       "inflow is Øye's"),
+    ({"Wake_Mod": 3}, False, {}, "Wake_Mod = 3 (OLAF free vortex wake): the plant's induction is BEM's"),
+    ({"Wake_Mod": 0}, False, {}, "Wake_Mod = 0 (no induction): the plant's induction is BEM's"),
+    ({"TipLoss": False, "TanInd": False}, False, {}, "TipLoss = False, TanInd = False: the plant's BEM always has "
+                                                     "Prandtl's tip and hub losses and the tangential induction"),
+    ({"AIDrag": True, "TIDrag": True}, False, {}, "AIDrag = True, TIDrag = True: the plant's induction leaves the "
+                                                  "drag out"),
+    ({"SectAvg": True}, False, {}, "sector averaging (AD.dat SectAvg = True)"),
+], ids=["the deck's switches", "UA_Mod 4", "UA_Mod 3", "Bak correction", "no tower influence",
+        "downwind wake only", "downwind potential and wake", "no skew model", "no skew redistribution", "vortex cylinder", "skew factor", "skew momentum",
+        "DBEMT tau1 varying", "DBEMT tau1 constant", "frozen wake", "legacy Wake_Mod 2", "OLAF", "no induction",
+        "no tip loss", "drag in the induction", "sector average"])
+def test_each_aerodyn_switch_maps_to_an_option_and_says_where_the_plant_differs(changes, downwind, options, line):
+    """From the NREL 5 MW's inputs without UA and DBEMT (tower shadow, drag and skewed wake on, nothing to list):
+    each change gives its options and the one line that says what the plant does instead."""
+    from hawt_tools.turbine_import import aerodynamic_options
+
+    mapping = aerodynamic_options(_aerodyn(**changes), downwind, "AD.dat")
+    expected = {**dict.fromkeys(OPTIONS[:3], True), "unsteady_airfoil": False, "dynamic_inflow": False, **options}
+    assert {name: item.value for name, item in mapping.section.items()} == expected
+    assert all(item.in_file and item.source.startswith("AD.dat ") for item in mapping.section.values())
+    listed = [*mapping.approximations, *mapping.not_modelled]
+    if line is None:
+        assert listed == [], listed
+    else:
+        assert len(listed) == 1 and line in listed[0], listed
+
+
 def test_the_blade_mass_the_import_states_is_the_deck_distributions(imported_deck):
     """The deck states no blade mass: the import's reference mass and centre of gravity are the trapezoidal
     integrals of BMassDen x AdjBlMs over the 49 stations, 0.74 % and 0.16 % from Jonkman's 17 740 kg and 20.475 m
@@ -187,7 +302,7 @@ def test_every_value_written_names_its_source_file_and_key(imported_deck):
     values = [line for line in lines if not line.startswith("#") and not line.rstrip().endswith(":")]
     assert len(values) > 60
     for line in values:
-        assert re.search(r"  # .*(\.dat|\.fst|DISCON\.IN|from the spans|hawt's default)", line), line
+        assert re.search(r"(  # |source: \").*(\.dat|\.fst|DISCON\.IN|from the spans|hawt's default)", line), line
 
 
 def test_aerodynamic_elements_keep_the_v14_layout_and_otherwise_share_the_blade_between_nodes():
@@ -277,6 +392,8 @@ def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(h
     # Jonkman et al. (2009) Table 9-1 (FAST): the summary's tower mode has no rotary inertia of the rotor and
     # nacelle (5 % high), its flap mode no coupling with the edgewise mode (2 % low).
     assert fa == pytest.approx(0.324, rel=0.06) and flap == pytest.approx(0.6993, rel=0.05)
+    assert "  skewed_wake on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat Skew_Mod = 1" in text
+    assert "  dynamic_inflow on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat Wake_Mod = 1 (BEMT), DBEMT_Mod = 2" in text
 
 
 def _copy_5mw(tmp_path: Path, case) -> Path:
