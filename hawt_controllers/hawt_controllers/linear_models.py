@@ -1,6 +1,7 @@
 """The plant's linear models in the Coleman frame over the power curve (``hawt linearize``).
 
-Per wind speed: the plant (the plant node's defaults and overrides, steady sheared wind) is
+Per wind speed: the plant (the plant node's defaults and overrides, steady sheared wind, quasi-steady
+aerodynamics: :func:`linearized_plant`) is
 linearised about its open-loop periodic orbit at N azimuths (hawt_plant.linearization), each
 model is written in multi-blade coordinates (Bir 2008, hawt_controllers.mbc3: flap, flap rate,
 pitch and pitch rate of the blades; pitch commands and blade-effective winds; root moments) and
@@ -28,9 +29,25 @@ from .coleman_coupling import offset_from_dc_response
 from .collective import BaselineCollectiveConfig, gain_correction_factor, integral_gain_factor
 from .mbc3 import BladeGroups, LinearModel, azimuth_average, mbc3
 
-__all__ = ["ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
+__all__ = ["QUASI_STEADY", "ColemanModel", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
            "collective_loop_gain", "decoupling_offset", "stability_margins", "state_space_response",
-           "labelled_modes", "tilt_yaw_response", "linearize_at", "linearize_power_curve", "load_models", "save_models"]
+           "labelled_modes", "tilt_yaw_response", "linearize_at", "linearized_plant", "linearize_power_curve",
+           "load_models", "save_models"]
+
+QUASI_STEADY = {"unsteady_airfoil": False, "dynamic_inflow": False}
+"""The aerodynamic options a linear model is of, over the turbine's own: static polars and the quasi-steady
+induction (the model's continuous dynamics, TurbineModel.continuous_dynamics, have neither unsteady-airfoil nor
+inflow states). The other options (tower shadow and drag, skewed wake) are the turbine's or the given ones."""
+
+
+def linearized_plant(wind_speed: float, plant: Optional[Mapping[str, Any]] = None) -> dict:
+    """The plant parameter values a linear model at ``wind_speed`` [m/s] is of: ``plant`` (name -> value) over
+    :data:`QUASI_STEADY` and the plant node's defaults, the wind steady."""
+    from hawt_core.parameter_table import resolve_values
+    from hawt_plant.plant_setup import PARAMETERS
+
+    return resolve_values(PARAMETERS, {**QUASI_STEADY, **(plant or {}), "wind_type": "steady",
+                                       "wind_speed": wind_speed})
 
 
 @dataclass(frozen=True)
@@ -71,13 +88,11 @@ def coleman_model(periodic: PeriodicLinearization, blades: int) -> LinearModel:
 def linearize_at(wind_speed: float, azimuths: int = 12, settle_time: float = 60.0,
                  plant: Optional[Mapping[str, Any]] = None) -> ColemanModel:
     """The Coleman-frame model at ``wind_speed`` [m/s] of the plant with parameters ``plant`` (name -> value,
-    over the plant node's defaults; the wind is steady)."""
-    from hawt_core.parameter_table import resolve_values
-    from hawt_plant.plant_setup import PARAMETERS, make_plant
+    over the plant node's defaults and quasi-steady aerodynamics; the wind is steady: :func:`linearized_plant`)."""
+    from hawt_plant.plant_setup import make_plant
 
     start = time.perf_counter()
-    values = resolve_values(PARAMETERS, {**(plant or {}), "wind_type": "steady", "wind_speed": wind_speed})
-    _, model, _ = make_plant(values)
+    _, model, _ = make_plant(linearized_plant(wind_speed, plant))
     periodic = linearize_model(model, azimuths, settle_time)
     return ColemanModel(wind_speed, periodic.rotor_speed, periodic.pitch, periodic.generator_torque,
                         coleman_model(periodic, model.number_of_blades), periodic.loops,

@@ -18,7 +18,7 @@ from typing import Any, Callable, Dict, Mapping, Optional
 import numpy as np
 from scipy.signal import lsim
 
-from .linear_models import ColemanModel
+from .linear_models import ColemanModel, linearized_plant
 from .mbc import blade_azimuths, mbc_forward_sample
 
 __all__ = ["CHANNELS", "StepComparison", "compare_step"]
@@ -92,16 +92,16 @@ def _nonlinear_run(values: Mapping[str, Any], steps: int, step_index: int,
 
 def compare_step(model: ColemanModel, kind: str, size: float, step_time: float = 10.0, duration: float = 30.0,
                  plant: Optional[Mapping[str, Any]] = None) -> StepComparison:
-    """``model`` against the plant (parameters ``plant`` over the node's defaults, as linearised) for a step of
+    """``model`` against the plant it is of (parameters ``plant`` over the node's defaults and quasi-steady
+    aerodynamics, as linearised: hawt_controllers.linear_models.linearized_plant) for a step of
     ``size`` at ``step_time`` [s], over ``duration`` [s] after it: ``kind`` "pitch" (every blade's command
     [rad]), "tilt" or "yaw" (the cos or sin 1P cyclic pitch [rad], theta_i += size cos/sin psi_i at each
     step), or "wind" [m/s]."""
-    from hawt_core.parameter_table import resolve_values
-    from hawt_plant.plant_setup import PARAMETERS, make_plant
+    from hawt_plant.plant_setup import make_plant
 
     if kind not in CHANNELS:
         raise ValueError(f"kind: expected one of {', '.join(CHANNELS)}, found {kind!r}")
-    base = resolve_values(PARAMETERS, {**(plant or {}), "wind_type": "steady", "wind_speed": model.wind_speed})
+    base = linearized_plant(model.wind_speed, plant)
     turbine, plant_model, _ = make_plant(base)
     blades = plant_model.number_of_blades
     dt = base["dt"]
