@@ -27,13 +27,32 @@ class ParameterSpec:
     unit: str = ""
     minimum: Optional[float] = None
     maximum: Optional[float] = None
-    choices: Tuple[str, ...] = ()
+    choices: Tuple[Any, ...] = ()
     read_only: bool = False
+
+    @property
+    def dynamic(self) -> bool:
+        """True for a row that takes values of more than one type (rcl's ``dynamic_typing``): a float row (an
+        integer too), or one whose choices mix types, e.g. ``('turbine', True, False)``."""
+        return isinstance(self.default, float) or self._mixed_choices()
+
+    def _mixed_choices(self) -> bool:
+        return len({_kind(choice) for choice in self.choices}) > 1
+
+    def choices_text(self) -> str:
+        """The choices as a user writes them: ``lockstep, realtime``; ``turbine, true, false``."""
+        return ", ".join(_word(choice) for choice in self.choices)
 
     def typed(self, value: Any) -> Any:
         """``value`` as this parameter's type (an integer given for a float becomes a float, and so does a string of
         a number in exponent form without a dot, ``8e-11``, which YAML 1.1 and so ``name:=8e-11`` leave a string),
-        else ParameterError."""
+        else ParameterError. A row whose choices mix types takes exactly one of them (``true``, not ``1``)."""
+        if self._mixed_choices():
+            if not _among(value, self.choices):
+                words = [_word(choice) for choice in self.choices]
+                raise ParameterError(f"{self.name}: expected {', '.join(words[:-1])} or {words[-1]}, "
+                                     f"found {value!r}")
+            return value
         if isinstance(self.default, float):
             if isinstance(value, str):
                 try:
@@ -53,9 +72,10 @@ class ParameterSpec:
     def _check_type(self, value: Any) -> None:
         """Refuse a value of another type than the default's, as rcl refuses it for a statically typed parameter.
 
-        Only a float parameter is dynamically typed (it takes an integer, hawt_node.parameters.descriptor);
-        every other one must have its default's type: bool, integer, string, or a list of the default's
-        element type (an integer list for a float list included, as rcl refuses INTEGER_ARRAY for DOUBLE_ARRAY).
+        Only a float parameter (it takes an integer) and one whose choices mix types are dynamically typed
+        (:attr:`dynamic`, hawt_node.parameters.descriptor); every other one must have its default's type: bool,
+        integer, string, or a list of the default's element type (an integer list for a float list included, as
+        rcl refuses INTEGER_ARRAY for DOUBLE_ARRAY).
         """
         expected = _kind(self.default)
         if expected is not None and _kind(value) != expected:
@@ -72,12 +92,22 @@ class ParameterSpec:
                     raise ParameterError(f"{self.name}: {number} is below its minimum {self.minimum} {self.unit}".rstrip())
                 if self.maximum is not None and number > self.maximum:
                     raise ParameterError(f"{self.name}: {number} is above its maximum {self.maximum} {self.unit}".rstrip())
-        if self.choices and value not in self.choices:
-            raise ParameterError(f"{self.name}: {value!r} is not one of {', '.join(self.choices)}")
+        if self.choices and not _among(value, self.choices):
+            raise ParameterError(f"{self.name}: {value!r} is not one of {self.choices_text()}")
 
 
 _KINDS = ((bool, "true or false", "booleans"), (int, "an integer", "integers"), (float, "a number", "numbers"),
           (str, "a string", "strings"))
+
+
+def _among(value: Any, choices: Sequence[Any]) -> bool:
+    """``value`` is one of ``choices``, of the same type (``True`` is not ``1``)."""
+    return any(type(value) is type(choice) and value == choice for choice in choices)
+
+
+def _word(value: Any) -> str:
+    """A value as YAML and ``name:=value`` write it (``true``, not ``True``)."""
+    return str(value).lower() if isinstance(value, bool) else str(value)
 
 
 def _kind(value: Any) -> Optional[str]:

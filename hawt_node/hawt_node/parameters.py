@@ -20,11 +20,12 @@ __all__ = ["ParameterSpec", "ParameterError", "declare_parameters", "check_value
 def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
     """The ROS descriptor of one row: description with unit, read-only, integer or floating-point range."""
     unit = f" [{spec.unit}]" if spec.unit else ""
-    # A float parameter takes an integer too (20 for 20.0), as a user would expect; typed() types it.
+    # A float parameter takes an integer too (20 for 20.0), as a user would expect, and a row whose choices mix
+    # types ('turbine', true or false) takes each of them; typed() checks and types the value.
     result = ParameterDescriptor(name=spec.name, description=f"{spec.description}{unit}",
-                                 read_only=spec.read_only, dynamic_typing=isinstance(spec.default, float))
+                                 read_only=spec.read_only, dynamic_typing=spec.dynamic)
     if spec.choices:
-        result.additional_constraints = f"one of: {', '.join(spec.choices)}"
+        result.additional_constraints = f"one of: {spec.choices_text()}"
     bounds = dict(from_value=spec.minimum if spec.minimum is not None else -math.inf,
                   to_value=spec.maximum if spec.maximum is not None else math.inf)
     if isinstance(spec.default, float) and (spec.minimum is not None or spec.maximum is not None):

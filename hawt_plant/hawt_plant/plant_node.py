@@ -50,7 +50,7 @@ from rosgraph_msgs.msg import Clock
 
 from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import STATE_FIELDS, TurbineOutput
-from hawt_plant.plant_setup import PARAMETERS, check_parameters, make_plant
+from hawt_plant.plant_setup import PARAMETERS, aerodynamics_line, check_parameters, make_plant
 from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
 from hawt_node.command_senders import CommandSenders, Sample
 from hawt_node.events import EventPublisher
@@ -125,7 +125,7 @@ class PlantNode(Node):
         self.get_logger().info(
             f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
             f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
-            f"pitch {math.degrees(self.output.pitch[0]):.2f} deg")
+            f"pitch {math.degrees(self.output.pitch[0]):.2f} deg; {aerodynamics_line(turbine, v)}")
         if self.lockstep:
             self.create_timer(min(v["resend_period"], 0.05), self._resend)
         else:

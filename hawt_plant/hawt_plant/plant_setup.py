@@ -3,6 +3,13 @@
 :func:`make_plant` turns the plant's parameter values into the turbine, its model in the
 configured wind, and the model's output at the operating point of step 0 — the same for
 every engine, so the same parameters give the same run.
+
+The five aerodynamic options (``tower_shadow``, ``tower_drag``, ``skewed_wake``,
+``unsteady_airfoil``, ``dynamic_inflow``) are ``turbine`` by default: the turbine definition's
+(its ``aerodynamics`` section, :class:`hawt_plant.turbine.AerodynamicOptions`); ``true`` or
+``false`` overrides it (:func:`aerodynamic_options`). ROS parameters are typed, so these rows are
+dynamically typed with the choices ``turbine``, ``true``, ``false``: ``-p plant.skewed_wake:=true``
+works in every engine, and anything else is refused before a graph starts.
 """
 import math
 from typing import Any, Mapping, Tuple
@@ -11,9 +18,19 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
-from hawt_plant.turbine import Turbine, nrel_5mw, turbine_from
+from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
 
-__all__ = ["PARAMETERS", "check_parameters", "make_plant"]
+__all__ = ["PARAMETERS", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant"]
+
+TURBINE = "turbine"
+"""The value of an aerodynamic option's parameter that takes the turbine definition's option."""
+
+
+def _aerodynamic_option(name: str, description: str) -> ParameterSpec:
+    return ParameterSpec(name, TURBINE, f"{description}; turbine: the turbine definition's (its aerodynamics "
+                         "section), true or false: on or off whatever the turbine says", choices=(TURBINE, True, False),
+                         read_only=True)
+
 
 PARAMETERS = (
     ParameterSpec("turbine_file", "", "turbine definition YAML, or a packaged turbine's name: nrel_5mw, "
@@ -36,13 +53,14 @@ PARAMETERS = (
                   maximum=40.0, read_only=True),
     ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
                   read_only=True),
-    ParameterSpec("tower_shadow", True, "potential-flow tower shadow on the blade elements", read_only=True),
-    ParameterSpec("tower_drag", True, "aerodynamic drag on the tower (AeroDyn TwrAero)", read_only=True),
-    ParameterSpec("dynamic_inflow", False, "Oye dynamic inflow instead of quasi-steady induction", read_only=True),
-    ParameterSpec("skewed_wake", False, "Pitt-Peters skewed-wake correction of the axial induction (AeroDyn "
-                  "SkewMod 2)", read_only=True),
-    ParameterSpec("unsteady_airfoil", False, "unsteady airfoil aerodynamics: Hansen-Gaunaa-Madsen dynamic stall "
-                  "on the elements whose polar has unsteady parameters (AeroDyn UA_Mod 4)", read_only=True),
+    _aerodynamic_option("tower_shadow", "tower shadow on the blade elements: potential flow (and, behind the "
+                        "tower of a downwind rotor, Powles' wake)"),
+    _aerodynamic_option("tower_drag", "aerodynamic drag on the tower (AeroDyn TwrAero)"),
+    _aerodynamic_option("dynamic_inflow", "Oye dynamic inflow instead of quasi-steady induction"),
+    _aerodynamic_option("skewed_wake", "Pitt-Peters skewed-wake correction of the axial induction (AeroDyn "
+                        "Skew_Mod 1, SkewRedistr_Mod 1)"),
+    _aerodynamic_option("unsteady_airfoil", "unsteady airfoil aerodynamics: Hansen-Gaunaa-Madsen dynamic stall on "
+                        "the elements whose polar has unsteady parameters (AeroDyn UA_Mod 4)"),
     ParameterSpec("torque_disturbance", 0.0, "amplitude D of an unmeasured disturbance D sin(azimuth) on the "
                   "generator torque acting on the drivetrain (Fratini R4)", "N*m", minimum=0.0, maximum=20000.0,
                   read_only=True),
@@ -88,8 +106,24 @@ def check_parameters(values: Mapping[str, Any]) -> None:
                              "trips)")
 
 
+def aerodynamic_options(turbine: Turbine, values: Mapping[str, Any]) -> AerodynamicOptions:
+    """The aerodynamic options a plant with the parameter ``values`` runs: the turbine's, except those whose
+    parameter is true or false (their source then ``the plant's parameter NAME``)."""
+    given = {name: values[name] for name in AERODYNAMIC_OPTIONS if values[name] != TURBINE}
+    return turbine.aerodynamics.overridden(given, "the plant's parameter") if given else turbine.aerodynamics
+
+
+def aerodynamics_line(turbine: Turbine, values: Mapping[str, Any]) -> str:
+    """Which aerodynamic options the plant runs, for its start-up line: ``aerodynamics: tower_shadow on, ...,
+    dynamic_inflow off (the turbine's; by parameter: skewed_wake)``."""
+    given = [name for name in AERODYNAMIC_OPTIONS if values[name] != TURBINE]
+    whose = "the turbine's" + (f"; by parameter: {', '.join(given)}" if given else "")
+    return f"aerodynamics: {aerodynamic_options(turbine, values).text()} ({whose})"
+
+
 def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, TurbineOutput]:
-    """The turbine, its model and the output of step 0 for the plant's parameter ``values``."""
+    """The turbine, its model and the output of step 0 for the plant's parameter ``values``; the aerodynamic
+    options are :func:`aerodynamic_options`."""
     v = values
     turbine = turbine_from(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
     wind = make_wind(InflowSettings(
@@ -97,9 +131,8 @@ def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, Turbin
         hub_height=turbine.hub_height, turbulence_class=v["turbulence_class"], seed=v["seed"],
         field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
         step_speed=v["step_speed"], step_time=v["step_time"]))
-    model = TurbineModel(turbine, wind, ModelConfig(dt=v["dt"], tower_shadow=v["tower_shadow"],
-                                                    dynamic_inflow=v["dynamic_inflow"], tower_drag=v["tower_drag"],
-                                                    torque_disturbance=v["torque_disturbance"],
-                                                    skewed_wake=v["skewed_wake"],
-                                                    unsteady_airfoil=v["unsteady_airfoil"]))
+    options = aerodynamic_options(turbine, v)
+    model = TurbineModel(turbine, wind, ModelConfig(
+        dt=v["dt"], torque_disturbance=v["torque_disturbance"],
+        **{name: getattr(options, name) for name in AERODYNAMIC_OPTIONS}))
     return turbine, model, model.reset_to_operating_point(v["initial_azimuth"])

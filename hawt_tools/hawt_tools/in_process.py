@@ -31,7 +31,7 @@ from hawt_core.parameter_table import ParameterError, resolve_values
 from hawt_core.topics import estimate_topic
 from hawt_plant.model import STATE_FIELDS
 from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
-from hawt_plant.plant_setup import make_plant
+from hawt_plant.plant_setup import aerodynamics_line, make_plant
 from hawt_plant.safety_system import command_rejection
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
@@ -309,7 +309,8 @@ def run_graph(graph: Graph, overrides: Overrides = (), record: Optional[Path] = 
               duration: Optional[float] = None, progress=None) -> InProcessRun:
     """Run a graph in process to the plant's ``duration`` (or ``duration`` [s] simulated), recording it if asked.
 
-    ``progress(line)`` gets a line every 10 % of the run.
+    ``progress(line)`` gets the plant's aerodynamic options first (as the plant node's start-up line says them),
+    then a line every 10 % of the run.
     """
     import time
 
@@ -319,6 +320,8 @@ def run_graph(graph: Graph, overrides: Overrides = (), record: Optional[Path] = 
         raise GraphError(f"{graph.path}: the run needs a simulated duration (the plant's duration parameter or "
                          "--duration S)")
     steps = int(round(seconds / run.description.dt))
+    if progress is not None:
+        progress(f"{run.turbine.name}: {aerodynamics_line(run.turbine, run.plant_values)}")
     book = RunRecord() if record is not None else None
     start, tenth = time.monotonic(), max(1, steps // 10)
     for k in range(steps):

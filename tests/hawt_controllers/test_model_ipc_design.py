@@ -56,15 +56,17 @@ def test_on_first_order_blades_the_np_plant_is_disario_s_eq_2_19_with_n_times_th
 
 TOLERANCE = {1: (1.0, 0.015, 0.01), 2: (1.0, 0.015, 0.01), 3: (1.0, 0.015, 0.04)}
 """Per harmonic: phase offset [deg], integral gain and schedule factors (relative) of the model route against the
-shipped file. Measured: 1P -0.46 deg, +0.3 %, factors within 0.7 %; 2P -0.67 deg, -0.2 %, 0.6 %; 3P +0.73 deg,
--0.9 %, 3.4 % (at 13 m/s, where the model's 3P phase is 2.3 deg off the measured response's)."""
+shipped file. Measured: 1P -0.44 deg, +0.4 %, factors within 0.8 %; 2P -0.64 deg, -0.2 %, 0.5 %; 3P +0.77 deg,
+-0.9 %, 3.3 % (at 13 m/s, where the model's 3P phase is 2.4 deg off the measured response's). The linear models
+have the NREL 5 MW's skewed wake, the measured route (the shipped file) has not; before the models had it: -0.46,
+-0.67, +0.73 deg."""
 
 
 @pytest.mark.parametrize("harmonic", [1, 2, 3])
 def test_the_model_route_reproduces_the_shipped_design(models, shipped, harmonic):
     """The shipped file comes from the measured route; from the linear models the same recipe gives its offsets and
-    gains within TOLERANCE, and its schedule's pitch breakpoints 0.13-0.20 deg lower (the linear models' steady
-    wind has the plant's shear and tower shadow, the measured route's is uniform)."""
+    gains within TOLERANCE, and its schedule's pitch breakpoints 0.14-0.22 deg lower (the linear models' steady
+    wind has the plant's shear and tower shadow, the measured route's is uniform; and their plant the skewed wake)."""
     offset, gain, factors = TOLERANCE[harmonic]
     found, _ = tune([model_harmonic_response(models[v], harmonic) for v in WIND_SPEEDS], 18.0, 2 * math.pi * 0.1,
                     0.1, 0.01)
@@ -86,7 +88,8 @@ def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(
     assert written["phase_offset"] == model_harmonic_response(models[18.0], 1).phase
     printed = capsys.readouterr().out
     assert "h1 (linear model)" in printed
-    assert "cross-check, the measured static response against the model's: 18 m/s phase +0.46 deg" in printed
+    # +0.44 deg with the skewed wake in the linear models (the measured route has none), +0.46 without it.
+    assert "cross-check, the measured static response against the model's: 18 m/s phase +0.44 deg" in printed
     assert "crossover on the model 0.100 Hz" in printed
     main(["--harmonics", "1", "--wind-speeds", "18", "--measured"] + files)
     written = yaml.safe_load((tmp_path / "ipc.yaml").read_text())["/**/ipc_h1"]["ros__parameters"]

@@ -99,3 +99,24 @@ def test_a_bad_pitch_command_is_not_applied_and_is_reported(node, hawt_cli):
     assert all(e.level == ControlEvent.ERROR for e in rejected)
     # the held command is the operating point's: pitch moves only by the actuator's settling, never to 0.2 rad
     assert all(np.allclose(loads[k].pitch, start.pitch, atol=1e-3) for k in loads)
+
+
+def test_the_plant_node_resolves_its_aerodynamic_options_as_the_in_process_runner_does(node):
+    """Declared on a ROS node, 'turbine' takes the turbine's option and an override (a bool, through the dynamically
+    typed descriptor) replaces it: the model's options are make_plant's for the same values."""
+    from rclpy.parameter import Parameter
+
+    from hawt_core.parameter_table import resolve_values
+    from hawt_plant.plant_node import PlantNode
+    from hawt_plant.plant_setup import PARAMETERS, make_plant
+
+    overrides = {"skewed_wake": False, "dynamic_inflow": True}
+    plant = PlantNode(context=node.context, namespace="aero_options",
+                      parameter_overrides=[Parameter(name, value=value) for name, value in overrides.items()])
+    try:
+        assert (plant.values["skewed_wake"], plant.values["unsteady_airfoil"]) == (False, "turbine")
+        assert plant.model.config == make_plant(resolve_values(PARAMETERS, overrides))[1].config
+        assert (plant.model.config.skewed_wake, plant.model.config.unsteady_airfoil,
+                plant.model.config.dynamic_inflow) == (False, True, True)
+    finally:
+        plant.destroy_node()

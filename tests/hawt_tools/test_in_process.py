@@ -1,5 +1,7 @@
 """The in-process runner (DESIGN §6): the graph's cores without middleware, equal to the lockstep graph bit for bit."""
+import shutil
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,6 +12,7 @@ from hawt_tools.node_parameters import node_parameters
 
 SCHEDULE = "schedule:=['500 +ipc_h1', '1500 +ipc_h4 +blade_sine', '2500 +ipc_h1_retuned -ipc_h1', " \
            "'4000 -blade_sine -ipc_h4']"
+PACKAGED_NREL_5MW = Path(__file__).resolve().parents[2] / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
 ROSCO_SCHEDULE = "schedule:=['800 +cpc +ipc_h1 +ipc_h2 -rosco', '1400 +rosco -cpc -ipc_h1 -ipc_h2']"
 
 
@@ -79,3 +82,41 @@ def test_hawt_run_refuses_a_graph_without_a_duration_in_one_line(hawt_cli):
     result = subprocess.run([*hawt_cli, "run", "ipc", "duration:=0"], capture_output=True, text=True, timeout=120)
     assert result.returncode == 2
     assert "duration" in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
+def _baseline_run(*options: str, turbine_file: str = ""):
+    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import load_graph
+    from hawt_tools.in_process import build_run
+    from hawt_tools.launcher import package_prefix, parse_overrides
+
+    graph = load_graph(find_graph("baseline"), {"wind_speed": "14.0"}, package_prefix)
+    given = [*options, *([f"plant.turbine_file:={turbine_file}"] if turbine_file else [])]
+    return build_run(graph, parse_overrides(graph, given))
+
+
+def test_a_plant_parameter_overrides_the_turbines_aerodynamic_option_in_process(tmp_path):
+    """The packaged NREL 5 MW runs with its deck's skewed wake and unsteady airfoil; -p plant.skewed_wake:=false
+    turns the skew off for that run, the other options staying the turbine's, and the run is, step for step, the
+    run of a turbine whose definition says skewed_wake: false."""
+    from dataclasses import replace
+
+    from hawt_plant.plant_setup import aerodynamics_line
+
+    default, overridden = _baseline_run(), _baseline_run("plant.skewed_wake:=false")
+    assert (default.model.config.skewed_wake, default.model.config.unsteady_airfoil) == (True, True)
+    assert (overridden.model.config.skewed_wake, overridden.model.config.unsteady_airfoil) == (False, True)
+    assert replace(overridden.model.config, skewed_wake=True) == default.model.config
+    assert aerodynamics_line(overridden.turbine, overridden.plant_values).endswith(
+        "skewed_wake off, unsteady_airfoil on, dynamic_inflow off (the turbine's; by parameter: skewed_wake)")
+
+    definition = tmp_path / "nrel_5mw" / "turbine.yaml"
+    shutil.copytree(PACKAGED_NREL_5MW, definition.parent)
+    definition.write_text(definition.read_text().replace("skewed_wake: {value: true,", "skewed_wake: {value: false,"))
+    without_skew = _baseline_run(turbine_file=str(definition))
+    assert without_skew.model.config == overridden.model.config
+    for run in (overridden, without_skew):
+        for _ in range(200):
+            run.step(None)
+    np.testing.assert_array_equal(overridden.output.root_moment_oop, without_skew.output.root_moment_oop)
+    assert overridden.output.hub_tilt_moment == without_skew.output.hub_tilt_moment

@@ -73,6 +73,8 @@ def test_a_bad_launch_argument_blames_the_plant_in_the_graph_file(capsys, comman
     ("ipc_h1.harmonic:=1.5", "expected an integer, found 1.5"),
     ("ipc_h1.active:=maybe", "expected true or false, found 'maybe'"),
     ("ipc_h1.max_amplitude:=0", "must be > 0, found 0.0"),
+    ("plant.skewed_wake:=maybe", "expected turbine, true or false, found 'maybe'"),
+    ("plant.unsteady_airfoil:=1", "expected turbine, true or false, found 1"),
     ("plant.command_timeout:=0.1", "0.1 s must exceed resend_period 0.5 s in lockstep (a step is resent before "
                                    "the safety system trips)"),
 ])
@@ -168,3 +170,21 @@ def test_a_number_in_exponent_form_without_a_dot_is_a_number():
     assert gain.typed("8e-11") == 8e-11 and gain.typed("1E3") == 1000.0
     with pytest.raises(ParameterError, match="expected a number"):
         gain.typed("inf")
+
+
+def test_an_aerodynamic_option_takes_turbine_true_or_false_and_is_dynamically_typed_on_the_node():
+    """The plant's five aerodynamic options default to 'turbine' (the turbine definition's) and take true or false
+    from -p; their ROS descriptors are dynamically typed (the default is a string, an override a bool)."""
+    from hawt_node.parameters import descriptor
+    from hawt_plant.plant_setup import PARAMETERS
+    from hawt_plant.turbine import AERODYNAMIC_OPTIONS
+
+    graph = load_graph(find_graph("ipc"), {}, package_prefix)
+    for text, value in (("turbine", "turbine"), ("true", True), ("false", False)):
+        values = check_graph_parameters(graph, parse_overrides(graph, [f"plant.skewed_wake:={text}"]))
+        found = values["/wt1/plant"]["skewed_wake"]
+        assert (type(found), found) == (type(value), value)
+    rows = {row.name: row for row in PARAMETERS}
+    for name in AERODYNAMIC_OPTIONS:
+        assert rows[name].default == "turbine" and descriptor(rows[name]).dynamic_typing, name
+        assert descriptor(rows[name]).additional_constraints == "one of: turbine, true, false"
