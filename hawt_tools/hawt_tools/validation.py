@@ -285,6 +285,7 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_graph_parameters
 
+    from hawt_plant.plant_setup import aerodynamics_line
     from hawt_plant.turbine import turbine_from
 
     folder = out / "openfast" / case.name
@@ -344,8 +345,7 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
                                         case.analysed)
     checks = TURBULENT_CHECKS if case.turbulent else STEADY_CHECKS
     rows = compare_figures(case_figures(hawt_channels), case_figures(openfast_channels), checks)
-    settings = {"plant": {k: start.plant_values[k] for k in ("tower_shadow", "tower_drag", "dynamic_inflow",
-                                                             "skewed_wake", "unsteady_airfoil", "dt")},
+    settings = {"plant": f"{aerodynamics_line(start.turbine, start.plant_values)}, dt {start.plant_values['dt']} s",
                 "hub_height_openfast": written.hub_height, "hub_height_hawt": start.turbine.hub_height,
                 "initial": {"rotor_speed_rpm": output.rotor_speed * 30 / math.pi,
                             "pitch_deg": [math.degrees(p) for p in output.pitch],
@@ -387,7 +387,7 @@ def report_text(turbine: str, openfast: Path, results: Sequence[CaseResult]) -> 
         case = result.case
         wind = (f"IEC class {case.turbulence_class} turbulence, seed {case.seed}, the plant's field as a TurbSim .bts"
                 if case.turbulent else "steady")
-        plant = ", ".join(f"{k}={v}" for k, v in result.settings["plant"].items())
+        plant = result.settings["plant"]
         lines += [f"## {case.name}", "",
                   f"{case.wind_speed:g} m/s at the hub, shear {case.shear_exponent:g}, {wind}; {case.duration:g} s "
                   f"simulated, the last {case.analysed:g} s analysed. Wall: hawt {result.hawt_wall:.1f} s, OpenFAST "
