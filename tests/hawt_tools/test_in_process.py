@@ -120,3 +120,17 @@ def test_a_plant_parameter_overrides_the_turbines_aerodynamic_option_in_process(
             run.step(None)
     np.testing.assert_array_equal(overridden.output.root_moment_oop, without_skew.output.root_moment_oop)
     assert overridden.output.hub_tilt_moment == without_skew.output.hub_tilt_moment
+
+
+def test_hawt_run_says_first_which_aerodynamic_options_the_plant_has():
+    """The first progress line of a run names the turbine and its options, as the plant node's start-up line does."""
+    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import load_graph
+    from hawt_tools.in_process import run_graph
+    from hawt_tools.launcher import package_prefix, parse_overrides
+
+    graph = load_graph(find_graph("baseline"), {}, package_prefix)
+    lines = []
+    run_graph(graph, parse_overrides(graph, ["plant.tower_drag:=false"]), duration=0.05, progress=lines.append)
+    assert lines[0] == ("NREL 5MW onshore: aerodynamics: tower_shadow on, tower_drag off, skewed_wake on, "
+                        "unsteady_airfoil on, dynamic_inflow off (the turbine's; by parameter: tower_drag)")
