@@ -370,7 +370,12 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     if not 0.0 <= args.settle <= 3600.0:
         raise GraphError(f"--settle: {args.settle:g} s is outside 0..3600 s")
     plant = _plant_overrides(args.arguments)
-    if plant.get("dynamic_inflow"):
+    inflow = plant.get("dynamic_inflow")
+    if inflow == "turbine":  # the turbine's own option, which the linear models cannot take either when it is on
+        from hawt_plant.turbine import turbine_from
+
+        inflow = turbine_from(str(plant.get("turbine_file") or "nrel_5mw")).aerodynamics.dynamic_inflow
+    if inflow is True:
         raise GraphError("dynamic_inflow:=true: the linear models have quasi-steady aerodynamics (no inflow states "
                          "yet); linearise without it")
     output = Path(args.output)

@@ -112,6 +112,7 @@ def test_models_written_are_read_back_as_state_space_models(models, tmp_path):
     (["shear_exponnt:=0.1"], "did you mean 'shear_exponent'?"),
     (["shear_exponent:=abc"], "shear_exponent: expected a number"),
     (["dynamic_inflow:=true"], "quasi-steady aerodynamics"),
+    (["dynamic_inflow:=maybe"], "expected turbine, true or false"),
 ])
 def test_bad_input_is_one_line_and_exit_2(words, message, capsys, tmp_path):
     assert cli.main(["linearize", "--output", str(tmp_path / "x.npz"), *words]) == 2
