@@ -36,7 +36,7 @@ from hawt_plant.safety_system import command_rejection
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
 
-__all__ = ["InProcessRun", "build_run", "plant_parameters", "RunRecord", "write_run", "run_graph"]
+__all__ = ["InProcessRun", "build_run", "plant_parameters", "RunRecord", "write_run", "run_graph", "step_run"]
 
 Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
 
@@ -312,13 +312,19 @@ def run_graph(graph: Graph, overrides: Overrides = (), record: Optional[Path] = 
     ``progress(line)`` gets the plant's aerodynamic options first (as the plant node's start-up line says them),
     then a line every 10 % of the run.
     """
-    import time
-
     run = build_run(graph, overrides)
     seconds = duration if duration is not None else run.plant_values["duration"]
     if not seconds or seconds <= 0:
         raise GraphError(f"{graph.path}: the run needs a simulated duration (the plant's duration parameter or "
                          "--duration S)")
+    return step_run(run, seconds, record, progress)
+
+
+def step_run(run: InProcessRun, seconds: float, record: Optional[Path] = None, progress=None) -> InProcessRun:
+    """Step a run built by :func:`build_run` (still at step 0) for ``seconds`` simulated, recording it into
+    ``record`` if given; ``progress`` as for :func:`run_graph`."""
+    import time
+
     steps = int(round(seconds / run.description.dt))
     if progress is not None:
         progress(f"{run.turbine.name}: {aerodynamics_line(run.turbine, run.plant_values)}")

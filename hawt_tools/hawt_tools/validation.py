@@ -26,7 +26,7 @@ import numpy as np
 from hawt_analysis.summary import summarize
 from hawt_tools.openfast_case import CaseInputs, WrittenCase, deck_hub_height, output_of, run_openfast, write_case
 
-__all__ = ["Check", "Figure", "DEFAULT_CASES", "STEADY_CHECKS", "TURBULENT_CHECKS", "ValidationCase", "CaseResult",
+__all__ = ["Check", "Figure", "DEFAULT_CASES", "FIGURES", "LOAD_PATHS", "STEADY_CHECKS", "TURBULENT_CHECKS", "ValidationCase", "CaseResult",
            "case_figures", "compare_figures", "parse_case", "run_case", "write_report"]
 
 
@@ -94,7 +94,8 @@ def with_duration(case: ValidationCase, duration: float) -> ValidationCase:
 
 @dataclass(frozen=True)
 class Figure:
-    """One figure of a run: how to compute it from the summary and window, its name and display unit."""
+    """One figure a case reports (:func:`case_figures` computes it in SI): its key, name and display unit, and
+    ``scale``, the factor from SI to that unit."""
 
     key: str
     label: str
@@ -112,6 +113,12 @@ class Check:
     absolute: bool = False
 
 
+LOAD_PATHS = (("hub_tilt", "hub_tilt_moment", "hub tilt (LSSTipMys)"),
+              ("hub_yaw", "hub_yaw_moment", "hub yaw (LSSTipMzs)"),
+              ("tower_fa", "tower_base_fa_moment", "tower-base fore-aft"),
+              ("tower_ss", "tower_base_ss_moment", "tower-base side-side"))
+"""The hub and tower-base channels each reported as mean, 3P and DEL (m = 4): figure key prefix, channel, label."""
+
 FIGURES = {f.key: f for f in (
     Figure("power_mean", "electrical power, mean", "MW", 1e-6),
     Figure("pitch_mean", "pitch, mean of the blades", "deg", 180.0 / math.pi),
@@ -121,18 +128,8 @@ FIGURES = {f.key: f for f in (
     Figure("root_oop_1p", "blade-root out-of-plane, 1P", "MN·m", 1e-6),
     Figure("root_oop_2p", "blade-root out-of-plane, 2P", "MN·m", 1e-6),
     Figure("root_oop_del", "blade-root out-of-plane, DEL m=10", "MN·m", 1e-6),
-    Figure("hub_tilt_mean", "hub tilt (LSSTipMys), mean", "MN·m", 1e-6),
-    Figure("hub_yaw_mean", "hub yaw (LSSTipMzs), mean", "MN·m", 1e-6),
-    Figure("hub_tilt_3p", "hub tilt, 3P", "MN·m", 1e-6),
-    Figure("hub_yaw_3p", "hub yaw, 3P", "MN·m", 1e-6),
-    Figure("hub_tilt_del", "hub tilt, DEL m=4", "MN·m", 1e-6),
-    Figure("hub_yaw_del", "hub yaw, DEL m=4", "MN·m", 1e-6),
-    Figure("tower_fa_mean", "tower-base fore-aft, mean", "MN·m", 1e-6),
-    Figure("tower_ss_mean", "tower-base side-side, mean", "MN·m", 1e-6),
-    Figure("tower_fa_3p", "tower-base fore-aft, 3P", "MN·m", 1e-6),
-    Figure("tower_ss_3p", "tower-base side-side, 3P", "MN·m", 1e-6),
-    Figure("tower_fa_del", "tower-base fore-aft, DEL m=4", "MN·m", 1e-6),
-    Figure("tower_ss_del", "tower-base side-side, DEL m=4", "MN·m", 1e-6),
+    *(Figure(f"{prefix}_{kind}", f"{label}, {text}", "MN·m", 1e-6) for prefix, _, label in LOAD_PATHS
+      for kind, text in (("mean", "mean"), ("3p", "3P"), ("del", "DEL m=4"))),
 )}
 """Every figure a case reports, in SI; ``scale`` converts to the display unit."""
 
@@ -172,30 +169,20 @@ def case_figures(channels: Mapping[str, np.ndarray]) -> Dict[str, float]:
 
     oop = blades("root_moment_oop")
     delta = summary["del"]
-    mean = {name: float(np.mean(channels[name])) for name in ("rotor_thrust", "hub_tilt_moment", "hub_yaw_moment",
-                                                              "tower_base_fa_moment", "tower_base_ss_moment")}
-    return {
+    figures = {
         "power_mean": summary["power"]["mean"],
         "pitch_mean": float(np.mean(channels["pitch"])),
         "rotor_speed_mean": summary["rotor_speed"]["mean"],
-        "thrust_mean": mean["rotor_thrust"],
+        "thrust_mean": float(np.mean(channels["rotor_thrust"])),
         "root_oop_mean": float(np.mean(channels["root_moment_oop"])),
         "root_oop_1p": float(np.mean([amplitude(name, 1) for name in oop])),
         "root_oop_2p": float(np.mean([amplitude(name, 2) for name in oop])),
         "root_oop_del": float(np.mean([delta[name]["value"] for name in oop])),
-        "hub_tilt_mean": mean["hub_tilt_moment"],
-        "hub_yaw_mean": mean["hub_yaw_moment"],
-        "hub_tilt_3p": amplitude("hub_tilt_moment", 3),
-        "hub_yaw_3p": amplitude("hub_yaw_moment", 3),
-        "hub_tilt_del": delta["hub_tilt_moment"]["value"],
-        "hub_yaw_del": delta["hub_yaw_moment"]["value"],
-        "tower_fa_mean": mean["tower_base_fa_moment"],
-        "tower_ss_mean": mean["tower_base_ss_moment"],
-        "tower_fa_3p": amplitude("tower_base_fa_moment", 3),
-        "tower_ss_3p": amplitude("tower_base_ss_moment", 3),
-        "tower_fa_del": delta["tower_base_fa_moment"]["value"],
-        "tower_ss_del": delta["tower_base_ss_moment"]["value"],
     }
+    for prefix, channel, _ in LOAD_PATHS:
+        figures |= {f"{prefix}_mean": float(np.mean(channels[channel])), f"{prefix}_3p": amplitude(channel, 3),
+                    f"{prefix}_del": delta[channel]["value"]}
+    return figures
 
 
 def compare_figures(hawt: Mapping[str, float], openfast: Mapping[str, float], checks: Sequence[Check]) -> List[dict]:
@@ -281,7 +268,7 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     from hawt_controllers.rosco_input import rosco_files, write_private_input
     from hawt_controllers.tunings import tuning_file
     from hawt_tools.graph_file import load_graph
-    from hawt_tools.in_process import build_run, run_graph
+    from hawt_tools.in_process import build_run, step_run
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_graph_parameters
 
@@ -295,16 +282,16 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     arguments, overrides = _hawt_overrides(case, turbine, bts)
     graph = load_graph(graph_path, arguments, package_prefix)
     plan = parse_overrides(graph, list(overrides) + list(parameters))
-    start = build_run(graph, plan)  # the plant at step 0: the operating point both sides start from
+    run = build_run(graph, plan)  # at step 0, the operating point both sides start from; stepped below
     check_graph_parameters(graph, plan)
-    output = start.output
+    output = run.output
     discon = write_private_input(tuning_file(turbine, "discon"), folder / "DISCON.IN", {})
     inputs = CaseInputs(
         duration=case.duration, wind_speed=case.wind_speed, shear_exponent=case.shear_exponent,
         rotor_speed=float(output.rotor_speed), pitch=tuple(float(p) for p in output.pitch),
         azimuth=float(output.azimuth), tower_top=(float(output.tower_top_fa_disp), float(output.tower_top_ss_disp)),
         discon_library=rosco_files()[0], discon_input=discon,
-        channels=openfast_channel_names(start.description.blades),
+        channels=openfast_channel_names(run.description.blades),
         bts_file=_field_at_hub(bts, deck_hub_height(deck)) if bts is not None else None)
     written: WrittenCase = write_case(deck, folder, case.name, inputs)
 
@@ -328,28 +315,28 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     bag = out / "hawt" / f"{case.name}.mcap"
     if bag.exists():
         bag.unlink()
-    began = time.monotonic()
+
     def hawt_progress(line: str) -> None:
         if failure:  # OpenFAST has failed: no use in finishing hawt's side
             raise failure[0]
         progress(f"  {case.name}: hawt {line}")
 
-    run_graph(graph, plan, bag, case.duration, hawt_progress)
+    began = time.monotonic()
+    step_run(run, case.duration, bag, hawt_progress)
     walls["hawt"] = time.monotonic() - began
     thread.join()
     if failure:
         raise failure[0]
     with BagReader(bag) as reader:
         hawt_channels = analysed_window(load_plant_run(reader).channels, case.analysed)
-    openfast_channels = analysed_window(read_openfast_output(output_of(written.fst), start.description.blades),
+    openfast_channels = analysed_window(read_openfast_output(output_of(written.fst), run.description.blades),
                                         case.analysed)
     checks = TURBULENT_CHECKS if case.turbulent else STEADY_CHECKS
     rows = compare_figures(case_figures(hawt_channels), case_figures(openfast_channels), checks)
-    settings = {"plant": f"{aerodynamics_line(start.turbine, start.plant_values)}, dt {start.plant_values['dt']} s",
-                "hub_height_openfast": written.hub_height, "hub_height_hawt": start.turbine.hub_height,
-                "initial": {"rotor_speed_rpm": output.rotor_speed * 30 / math.pi,
-                            "pitch_deg": [math.degrees(p) for p in output.pitch],
-                            "tower_top_fa_m": output.tower_top_fa_disp, "tower_top_ss_m": output.tower_top_ss_disp}}
+    settings = {"plant": f"{aerodynamics_line(run.turbine, run.plant_values)}, dt {run.plant_values['dt']} s",
+                "hub_height_openfast": written.hub_height, "hub_height_hawt": run.turbine.hub_height,
+                "initial": {"rotor_speed_rpm": inputs.rotor_speed * 30 / math.pi,
+                            "pitch_deg": [math.degrees(p) for p in inputs.pitch], "tower_top_m": inputs.tower_top}}
     return CaseResult(case, rows, hawt_channels, openfast_channels, bag, output_of(written.fst), written.changed,
                       walls["hawt"], walls["openfast"], settings)
 
