@@ -119,14 +119,10 @@ class LinearPolar:
 
 
 def aerodyn_nodes(turbine: Turbine) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
-    """AeroDyn15's blade nodes: the plant's element centres with the root and the tip added, their chord,
-    twist and airfoil those of the neighbouring element (as in the NREL 5 MW AeroDyn blade file)."""
+    """AeroDyn15's blade nodes, which are the plant's (root and tip included): radius from the hub centre, chord,
+    twist and airfoil."""
     aero = turbine.blade_aerodynamics
-    span = np.concatenate(([0.0], aero.span, [turbine.blade_length]))
-    chord = np.concatenate((aero.chord[:1], aero.chord, aero.chord[-1:]))
-    twist = np.concatenate((aero.twist[:1], aero.twist, aero.twist[-1:]))
-    airfoil = [aero.airfoil[0], *aero.airfoil, aero.airfoil[-1]]
-    return turbine.rotor.hub_radius + span, chord, twist, airfoil
+    return turbine.rotor.hub_radius + aero.span, aero.chord, aero.twist, list(aero.airfoil)
 
 
 def ccblade_rotor(turbine: Turbine, *, lift_smoothing: float | None, tilt: float, shear: float, sectors: int,

@@ -43,6 +43,7 @@ _FOUR_NINTHS, _TEN_NINTHS = np.array(4.0 / 9.0), np.array(10.0 / 9.0)
 _FLOOR, _FLOOR_SQUARED = np.array(_SIN_FLOOR), np.array(_SIN_FLOOR**2)
 _TWO_OVER_PI_SQUARED, _LOSS_FLOOR = np.array(4.0 / math.pi**2), np.array(1e-4)
 _DIVISOR_FLOOR = np.array(1e-9)
+_EDGE = 1e-3  # [m] a node this close to the tip or the hub along the blade is at it
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,7 +66,8 @@ class BemBlade:
     polars : ElementPolars
     loss_exponents : ndarray, shape (2, N)
         Prandtl exponents times |sin phi|: B/2 (R - r)/r (tip) and B/2 (r - R_hub)/R_hub
-        (hub; infinite, i.e. no hub loss, when R_hub = 0).
+        (hub; infinite, i.e. no hub loss, when R_hub = 0); exactly 0 for a node at the tip or at the hub
+        (within 1 mm along the blade), whose loss factor is then 0.
 
     The per-element arrays may also have a row per blade, shape (B, N) (and
     ``loss_exponents`` (2, B, N)), as :meth:`tiled` makes them: evaluating all blades at
@@ -93,6 +95,12 @@ class BemBlade:
         hub, tip = rotor.hub_radius * cos_cone, rotor.tip_radius * cos_cone
         half_b = 0.5 * rotor.number_of_blades
         hub_exponent = half_b * (radius - hub) / hub if hub > 0.0 else np.full(radius.shape, np.inf)
+        tip_exponent = half_b * (tip - radius) / radius
+        # A node at the tip or at the hub (to _EDGE, as AeroDyn 15 decks place their end nodes) has no loss
+        # exponent: its loss factor is 0 (prandtl_loss, induction_factors).
+        tip_exponent[aero.span >= turbine.blade_length - _EDGE] = 0.0
+        if hub > 0.0:
+            hub_exponent[aero.span <= _EDGE] = 0.0
         return cls(
             radius=radius,
             width=aero.width,
@@ -103,7 +111,7 @@ class BemBlade:
             tip_radius=tip,
             number_of_blades=rotor.number_of_blades,
             polars=ElementPolars(turbine.airfoils, aero.airfoil),
-            loss_exponents=np.stack((half_b * (tip - radius) / radius, hub_exponent)),
+            loss_exponents=np.stack((tip_exponent, hub_exponent)),
         )
 
     def tiled(self, rows: int) -> "BemBlade":
@@ -158,14 +166,15 @@ def prandtl_loss(sin_phi: np.ndarray, blade: BemBlade) -> np.ndarray:
         ``F = (2/pi)^2 acos(exp(-f_tip)) acos(exp(-f_hub))`` with
         ``f_tip = B/2 (R - r) / (r |sin phi|)``, ``f_hub = B/2 (r - R_hub) / (R_hub |sin phi|)``
         (Ning 2014 eqs. 13-15; Hansen, Aerodynamics of Wind Turbines, eq. 6.34); no hub
-        loss when the hub radius is 0.
+        loss when the hub radius is 0. At least 1e-4, except exactly 0 at a node at the tip or the hub.
     """
     s = np.maximum(np.abs(sin_phi), _FLOOR)
     exponents = blade.loss_exponents
     if s.ndim > blade.radius.ndim:
         exponents = exponents.reshape((2,) + (1,) * (s.ndim - blade.radius.ndim) + blade.radius.shape)
     factors = np.arccos(np.exp(-exponents / s))
-    return np.maximum(factors[0] * factors[1] * _TWO_OVER_PI_SQUARED, _LOSS_FLOOR)
+    loss = factors[0] * factors[1] * _TWO_OVER_PI_SQUARED
+    return np.where(loss > _ZERO, np.maximum(loss, _LOSS_FLOOR), _ZERO)
 
 
 def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_solidity: np.ndarray,
@@ -200,9 +209,17 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
     ``g1 = 2Fk - (10/9 - F)``, ``g2 = 2Fk - F(4/3 - F)``, ``g3 = 2Fk - (25/9 - 2F)``;
     for phi < 0 (propeller brake) ``a = k / (k - 1)`` when k > 1, else 0;
     ``a' = k' / (1 - k')``.
+    Where F = 0, a node at the tip or the hub, a = 1 and a' = 0 (and k = k' = 0), as AeroDyn 15 takes them there:
+    the node sees no axial flow, only its rotation.
     """
     sin_phi = np.sin(phi) if sin_phi is None else sin_phi
     cos_phi = np.cos(phi) if cos_phi is None else cos_phi
+    edge = loss == _ZERO
+    if np.any(edge):
+        a, a_prime, k, k_prime = induction_factors(phi, cl, np.where(edge, _ONE, loss), local_solidity, sin_phi,
+                                                   cos_phi)
+        return (np.where(edge, _ONE, a), np.where(edge, _ZERO, a_prime), np.where(edge, _ZERO, k),
+                np.where(edge, _ZERO, k_prime))
     lift = local_solidity * cl / (_FOUR * loss)
     k = lift * cos_phi / np.maximum(sin_phi * sin_phi, _FLOOR_SQUARED)
     k_prime = lift / cos_phi  # cos(phi) of a floating-point phi is never exactly 0
@@ -281,7 +298,7 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
     high-induction states; otherwise the propeller-brake bracket [-pi/4, 0) or (pi/2, pi)
     is used. Bisection then converges for every element. Elements without positive vx and
     vy (a parked rotor, reversed flow) get the inflow angle of the undisturbed flow,
-    ``arctan2(vx, vy)``.
+    ``arctan2(vx, vy)``; a node at the tip or the hub gets 0 (no axial flow, :func:`induction_factors`).
     """
     vx, vy = np.broadcast_arrays(np.asarray(vx, dtype=float), np.asarray(vy, dtype=float))
     pitch = np.broadcast_to(pitch, vx.shape)
@@ -309,7 +326,8 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
         lower = np.where(same, middle, lower)
         r_lower = np.where(same, r_middle, r_lower)
         upper = np.where(same, upper, middle)
-    return np.where(windmill_inflow, 0.5 * (lower + upper), no_induction)
+    edge = np.broadcast_to((blade.loss_exponents == 0.0).any(axis=0), vx.shape)
+    return np.where(edge & windmill_inflow, 0.0, np.where(windmill_inflow, 0.5 * (lower + upper), no_induction))
 
 
 def _axial_inflow(turbine: Turbine, blade: BemBlade, wind_speed: float, rotor_speed: float

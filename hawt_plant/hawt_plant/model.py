@@ -547,7 +547,7 @@ class TurbineModel:
         fine = np.linspace(0.0, 1.0, 4001) * length
         density = np.interp(fine, t.blade_structure.span_fraction * length, t.blade_structure.mass_density)
         cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(fine))))
-        edges = np.concatenate((span - aero.width / 2.0, [span[-1] + aero.width[-1] / 2.0]))
+        edges = np.concatenate(([0.0], np.cumsum(aero.width)))  # each node's stretch of blade
         mass = np.diff(np.interp(np.clip(edges, 0.0, length), fine, cumulative))
         mode = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)[0]
         # Element loads are summed per blade against the span functions 1, s (from the root)
@@ -716,6 +716,10 @@ class TurbineModel:
         self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
+        # A node at the tip or the hub keeps AeroDyn's a = 1, a' = 0 there (bem.induction_factors).
+        edge = np.broadcast_to((self._rotor_bem.loss_exponents == 0.0).any(axis=0), (b, n))
+        self._induction_bounds[:, 0][:, edge] = 1.0
+        self._induction_bounds[:, 1][:, edge] = 0.0
 
     # ------------------------------------------------------------------ loads
 

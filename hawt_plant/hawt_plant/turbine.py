@@ -108,14 +108,19 @@ class AirfoilPolar:
 
 @dataclass(frozen=True, eq=False)
 class BladeAerodynamics:
-    """Aerodynamic elements of one blade (all blades are identical).
+    """Aerodynamic nodes of one blade (all blades are identical).
+
+    The loads are evaluated at the nodes and each node's load per unit length acts over its width: the widths tile
+    the blade from root to tip in the order of the nodes, each node inside its own stretch. AeroDyn 15's layout is
+    a node at the root, one at the tip and each reaching halfway to its neighbours (its trapezoidal rule); the
+    AeroDyn v14 layout, each node the middle of its element, is another such tiling.
 
     Attributes
     ----------
     span : ndarray, shape (N,)
-        Element centre, distance from the blade root along the blade [m].
+        Node position, distance from the blade root along the blade [m].
     width : ndarray, shape (N,)
-        Element width along the blade [m]; the widths add up to the blade length.
+        Length of blade the node's load acts over [m]; the widths add up to the blade length.
     chord : ndarray, shape (N,)
         Chord [m].
     twist : ndarray, shape (N,)
@@ -698,9 +703,11 @@ def _blade_aerodynamics(s: _Section, rotor: Rotor) -> BladeAerodynamics:
     length = rotor.tip_radius - rotor.hub_radius
     if abs(width.sum() - length) > 1e-3 * length:
         raise s.error("width", f"widths add up to {width.sum():.4f} m, the blade is {length:.4f} m long")
-    lower, upper = span - width / 2.0, span + width / 2.0
-    if lower[0] < -1e-3 or upper[-1] > length + 1e-3 or np.any(np.abs(upper[:-1] - lower[1:]) > 1e-3):
-        raise s.error("span", "expected each span at the middle of its element, elements tiling the blade")
+    upper = np.cumsum(width)
+    lower = upper - width
+    if np.any(span < lower - 1e-3) or np.any(span > upper + 1e-3):
+        raise s.error("span", "expected each node inside the stretch of blade its width gives it, the widths tiling "
+                              "the blade from the root in the order of the nodes")
     return BladeAerodynamics(
         span=span,
         width=width,

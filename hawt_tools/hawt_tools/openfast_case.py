@@ -26,7 +26,7 @@ from typing import Callable, List, Optional, Tuple
 from openfast_io.FAST_reader import InputReader_OpenFAST
 from openfast_io.FAST_writer import InputWriter_OpenFAST
 
-__all__ = ["CaseInputs", "DeckNotFound", "FIXED_BOTTOM", "OpenFastFailed", "WrittenCase", "deck_hub_height",
+__all__ = ["CaseInputs", "DeckNotFound", "FIXED_BOTTOM", "OpenFastFailed", "PLANT_UA_MODEL", "WrittenCase", "deck_hub_height",
            "deck_of", "keep_deck", "openfast_executable", "output_of", "read_deck", "run_openfast", "write_case"]
 
 OPENFAST_ENVIRONMENT = "HAWT_OPENFAST"
@@ -39,6 +39,12 @@ FIXED_BOTTOM = {("Fst", "CompHydro"): 0, ("Fst", "CompSub"): 0, ("Fst", "CompMoo
                 ("Fst", "CompIce"): 0, ("Fst", "CompSoil"): 0, ("ElastoDyn", "YawDOF"): False}
 """Switches a case sets whatever the deck says: the plant stands on a rigid base (no substructure, waves,
 mooring, ice or soil) and has no yaw degree of freedom."""
+
+PLANT_UA_MODEL = 4
+"""AeroDyn's UA_Mod of the plant's unsteady airfoil model (Hansen-Gaunaa-Madsen, :mod:`hawt_plant.unsteady_airfoil`).
+A deck with another model on runs this one: the Beddoes-Leishman models 2 and 3 with the UA parameters of many
+decks shift the mean lift itself in steady flow (OpenFAST r-test issue 20; the NREL 5 MW's DU21 at 3.8 deg: c_l
+0.87 against the polar's 0.97), which is the deck's inconsistency, not the aerodynamics both sides model."""
 
 
 class DeckNotFound(ValueError):
@@ -242,6 +248,11 @@ def write_case(deck: Path, folder: Path, name: str, inputs: CaseInputs) -> Writt
         fst_vt[module][key] = value
 
     put("ElastoDyn", "YawDOF", FIXED_BOTTOM[("ElastoDyn", "YawDOF")])
+    unsteady = fst_vt["AeroDyn"].get("UA_Mod", 0)
+    if unsteady and unsteady != PLANT_UA_MODEL:
+        fst_vt["AeroDyn"]["UA_Mod"] = PLANT_UA_MODEL
+        changed.append(f"AeroDyn UA_Mod = {PLANT_UA_MODEL} (was {unsteady}: the plant's unsteady airfoil model, "
+                       "Hansen-Gaunaa-Madsen; the deck's shifts the mean lift in steady flow)")
     hub = _hub_height(fst_vt)
     put("Fst", "TMax", float(inputs.duration))
     put("Fst", "TStart", 0.0)

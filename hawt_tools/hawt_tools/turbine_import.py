@@ -16,9 +16,10 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
   definition marks ``position: downwind``;
 - nacelle: ED NacMass + YawBrMass (the yaw bearing, at the tower top, lumped into the nacelle keeping the mass
   moments), NacCMxn, NacCMzn, NacYIner, Twr2Shft;
-- blade aerodynamics: AD blade file BlSpn, BlChord, BlTwist, BlAFID (elements: :func:`aerodynamic_elements`) and
-  the first table of each airfoil file AFNames(i) (AD AFTabMod = 1 reads only that one), with its UA
-  coefficients alpha0, C_nalpha, Cd0 for the plant's unsteady airfoil option when it has them;
+- blade aerodynamics: AD blade file BlSpn, BlChord, BlTwist, BlAFID at its nodes (their widths:
+  :func:`aerodynamic_elements`) and the first table of each airfoil file AFNames(i) (AD AFTabMod = 1 reads only
+  that one), with its UA coefficients alpha0, C_nalpha, Cd0 for the plant's unsteady airfoil option when it has
+  them;
 - blade structure: ED blade file BlFract, StrcTwst, BMassDen with AdjBlMs, FlpStff x AdjFlSt x FlStTunr(1),
   EdgStff x AdjEdSt, BldFl1Sh, BldFlDmp(1);
 - tower: ED TowerHt - TowerBsHt (the plant's tower is clamped at the ground: a tower standing on a substructure
@@ -413,44 +414,23 @@ def _nacelle(ed: Mapping[str, Any], file: str) -> Dict[str, Sourced]:
     }
 
 
-def aerodynamic_elements(spans: np.ndarray, length: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-    """The plant's blade elements (centres and widths tiling the blade) for AeroDyn's blade nodes.
+def aerodynamic_elements(spans: np.ndarray, length: float) -> np.ndarray:
+    """The width of blade each of AeroDyn's blade nodes acts over in the plant: halfway to its neighbours, to the
+    root and the tip at the ends (AeroDyn 15's trapezoidal rule for loads that vary linearly between nodes).
 
     Parameters
     ----------
-    spans : ndarray, shape (M,)
+    spans : ndarray, shape (N,)
         AeroDyn's node positions BlSpn along the blade from the root [m], increasing.
     length : float
         Blade length [m].
 
     Returns
     -------
-    centre, width : ndarray, shape (N,)
-        Element centres and widths [m].
-    node : ndarray of int, shape (N,)
-        The node each element takes its airfoil from.
-    v14 : bool
-        True for the AeroDyn v14 layout.
-
-    Notes
-    -----
-    An AeroDyn 15 blade file converted from AeroDyn v14 keeps v14's elements: nodes at the root and the tip, and
-    between them the middles of elements tiling the blade (RNodes and DRNodes). When the inner nodes are such
-    middles (to 1 mm), they are the elements (N = M - 2). Otherwise each node is an element (N = M) reaching
-    halfway to its neighbours and to the root and tip at the ends (the share of the blade AeroDyn 15's
-    trapezoidal integration gives the node), centred in that stretch; for evenly spaced nodes the inner
-    elements are centred on their nodes, the end ones a quarter spacing inside.
+    ndarray, shape (N,)
+        Widths [m], adding up to ``length``.
     """
-    inner = spans[1:-1]
-    bounds = [0.0]
-    for middle in inner:
-        bounds.append(2.0 * middle - bounds[-1])
-    widths = np.diff(bounds)
-    if (inner.size and abs(spans[0]) <= _LENGTH_TOLERANCE and abs(spans[-1] - length) <= _LENGTH_TOLERANCE
-            and np.all(widths > _LENGTH_TOLERANCE) and abs(bounds[-1] - length) <= _LENGTH_TOLERANCE):
-        return inner.copy(), widths, np.arange(1, spans.size - 1), True
-    edges = np.concatenate(([0.0], 0.5 * (spans[1:] + spans[:-1]), [length]))
-    return 0.5 * (edges[1:] + edges[:-1]), np.diff(edges), np.arange(spans.size), False
+    return np.diff(np.concatenate(([0.0], 0.5 * (spans[1:] + spans[:-1]), [length])))
 
 
 def _blade_aerodynamics(deck: _Deck, ad: Mapping[str, Any], blade: Mapping[str, Any], length: float,
@@ -460,31 +440,23 @@ def _blade_aerodynamics(deck: _Deck, ad: Mapping[str, Any], blade: Mapping[str, 
     if np.any(np.diff(spans) <= 0.0) or spans[0] < 0.0 or spans[-1] > length + _LENGTH_TOLERANCE:
         raise DeckError(f"{file}: BlSpn: expected increasing spans within the blade's {length:g} m "
                         f"(ElastoDyn TipRad - HubRad), found {spans[0]:g} .. {spans[-1]:g} m")
-    centre, width, node, v14 = aerodynamic_elements(spans, length)
-    chord = np.interp(centre, spans, _array(blade, "BlChord", file))
-    twist = np.radians(np.interp(centre, spans, _array(blade, "BlTwist", file)))
+    width = aerodynamic_elements(spans, length)
     ids = _array(blade, "BlAFID", file).astype(int)
     count = len(ad["AFNames"])
     if np.any(ids < 1) or np.any(ids > count):
         raise DeckError(f"{file}: BlAFID: expected airfoil numbers 1..{count} (NumAFfiles of {files['ad']})")
-    used = sorted(set(ids[node].tolist()))
+    used = sorted(set(ids.tolist()))
     airfoils = {index: _airfoil(deck, ad, index, files["ad"]) for index in used}
     names = [airfoil.name for airfoil in airfoils.values()]
     if len(set(names)) < len(names):
         raise DeckError(f"{files['ad']}: AFNames: two airfoil files have the same name; the plant names polars by "
                         "file name")
-    if v14:
-        layout = (f"the {node.size} inner nodes of {file}, each the middle of its element (the AeroDyn v14 "
-                  "layout), so the widths follow from the spans")
-    else:
-        layout = (f"one element per node of {file}, reaching halfway to the next nodes (to the root and tip at "
-                  "the ends), centred in that stretch")
     section = {
-        "span": Sourced(centre, f"BlSpn: {layout}"),
-        "width": Sourced(width, "from the spans"),
-        "chord": Sourced(chord, f"{file} BlChord" + ("" if v14 else ", interpolated at the element centres")),
-        "twist": Sourced(twist, f"{file} BlTwist [deg]" + ("" if v14 else ", interpolated at the element centres")),
-        "airfoil": Sourced([airfoils[i].name for i in ids[node]], f"{file} BlAFID -> {files['ad']} AFNames"),
+        "span": Sourced(spans, f"{file} BlSpn: the {spans.size} nodes, root and tip included"),
+        "width": Sourced(width, "from the spans: halfway to the neighbouring nodes (AeroDyn 15's trapezoidal rule)"),
+        "chord": Sourced(_array(blade, "BlChord", file), f"{file} BlChord"),
+        "twist": Sourced(np.radians(_array(blade, "BlTwist", file)), f"{file} BlTwist [deg]"),
+        "airfoil": Sourced([airfoils[i].name for i in ids], f"{file} BlAFID -> {files['ad']} AFNames"),
     }
     return section, tuple(airfoils.values())
 

@@ -22,7 +22,7 @@ def test_lookup_matches_interpolating_the_source_polars(turbine):
 def test_angles_outside_the_circle_wrap(turbine):
     """alpha and alpha + 2 pi give the same coefficients."""
     polars = ElementPolars(turbine.airfoils, turbine.blade_aerodynamics.airfoil)
-    alpha = np.linspace(-0.5, 0.5, 17)[None, :]
+    alpha = np.linspace(-0.5, 0.5, len(turbine.blade_aerodynamics.airfoil))[None, :]
     cl, cd = polars.coefficients(alpha)
     cl_wrapped, cd_wrapped = polars.coefficients(alpha + 2 * math.pi)
     np.testing.assert_allclose(cl_wrapped, cl, atol=1e-9)

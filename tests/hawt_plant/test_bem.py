@@ -79,10 +79,23 @@ def test_buhl_correction_reaches_one_at_high_loading():
 
 
 def test_prandtl_loss_vanishes_at_the_tip_and_is_one_mid_span(blade):
-    """F is near 1 mid-span and falls towards the tip."""
+    """F is near 1 mid-span, falls towards the tip and is 0 at the tip node and the root node (the hub)."""
     loss = prandtl_loss(np.full(blade.radius.shape, math.sin(0.1)), blade)
-    assert loss[8] == pytest.approx(1.0, abs=1e-3)
-    assert loss[-1] < 0.7 and np.all(np.diff(loss[8:]) < 0.0)
+    assert loss[9] == pytest.approx(1.0, abs=1e-3)
+    assert loss[-2] < 0.7 and np.all(np.diff(loss[9:]) < 0.0)
+    assert loss[0] == 0.0 and loss[-1] == 0.0
+
+
+def test_a_node_at_the_tip_or_the_hub_sees_only_its_rotation_as_in_aerodyn(turbine, blade):
+    """Where the loss factor is 0 (the NREL 5 MW's root node at the hub and its tip node at 61.4999 m) AeroDyn 15
+    takes a = 1 and a' = 0, so the inflow angle is 0 (measured with OpenFAST v5 at 8 m/s, 9 rpm: AxInd 1, TnInd 0,
+    Phi 0 at the tip node); the nodes inside keep momentum theory's induction."""
+    speed = 9.0 * math.pi / 30.0
+    phi = solve_inflow_angle(np.full(blade.radius.shape, 8.0), speed * blade.radius, 0.0, blade)
+    cl, _ = blade.polars.coefficients(phi - blade.twist)
+    a, a_prime, _, _ = induction_factors(phi, cl, prandtl_loss(np.sin(phi), blade), blade.local_solidity)
+    assert (phi[0], phi[-1], a[0], a[-1], a_prime[0], a_prime[-1]) == (0.0, 0.0, 1.0, 1.0, 0.0, 0.0)
+    assert np.all((phi[1:-1] > 0.0) & (a[1:-1] < 0.5))
 
 
 def test_parked_rotor_has_the_undisturbed_inflow_angle(blade):

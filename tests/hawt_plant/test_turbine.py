@@ -48,12 +48,24 @@ def test_nrel_5mw_geometry_matches_elastodyn(turbine):
     assert turbine.blade_length == 61.5
 
 
-def test_nrel_5mw_has_17_aero_elements_tiling_the_blade(turbine):
-    """The AeroDyn nodes are element midpoints and the widths add up to the blade length."""
+def test_nrel_5mw_has_aerodyn_15s_19_nodes_and_their_trapezoidal_widths(turbine):
+    """The AeroDyn 15 blade file's nodes, root and tip included, each acting halfway to its neighbours: the widths
+    add up to the blade length."""
     aero = turbine.blade_aerodynamics
-    assert aero.span.size == 17
-    assert aero.width.sum() == pytest.approx(61.5, abs=1e-3)
+    assert aero.span.size == 19 and aero.span[0] == 0.0 and aero.span[-1] == pytest.approx(61.5, abs=1e-3)
+    halfway = np.concatenate(([0.0], 0.5 * (aero.span[1:] + aero.span[:-1]), [61.5]))
+    np.testing.assert_allclose(aero.width, np.diff(halfway), atol=1e-5)
     assert aero.airfoil[0] == "Cylinder1" and aero.airfoil[-1] == "NACA64_A17"
+
+
+def test_a_node_outside_the_stretch_its_width_gives_it_is_rejected(editable_copy):
+    """The widths tile the blade in the order of the nodes; a node must lie in its own stretch."""
+    spans = [0.0, 1.3667, 4.1, 6.8333, 10.25, 14.35, 18.45, 22.55, 26.65, 30.75, 34.85, 38.95, 43.05, 47.15, 51.25,
+             54.6667, 57.4, 61.0, 61.4999]
+    path = editable_copy(["blade", "aerodynamics", "span"], spans)
+    with pytest.raises(TurbineDefinitionError, match=r"blade\.aerodynamics\.span: expected each node inside the "
+                                                     r"stretch"):
+        load_turbine(path)
 
 
 def test_nrel_5mw_airfoil_polars_cover_the_circle(turbine):
@@ -90,13 +102,13 @@ def test_missing_key_is_named_with_its_file(editable_copy):
 def test_wrong_array_length_is_named(editable_copy):
     """An array of the wrong length names the key and both lengths."""
     path = editable_copy(["blade", "aerodynamics", "chord"], [3.0] * 16)
-    with pytest.raises(TurbineDefinitionError, match=r"blade\.aerodynamics\.chord: expected 17 values, found 16"):
+    with pytest.raises(TurbineDefinitionError, match=r"blade\.aerodynamics\.chord: expected 19 values, found 16"):
         load_turbine(path)
 
 
 def test_widths_that_do_not_tile_the_blade_are_rejected(editable_copy):
     """Element widths must add up to the blade length."""
-    path = editable_copy(["blade", "aerodynamics", "width"], [4.0] * 17)
+    path = editable_copy(["blade", "aerodynamics", "width"], [4.0] * 19)
     with pytest.raises(TurbineDefinitionError, match=r"blade\.aerodynamics\.width: widths add up to"):
         load_turbine(path)
 

@@ -8,10 +8,11 @@ import os
 from pathlib import Path
 
 import pytest
+from openfast_io.FAST_writer import InputWriter_OpenFAST
 
 from hawt_analysis.openfast_output import openfast_channel_names
-from hawt_tools.openfast_case import (FIXED_BOTTOM, CaseInputs, DeckNotFound, OpenFastFailed, deck_of, keep_deck,
-                                      openfast_executable, read_deck, run_openfast, write_case)
+from hawt_tools.openfast_case import (FIXED_BOTTOM, PLANT_UA_MODEL, CaseInputs, DeckNotFound, OpenFastFailed, deck_of,
+                                      keep_deck, openfast_executable, read_deck, run_openfast, write_case)
 
 
 def _inputs(**changes) -> CaseInputs:
@@ -20,6 +21,12 @@ def _inputs(**changes) -> CaseInputs:
                   discon_library=Path("/opt/rosco/libdiscon.so"), discon_input=Path("/tmp/case/DISCON.IN"),
                   channels=openfast_channel_names(3))
     return CaseInputs(**{**values, **changes})
+
+
+def _write_deck(fst_vt: dict, folder: Path) -> None:
+    writer = InputWriter_OpenFAST()
+    writer.fst_vt, writer.FAST_runDirectory, writer.FAST_namingOut = fst_vt, str(folder), "NREL-5MW"
+    writer.execute()
 
 
 def test_the_packaged_turbine_has_the_rosco_wheels_deck():
@@ -60,11 +67,27 @@ def test_a_case_changes_what_it_sets_and_nothing_else(tmp_path):
         assert any(case["outlist"][module].get(channel) for module in ("ElastoDyn", "AeroDyn", "ServoDyn",
                                                                         "InflowWind")), channel
     for module, key in (("ElastoDyn", "TipRad"), ("ElastoDyn", "FlapDOF1"), ("ElastoDyn", "EdgeDOF"),
-                        ("AeroDyn", "UA_Mod"), ("AeroDyn", "Skew_Mod"), ("AeroDyn", "TwrPotent"),
+                        ("AeroDyn", "Skew_Mod"), ("AeroDyn", "TwrPotent"),
                         ("Fst", "DT"), ("ElastoDyn", "GBRatio")):
         assert case[module][key] == deck[module][key], (module, key)
     assert "Fst TMax = 120" in written.changed and "ElastoDyn YawDOF = False" in written.changed
     assert all(case[module][key] == value for (module, key), value in FIXED_BOTTOM.items() if key in case[module])
+
+
+def test_a_deck_with_another_unsteady_airfoil_model_runs_the_plants(tmp_path):
+    """The NREL 5 MW deck's UA_Mod 3 (Beddoes-Leishman) becomes UA_Mod 4, the model the plant has, and the case says
+    so with the deck's value; a deck without unsteady aerodynamics keeps UA_Mod 0."""
+    assert read_deck(deck_of("nrel_5mw"))[0]["AeroDyn"]["UA_Mod"] == 3
+    written = write_case(deck_of("nrel_5mw"), tmp_path / "ua", "steady-8", _inputs())
+    assert read_deck(written.fst)[0]["AeroDyn"]["UA_Mod"] == PLANT_UA_MODEL == 4
+    assert any(line.startswith("AeroDyn UA_Mod = 4 (was 3") for line in written.changed)
+    quasi_steady = tmp_path / "quasi_steady"
+    deck, _ = read_deck(deck_of("nrel_5mw"))
+    deck["AeroDyn"]["UA_Mod"] = 0
+    _write_deck(deck, quasi_steady)
+    written = write_case(quasi_steady / "NREL-5MW.fst", tmp_path / "qs", "steady-8", _inputs())
+    assert read_deck(written.fst)[0]["AeroDyn"]["UA_Mod"] == 0
+    assert not any("UA_Mod" in line for line in written.changed)
 
 
 def test_a_turbulent_case_reads_the_plants_field_from_a_bts_file(tmp_path):

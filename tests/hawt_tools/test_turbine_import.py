@@ -52,8 +52,8 @@ MATCHES = {
     "nacelle.cm_above_tower_top": EXACT,
     "nacelle.yaw_inertia": EXACT,
     "nacelle.shaft_above_tower_top": EXACT,
-    "blade_aerodynamics.span": (0.0, 0.0, "the 17 inner AeroDyn nodes (the v14 layout): the shipped elements"),
-    "blade_aerodynamics.width": (0.0, 1e-9, "from the spans, as the shipped file derived them"),
+    "blade_aerodynamics.span": (0.0, 0.0, "AeroDyn's 19 nodes, as shipped"),
+    "blade_aerodynamics.width": (0.0, 1e-5, "from the spans, as the shipped file derived them (5 decimals)"),
     "blade_aerodynamics.chord": EXACT,
     "blade_aerodynamics.twist": DEGREES,
     "blade_aerodynamics.airfoil": EXACT,
@@ -305,14 +305,10 @@ def test_every_value_written_names_its_source_file_and_key(imported_deck):
         assert re.search(r"(  # |source: \").*(\.dat|\.fst|DISCON\.IN|from the spans|hawt's default)", line), line
 
 
-def test_aerodynamic_elements_keep_the_v14_layout_and_otherwise_share_the_blade_between_nodes():
-    """Inner nodes that are the middles of elements tiling the blade are those elements; other nodes each get
-    the stretch halfway to their neighbours, centred in it."""
-    centre, width, node, v14 = aerodynamic_elements(np.array([0.0, 1.0, 3.0, 4.0]), 4.0)
-    assert v14 and centre.tolist() == [1.0, 3.0] and width.tolist() == [2.0, 2.0] and node.tolist() == [1, 2]
-    centre, width, node, v14 = aerodynamic_elements(np.array([0.0, 1.0, 2.0, 3.0, 4.0]), 4.0)
-    assert not v14 and node.tolist() == [0, 1, 2, 3, 4]
-    assert centre.tolist() == [0.25, 1.0, 2.0, 3.0, 3.75] and width.tolist() == [0.5, 1.0, 1.0, 1.0, 0.5]
+def test_each_aerodyn_node_acts_halfway_to_its_neighbours():
+    """AeroDyn 15's trapezoidal rule: the root and tip nodes get half a spacing, the others half of each side's."""
+    assert aerodynamic_elements(np.array([0.0, 1.0, 3.0, 4.0]), 4.0).tolist() == [0.5, 1.5, 1.5, 0.5]
+    assert aerodynamic_elements(np.array([0.5, 2.0]), 4.0).tolist() == [1.25, 2.75]
 
 
 @pytest.mark.parametrize("deck, blades, rated_power, hub_height", [
