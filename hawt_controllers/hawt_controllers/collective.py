@@ -21,7 +21,7 @@ The integrator is a :class:`~hawt_controllers.pi.PIController` holding K_I·∫e
 (output units before GK) with limits [θ_min/GK, θ_max/GK]: that is exactly
 Jonkman's clamp of ∫e to [θ_min/(GK K_I), θ_max/(GK K_I)].
 
-Deviation from the DISCON in normal operation: near rated K_I is reduced (0.5 of Jonkman's at and
+Deviation from the DISCON in normal operation: near rated K_I is reduced (0.4 of Jonkman's at and
 below 1° of pitch, rising to his at 4°, :func:`integral_gain_factor`), which removes the rated-wind
 limit cycle of this plant (issue 13); the law above 4° (about 12.1 m/s) is Jonkman's. The integrator
 holds K_I·∫e in output units, so a change of K_I moves no pitch at once.
@@ -291,14 +291,16 @@ def integral_gain_factor(pitch: float, config: BaselineCollectiveConfig) -> floa
     Why: near rated the plant's pitch sensitivity is a third of what Jonkman's schedule GK assumes (the Cp peak
     is at -0.25 deg) and the collective flap puts a right-half-plane zero in pitch -> speed (0.91 rad/s at 11.4
     m/s); with the constant-power torque the loop's phase margin on the linear model is -7.6 deg at 11.4 m/s
-    and a 0.05 Hz limit cycle grows to 0-2.3 deg of pitch. Halving K_I there gives +13.3 deg (the PI's zero moves
-    below the crossover) and leaves the law unchanged from 4 deg of pitch (about 12.1 m/s) up.
+    and a 0.05 Hz limit cycle grows to 0-2.3 deg of pitch (measured on the plant before it took AeroDyn 15's
+    nodes). Halving K_I there gives +13.3 deg (the PI's zero moves below the crossover); the shipped 0.4 settles the
+    plant on AeroDyn 15's nodes too (0.5 leaves a 0.10 deg pitch std at 11.4 m/s); the law is unchanged from 4 deg
+    of pitch (about 12.1 m/s) up.
 
     Examples
     --------
     >>> config = load_baseline_config()
     >>> integral_gain_factor(0.0, config), integral_gain_factor(math.radians(10.0), config)
-    (0.5, 1.0)
+    (0.4, 1.0)
     """
     low, high, factor = config.near_rated_pitch_low, config.near_rated_pitch_high, config.near_rated_integral_factor
     if pitch <= low:

@@ -46,7 +46,7 @@ plant's own steady BEM (:mod:`hawt_plant.bem`), modal model (:mod:`hawt_plant.mo
    670 rpm for 6.9 rpm). The rest keeps the NREL 5 MW file's conventions (``data/nrel5mw_baseline.yaml``, read
    from it: :data:`~hawt_controllers.collective.DEFAULT_BASELINE_FILE`): region 2 starts 30 % above cut-in,
    region 2 1/2 ends at 99 % of rated speed with a 10 % slip, region 3 from 1 deg above the lowest pitch, and the
-   near-rated K_I factor (0.5 below 1 deg above the lowest pitch, 1 from 4 deg).
+   near-rated K_I factor (0.4 below 1 deg above the lowest pitch, 1 from 4 deg).
 
 References
 ----------
