@@ -44,8 +44,11 @@ NodeFactory = Callable[..., Node]
 
 WAKE_PERIOD = 0.1
 """Longest wait [s] of one executor call: how late a done future or a Ctrl-C can be noticed."""
-FLUSH_TIMEOUT = 2.0
-"""Longest wait [s] at the end for the readers' acknowledgements (a reader that died never acknowledges)."""
+FLUSH_TIMEOUT = 4.0
+"""Longest wait [s] at the end for the readers' acknowledgements (a reader that died never acknowledges). Within a
+graph node's default sigterm_timeout (5 s), so the launcher does not escalate while a node flushes; 2 s once left a
+composed graph's last 300 steps unacknowledged by a recorder that had fallen behind (fresh-clone run beside the
+busy suite)."""
 
 
 def make_executor() -> Executor:
