@@ -139,7 +139,11 @@ def test_on_a_cluster_with_a_worker_killed_every_case_is_stored_once_and_equal_t
             process.wait()
 
 
-def test_a_campaign_interrupted_with_ctrl_c_keeps_what_finished_and_resumes(campaign_file, hawt_cli, tmp_path):
+def test_a_campaign_interrupted_with_ctrl_c_keeps_what_finished_and_resumes(hawt_cli, tmp_path):
+    """Ctrl-C once the first case is reported. The cases are 30 s here (about 2 s of wall time each, one worker):
+    with the small campaign's 10 s a fresh-clone suite once finished all six before the test's Ctrl-C arrived."""
+    campaign_file = tmp_path / "longer.yaml"
+    campaign_file.write_text(CAMPAIGN.replace("duration: 10", "duration: 30"))
     output = tmp_path / "interrupted"
     command = _Command([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1"])
     command.wait_for("[1/")
