@@ -36,9 +36,11 @@ DECK_FOLDER = "openfast"
 """Where ``hawt turbine import`` keeps a copy of the deck, inside the turbine's folder."""
 
 FIXED_BOTTOM = {("Fst", "CompHydro"): 0, ("Fst", "CompSub"): 0, ("Fst", "CompMooring"): 0, ("Fst", "CompSeaSt"): 0,
-                ("Fst", "CompIce"): 0, ("Fst", "CompSoil"): 0, ("ElastoDyn", "YawDOF"): False}
+                ("Fst", "CompIce"): 0, ("Fst", "CompSoil"): 0, ("ElastoDyn", "YawDOF"): False,
+                **{("ElastoDyn", f"Ptfm{dof}DOF"): False for dof in ("Sg", "Sw", "Hv", "R", "P", "Y")}}
 """Switches a case sets whatever the deck says: the plant stands on a rigid base (no substructure, waves,
-mooring, ice or soil) and has no yaw degree of freedom."""
+mooring, ice or soil, and no platform motion: without them a platform DOF would be free) and has no yaw degree of
+freedom."""
 
 PLANT_UA_MODEL = 4
 """AeroDyn's UA_Mod of the plant's unsteady airfoil model (Hansen-Gaunaa-Madsen, :mod:`hawt_plant.unsteady_airfoil`).
@@ -247,7 +249,9 @@ def write_case(deck: Path, folder: Path, name: str, inputs: CaseInputs) -> Writt
             changed.append(f"{module} {key} = {value:.6g}" if isinstance(value, float) else f"{module} {key} = {value}")
         fst_vt[module][key] = value
 
-    put("ElastoDyn", "YawDOF", FIXED_BOTTOM[("ElastoDyn", "YawDOF")])
+    for (module, key), value in FIXED_BOTTOM.items():
+        if module == "ElastoDyn":
+            put(module, key, value)
     unsteady = fst_vt["AeroDyn"].get("UA_Mod", 0)
     if unsteady and unsteady != PLANT_UA_MODEL:
         fst_vt["AeroDyn"]["UA_Mod"] = PLANT_UA_MODEL

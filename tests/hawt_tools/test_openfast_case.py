@@ -90,6 +90,18 @@ def test_a_deck_with_another_unsteady_airfoil_model_runs_the_plants(tmp_path):
     assert not any("UA_Mod" in line for line in written.changed)
 
 
+def test_a_monopile_deck_runs_on_a_rigid_base_with_its_platform_fixed(tmp_path, rosco_case):
+    """The IEA 15 MW monopile deck: substructure, waves and sea state off and every platform DOF too; with the
+    platform DOFs left on and nothing holding the platform, OpenFAST v5 let the turbine drift and struck the tower
+    within 20 s (hawt validate on the imported turbine)."""
+    deck = rosco_case("IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst")
+    assert read_deck(deck)[0]["ElastoDyn"]["PtfmPDOF"] is True
+    written = write_case(deck, tmp_path, "steady-18", _inputs())
+    case, _ = read_deck(written.fst)
+    assert all(case[module][key] == value for (module, key), value in FIXED_BOTTOM.items())
+    assert "ElastoDyn PtfmPDOF = False" in written.changed and "Fst CompSub = 0 (was 1)" in written.changed
+
+
 def test_a_turbulent_case_reads_the_plants_field_from_a_bts_file(tmp_path):
     field = tmp_path / "field.bts"
     written = write_case(deck_of("nrel_5mw"), tmp_path / "case", "turbulent-18", _inputs(bts_file=field))
