@@ -101,9 +101,10 @@ def deck_of(turbine: str) -> Path:
 
 
 def read_deck(deck: Path) -> Tuple[dict, Tuple[str, ...]]:
-    """openfast-io's ``fst_vt`` of the deck (every module's inputs) on a rigid base, and the main input's switches
-    set to get there (:data:`FIXED_BOTTOM`): the modules of the substructure, waves and mooring are not read, since
-    no case runs them (openfast-io may not read their versions either). DeckNotFound naming the deck if unreadable.
+    """openfast-io's ``fst_vt`` of the deck (every module's inputs) on a rigid base, and the switches set to get
+    there (:data:`FIXED_BOTTOM`): the main input's before the modules are read, so that those of the substructure,
+    waves and mooring are not (no case runs them, and openfast-io may not read their versions either), then
+    ElastoDyn's. DeckNotFound naming the deck if unreadable.
     """
     deck = Path(deck)
     if not deck.is_file():
@@ -125,6 +126,10 @@ def read_deck(deck: Path) -> Tuple[dict, Tuple[str, ...]]:
         reader.execute()
     except Exception as error:  # openfast-io raises what its parsers meet: ValueError, IndexError, KeyError, ...
         raise DeckNotFound(f"{deck}: openfast-io cannot read it ({type(error).__name__}: {error})") from None
+    for (module, key), value in FIXED_BOTTOM.items():
+        if module != "Fst" and reader.fst_vt[module].get(key) != value:
+            switched.append(f"{module} {key} = {value}")
+            reader.fst_vt[module][key] = value
     return reader.fst_vt, tuple(switched)
 
 
@@ -249,9 +254,6 @@ def write_case(deck: Path, folder: Path, name: str, inputs: CaseInputs) -> Writt
             changed.append(f"{module} {key} = {value:.6g}" if isinstance(value, float) else f"{module} {key} = {value}")
         fst_vt[module][key] = value
 
-    for (module, key), value in FIXED_BOTTOM.items():
-        if module == "ElastoDyn":
-            put(module, key, value)
     unsteady = fst_vt["AeroDyn"].get("UA_Mod", 0)
     if unsteady and unsteady != PLANT_UA_MODEL:
         fst_vt["AeroDyn"]["UA_Mod"] = PLANT_UA_MODEL
