@@ -114,6 +114,12 @@ class BemBlade:
             loss_exponents=np.stack((tip_exponent, hub_exponent)),
         )
 
+    @property
+    def at_ends(self) -> np.ndarray:
+        """Per element: True for a node at the tip or the hub (its loss exponent 0), where the loss factor is 0 and
+        AeroDyn's a = 1, a' = 0 hold (:func:`induction_factors`)."""
+        return (self.loss_exponents == 0.0).any(axis=0)
+
     def tiled(self, rows: int) -> "BemBlade":
         """The same blade with every per-element array repeated in ``rows`` rows, shape (rows, N)."""
         def tile(values: np.ndarray) -> np.ndarray:
@@ -326,7 +332,7 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
         lower = np.where(same, middle, lower)
         r_lower = np.where(same, r_middle, r_lower)
         upper = np.where(same, upper, middle)
-    edge = np.broadcast_to((blade.loss_exponents == 0.0).any(axis=0), vx.shape)
+    edge = np.broadcast_to(blade.at_ends, vx.shape)
     return np.where(edge & windmill_inflow, 0.0, np.where(windmill_inflow, 0.5 * (lower + upper), no_induction))
 
 

@@ -717,7 +717,7 @@ class TurbineModel:
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
         # A node at the tip or the hub keeps AeroDyn's a = 1, a' = 0 there (bem.induction_factors).
-        edge = np.broadcast_to((self._rotor_bem.loss_exponents == 0.0).any(axis=0), (b, n))
+        edge = self._rotor_bem.at_ends
         self._induction_bounds[:, 0][:, edge] = 1.0
         self._induction_bounds[:, 1][:, edge] = 0.0
 
