@@ -225,10 +225,13 @@ def _hawt_overrides(case: ValidationCase, turbine: str, bts: Optional[Path]) -> 
     return arguments, ([f"plant.bts_file:={bts}"] if bts is not None else [])
 
 
-def _turbulent_field(case: ValidationCase, turbine, folder: Path) -> Path:
-    """The plant's own turbulent field for ``case`` (the disk cache's, generated if new) written as a ``.bts``."""
+def _turbulent_fields(case: ValidationCase, turbine, folder: Path, deck_hub_height: float) -> Tuple[Path, Path]:
+    """The plant's own turbulent field for ``case`` (the disk cache's, generated if new) as ``.bts`` files: the
+    plant's, and OpenFAST's, the same field raised to centre on ``deck_hub_height`` for a deck whose hub is higher
+    than the plant's (a turbine whose substructure the import lowered; the same file if the hubs agree)."""
     from hawt_plant.bts import write_bts
     from hawt_plant.inflow import InflowSettings, make_wind
+    from hawt_plant.turbulence import TurbulentWind
 
     wind = make_wind(InflowSettings(kind="turbulent", wind_speed=case.wind_speed, shear_exponent=case.shear_exponent,
                                     hub_height=turbine.hub_height, turbulence_class=case.turbulence_class,
@@ -236,24 +239,14 @@ def _turbulent_field(case: ValidationCase, turbine, folder: Path) -> Path:
     path = folder / f"{case.name}.bts"
     write_bts(path, wind, f"hawt validate {case.name}: IEC Kaimal class {case.turbulence_class}, seed {case.seed}",
               tower=True)
-    return path
-
-
-def _field_at_hub(bts: Path, hub_height: float) -> Path:
-    """``bts`` with its grid raised to centre on ``hub_height`` (same velocities), for a deck whose hub is higher
-    than the plant's (a turbine whose substructure the import lowered); ``bts`` itself if the hubs agree."""
-    from hawt_plant.bts import read_bts, write_bts
-    from hawt_plant.turbulence import TurbulentWind
-
-    wind = read_bts(bts)
-    if abs(hub_height - wind.hub_height) < 1e-3:
-        return bts
+    if abs(deck_hub_height - wind.hub_height) < 1e-3:
+        return path, path
     raised = TurbulentWind(wind.velocity_grid, time_step=wind.time_step, grid_y=wind.grid_y,
-                           grid_z=wind.grid_z + (hub_height - wind.hub_height), mean_speed=wind.mean_speed,
-                           hub_height=hub_height, periodic=wind.periodic, x_offset=wind.x_offset)
-    path = bts.with_name(f"{bts.stem}-hub{hub_height:.1f}.bts")
-    write_bts(path, raised, f"{bts.stem} raised to a hub at {hub_height:.2f} m", tower=True)
-    return path
+                           grid_z=wind.grid_z + (deck_hub_height - wind.hub_height), mean_speed=wind.mean_speed,
+                           hub_height=deck_hub_height, periodic=wind.periodic, x_offset=wind.x_offset)
+    raised_path = path.with_name(f"{path.stem}-hub{deck_hub_height:.1f}.bts")
+    write_bts(raised_path, raised, f"{path.stem} raised to a hub at {deck_hub_height:.2f} m", tower=True)
+    return path, raised_path
 
 
 def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, openfast: Path, out: Path,
@@ -278,7 +271,8 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     folder = out / "openfast" / case.name
     folder.mkdir(parents=True, exist_ok=True)
     (out / "hawt").mkdir(parents=True, exist_ok=True)
-    bts = _turbulent_field(case, turbine_from(turbine), folder) if case.turbulent else None
+    bts, openfast_bts = _turbulent_fields(case, turbine_from(turbine), folder, deck_hub_height(deck)) \
+        if case.turbulent else (None, None)
     arguments, overrides = _hawt_overrides(case, turbine, bts)
     graph = load_graph(graph_path, arguments, package_prefix)
     plan = parse_overrides(graph, list(overrides) + list(parameters))
@@ -292,7 +286,7 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
         azimuth=float(output.azimuth), tower_top=(float(output.tower_top_fa_disp), float(output.tower_top_ss_disp)),
         discon_library=rosco_files()[0], discon_input=discon,
         channels=openfast_channel_names(run.description.blades),
-        bts_file=_field_at_hub(bts, deck_hub_height(deck)) if bts is not None else None)
+        bts_file=openfast_bts)
     written: WrittenCase = write_case(deck, folder, case.name, inputs)
 
     failure: List[BaseException] = []
