@@ -400,9 +400,13 @@ class AerodynamicOptions:
         return replace(self, **values, sources=MappingProxyType(
             {**self.sources, **{name: f"{source} {name}" for name in values}}))
 
+    def state(self, name: str) -> str:
+        """One option and whether it is on: ``skewed_wake on``."""
+        return f"{name} {'on' if getattr(self, name) else 'off'}"
+
     def text(self) -> str:
         """The options in one line: ``tower_shadow on, tower_drag on, skewed_wake off, ...``."""
-        return ", ".join(f"{name} {'on' if getattr(self, name) else 'off'}" for name in AERODYNAMIC_OPTIONS)
+        return ", ".join(self.state(name) for name in AERODYNAMIC_OPTIONS)
 
 
 @dataclass(frozen=True)

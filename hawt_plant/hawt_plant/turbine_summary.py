@@ -203,6 +203,5 @@ def format_summary(summary: TurbineSummary) -> str:
         f"{s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; drivetrain torsion "
         f"{s.drivetrain_frequency:.3f} Hz",
         "aerodynamics (what the plant runs; its parameter of the same name, true or false, overrides one):",
-        *(f"  {name} {'on' if getattr(s.aerodynamics, name) else 'off'}: {s.aerodynamics.sources[name]}"
-          for name in AERODYNAMIC_OPTIONS),
+        *(f"  {s.aerodynamics.state(name)}: {s.aerodynamics.sources[name]}" for name in AERODYNAMIC_OPTIONS),
     ])

@@ -17,7 +17,7 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
 - nacelle: ED NacMass + YawBrMass (the yaw bearing, at the tower top, lumped into the nacelle keeping the mass
   moments), NacCMxn, NacCMzn, NacYIner, Twr2Shft;
 - blade aerodynamics: AD blade file BlSpn, BlChord, BlTwist, BlAFID at its nodes (their widths:
-  :func:`aerodynamic_elements`) and the first table of each airfoil file AFNames(i) (AD AFTabMod = 1 reads only
+  :func:`node_widths`) and the first table of each airfoil file AFNames(i) (AD AFTabMod = 1 reads only
   that one), with its UA coefficients alpha0, C_nalpha, Cd0 for the plant's unsteady airfoil option when it has
   them;
 - blade structure: ED blade file BlFract, StrcTwst, BMassDen with AdjBlMs, FlpStff x AdjFlSt x FlStTunr(1),
@@ -70,7 +70,7 @@ from openfast_io.FAST_reader import InputReader_OpenFAST
 from hawt_controllers.rosco_input import read_settings
 
 __all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "AerodynamicMapping", "DeckError", "ImportedAirfoil",
-           "ImportedTurbine", "Sourced", "aerodynamic_elements", "aerodynamic_options", "import_deck", "turbine_text",
+           "ImportedTurbine", "Sourced", "node_widths", "aerodynamic_options", "import_deck", "turbine_text",
            "write_turbine"]
 
 DEFAULT_ACTUATOR = (11.11, 0.6)
@@ -414,7 +414,7 @@ def _nacelle(ed: Mapping[str, Any], file: str) -> Dict[str, Sourced]:
     }
 
 
-def aerodynamic_elements(spans: np.ndarray, length: float) -> np.ndarray:
+def node_widths(spans: np.ndarray, length: float) -> np.ndarray:
     """The width of blade each of AeroDyn's blade nodes acts over in the plant: halfway to its neighbours, to the
     root and the tip at the ends (AeroDyn 15's trapezoidal rule for loads that vary linearly between nodes).
 
@@ -440,7 +440,7 @@ def _blade_aerodynamics(deck: _Deck, ad: Mapping[str, Any], blade: Mapping[str, 
     if np.any(np.diff(spans) <= 0.0) or spans[0] < 0.0 or spans[-1] > length + _LENGTH_TOLERANCE:
         raise DeckError(f"{file}: BlSpn: expected increasing spans within the blade's {length:g} m "
                         f"(ElastoDyn TipRad - HubRad), found {spans[0]:g} .. {spans[-1]:g} m")
-    width = aerodynamic_elements(spans, length)
+    width = node_widths(spans, length)
     ids = _array(blade, "BlAFID", file).astype(int)
     count = len(ad["AFNames"])
     if np.any(ids < 1) or np.any(ids > count):

@@ -20,7 +20,7 @@ from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import load_turbine, nrel_5mw, nrel_5mw_two_bladed_downwind
 from hawt_plant.turbine_summary import turbine_summary
-from hawt_tools.turbine_import import RIGID_TORSION_FREQUENCY, aerodynamic_elements, import_deck, write_turbine
+from hawt_tools.turbine_import import RIGID_TORSION_FREQUENCY, node_widths, import_deck, write_turbine
 
 NREL_5MW = "NREL-5MW/NREL-5MW.fst"
 IEA_15MW = "IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst"
@@ -307,8 +307,8 @@ def test_every_value_written_names_its_source_file_and_key(imported_deck):
 
 def test_each_aerodyn_node_acts_halfway_to_its_neighbours():
     """AeroDyn 15's trapezoidal rule: the root and tip nodes get half a spacing, the others half of each side's."""
-    assert aerodynamic_elements(np.array([0.0, 1.0, 3.0, 4.0]), 4.0).tolist() == [0.5, 1.5, 1.5, 0.5]
-    assert aerodynamic_elements(np.array([0.5, 2.0]), 4.0).tolist() == [1.25, 2.75]
+    assert node_widths(np.array([0.0, 1.0, 3.0, 4.0]), 4.0).tolist() == [0.5, 1.5, 1.5, 0.5]
+    assert node_widths(np.array([0.5, 2.0]), 4.0).tolist() == [1.25, 2.75]
 
 
 @pytest.mark.parametrize("deck, blades, rated_power, hub_height", [
