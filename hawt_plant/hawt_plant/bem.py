@@ -221,11 +221,9 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
     sin_phi = np.sin(phi) if sin_phi is None else sin_phi
     cos_phi = np.cos(phi) if cos_phi is None else cos_phi
     edge = loss == _ZERO
-    if np.any(edge):
-        a, a_prime, k, k_prime = induction_factors(phi, cl, np.where(edge, _ONE, loss), local_solidity, sin_phi,
-                                                   cos_phi)
-        return (np.where(edge, _ONE, a), np.where(edge, _ZERO, a_prime), np.where(edge, _ZERO, k),
-                np.where(edge, _ZERO, k_prime))
+    at_edges = np.count_nonzero(edge)
+    if at_edges:  # evaluated with F = 1 there, then set
+        loss = np.where(edge, _ONE, loss)
     lift = local_solidity * cl / (_FOUR * loss)
     k = lift * cos_phi / np.maximum(sin_phi * sin_phi, _FLOOR_SQUARED)
     k_prime = lift / cos_phi  # cos(phi) of a floating-point phi is never exactly 0
@@ -241,6 +239,9 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
         brake = np.where(k > 1.0, k / np.maximum(k - 1.0, 1e-9), 0.0)
         a = np.where(phi > 0.0, a, brake)
     a_prime = k_prime / (_ONE - k_prime)
+    if at_edges:
+        for values, fixed in ((a, _ONE), (a_prime, _ZERO), (k, _ZERO), (k_prime, _ZERO)):
+            np.copyto(values, fixed, where=edge)
     return a, a_prime, k, k_prime
 
 
