@@ -17,13 +17,17 @@ plant: each command's publisher is identified by its GID and named through the R
 read, so it never answers a step, and the first from each intruder is an ``intruder``
 event naming it (the ``finished`` event counts them all).
 
-The plant's own safety system (:mod:`hawt_plant.safety_system`) watches the commands:
-with no command applied for ``command_timeout`` (lockstep: step k unanswered that long,
-after its resends; before the first command: ``startup_timeout``) it trips, reports a
-``watchdog`` event, and feathers every blade at the actuator's rate limit with the
-generator torque off. A lockstep plant then steps on its own, at the pace the run had,
-until ``duration``, so the run completes. The trip latches: commands that come back are not
-applied (one ``command_returned`` event).
+The plant's own safety system (:mod:`hawt_plant.safety_system`) watches the commands and
+the turbine: with no command applied for ``command_timeout`` (lockstep: step k unanswered
+that long, after its resends; before the first command: ``startup_timeout``) it trips and
+reports a ``watchdog`` event; on a measurement beyond the turbine's protection levels
+(overspeed, tower-top acceleration, pitch asymmetry or rate) it trips and reports a
+``protection_trip`` event (an overspeed warning is a ``protection_warning``). Tripped, it
+feathers every blade at the actuator's rate limit with the generator torque off, and the
+trip latches. After a protection trip a lockstep plant still steps on its controllers'
+answers (they are not applied), so the run stays deterministic; after the watchdog it
+steps on its own, at the pace the run had, until ``duration``, so the run completes, and
+commands that come back are not applied (one ``command_returned`` event).
 
 Back-pressure to the recorder (lockstep): a recorder that writes this plant's
 ``plant/blade_loads`` reports how far it has written on ``/recorder/progress``; the plant
@@ -50,8 +54,8 @@ from rosgraph_msgs.msg import Clock
 
 from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import STATE_FIELDS, TurbineOutput
-from hawt_plant.plant_setup import PARAMETERS, aerodynamics_line, check_parameters, make_plant
-from hawt_plant.safety_system import CommandOrder, SafetySettings, SafetySystem, command_rejection
+from hawt_plant.plant_setup import PARAMETERS, aerodynamics_line, check_parameters, make_plant, make_safety_system
+from hawt_plant.safety_system import CommandOrder, command_rejection, protection_event
 from hawt_node.command_senders import CommandSenders, Sample
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
@@ -94,8 +98,7 @@ class PlantNode(Node):
         self.step_index = 0
         self.last_steps = int(round(v["duration"] / v["dt"])) if v["duration"] > 0 else None
         self.lockstep = v["mode"] == "lockstep"
-        self.safety = SafetySystem(SafetySettings(v["command_timeout"], v["startup_timeout"],
-                                                  self.actuator.max_angle, self.actuator.max_rate))
+        self.safety = make_safety_system(turbine, v)
         self.order = CommandOrder(v["stale_burst_gap"])
         self.events = EventPublisher(self)
         self.description_publisher = self.create_publisher(PlantDescription, PLANT_DESCRIPTION, LATCHED)
@@ -154,7 +157,7 @@ class PlantNode(Node):
             self._report_the_hold()
             self._give_up_a_stalled_recorder()
             return
-        if self.safety.tripped:
+        if self.safety.expired:
             return
         if self.step_index == 0 and not self.started:
             if self._ready_to_start():
@@ -204,13 +207,14 @@ class PlantNode(Node):
         else:
             awaiting = (f"a valid control/pitch_command after step {self.order.last_applied} (plant at step "
                         f"{self.step_index})")
+        tripped_before = self.safety.reason
         reason = self.safety.watch(time.monotonic(), self.output.pitch, awaiting)
         if reason is None:
             return False
-        self.events(ControlEvent.ERROR, "watchdog",
-                    f"{reason}: safety system tripped, feathering to {self.actuator.max_angle:g} rad at "
-                    f"{self.actuator.max_rate:g} rad/s with generator torque 0; latched until the plant restarts",
-                    step=self.step_index, stamp=_stamp(self.output.time))
+        consequence = (self.safety.consequence if tripped_before is None else
+                       f"the safety system had tripped ({tripped_before}); the plant steps on alone")
+        self.events(ControlEvent.ERROR, "watchdog", f"{reason}: {consequence}", step=self.step_index,
+                    stamp=_stamp(self.output.time))
         return True
 
     def _recorder_ready(self) -> bool:
@@ -259,11 +263,15 @@ class PlantNode(Node):
     def _on_command(self, msg: PitchCommand) -> None:
         if self.done.done():
             return
-        if self.safety.tripped:
+        if self.safety.expired:
             if self.safety.command_returned():
                 self.events(ControlEvent.WARN, "command_returned", f"control/pitch_command step {msg.step} arrived "
                             f"after the safety system tripped ({self.safety.reason}); the trip is latched, commands "
                             "are not applied", step=self.step_index, stamp=_stamp(self.output.time))
+            return
+        if self.safety.tripped:
+            if self.lockstep and msg.step == self.step_index:
+                self._answered()
             return
         reason = command_rejection(msg.pitch, msg.generator_torque, self.blades, self.actuator.min_angle,
                                    self.actuator.max_angle, self.model.turbine.generator.max_torque)
@@ -273,10 +281,7 @@ class PlantNode(Node):
                 return
             if reason is None:
                 self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
-            self.answered_at = time.monotonic()
-            self.safety.command_applied(self.answered_at)
-            if not self._held_for_the_recorder():
-                self._advance()
+            self._answered()
             return
         verdict = self.order.admit(msg.step, self.step_index, self.output.time) if reason is None else None
         if verdict == CommandOrder.FUTURE:
@@ -291,6 +296,13 @@ class PlantNode(Node):
             self.latency.answered(msg.step, self.step_index, now)
             self.command = (np.asarray(msg.pitch, dtype=float), float(msg.generator_torque))
             self.safety.command_applied(now)
+
+    def _answered(self) -> None:
+        """Lockstep: the current step is answered; advance unless the recorder holds the plant."""
+        self.answered_at = time.monotonic()
+        self.safety.command_applied(self.answered_at)
+        if not self._held_for_the_recorder():
+            self._advance()
 
     def _recorder_behind(self) -> bool:
         """Lockstep with a recorder: the plant is more than recorder_window ahead of what it has written or, at the
@@ -370,8 +382,11 @@ class PlantNode(Node):
     def _advance(self) -> None:
         if self.safety.tripped:
             self.command = self.safety.feather(self.values["dt"])
-        self.output = self.model.step(*self.command)
+        out = self.output = self.model.step(*self.command)
         self.step_index += 1
+        for finding in self.safety.protect(out.rotor_speed, out.generator_speed, out.tower_top_fa_accel,
+                                           out.tower_top_ss_accel, out.pitch):
+            self.events(*protection_event(finding, self.safety), step=self.step_index, stamp=_stamp(out.time))
         if self.step_index % max(1, int(round(self.values["report_period"] / self.values["dt"]))) == 0:
             self._progress()
         if self.last_steps is not None and self.step_index >= self.last_steps:

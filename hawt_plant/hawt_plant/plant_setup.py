@@ -18,9 +18,11 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
 
-__all__ = ["PARAMETERS", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant"]
+__all__ = ["PARAMETERS", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant",
+           "make_safety_system"]
 
 TURBINE = "turbine"
 """The value of an aerodynamic option's parameter that takes the turbine definition's option."""
@@ -136,3 +138,11 @@ def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, Turbin
         dt=v["dt"], torque_disturbance=v["torque_disturbance"],
         **{name: getattr(options, name) for name in AERODYNAMIC_OPTIONS}))
     return turbine, model, model.reset_to_operating_point(v["initial_azimuth"])
+
+
+def make_safety_system(turbine: Turbine, values: Mapping[str, Any]) -> SafetySystem:
+    """The plant's safety chain: its watchdog's timeouts from ``values``, the turbine's protection levels, feathering
+    at the turbine's pitch actuator limits (the same in every engine)."""
+    actuator = turbine.pitch_actuator
+    return SafetySystem(SafetySettings(values["command_timeout"], values["startup_timeout"], actuator.max_angle,
+                                       actuator.max_rate), Protection(turbine.protection, values["dt"]))

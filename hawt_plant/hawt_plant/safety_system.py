@@ -9,8 +9,14 @@ A turbine does not trust its controller blindly. Three guards sit between
 2. :class:`CommandOrder` (realtime) applies a command only if its step is newer than
    the last applied one and not ahead of the plant.
 3. :class:`SafetySystem` is the safety chain: when no command is applied for too long
-   it trips, latches, and pitches every blade to feather at the actuator's rate limit
-   with the generator torque off, whatever arrives afterwards.
+   (its watchdog), or when :class:`Protection` finds the turbine beyond a limit of its
+   definition (overspeed, tower-top acceleration, pitch asymmetry or rate), it trips,
+   latches, and pitches every blade to feather at the actuator's rate limit with the
+   generator torque off, whatever arrives afterwards.
+
+The protection looks at the plant's own measurements after every step, in every engine,
+and no controller or parameter can switch it off: it is the part IEC 61400-1 (§8.3)
+requires to be independent of the control system.
 
 No ROS here: times are plain seconds passed in by the caller.
 """
@@ -23,8 +29,10 @@ from typing import Optional
 import numpy as np
 
 from hawt_core.step_sync import StepVerdict, classify_step
+from hawt_plant.turbine import ProtectionLimits
 
-__all__ = ["command_rejection", "CommandOrder", "SafetySettings", "SafetySystem", "FEATHERED_TORQUE"]
+__all__ = ["command_rejection", "CommandOrder", "Protection", "ProtectionFinding", "SafetySettings", "SafetySystem",
+           "FEATHERED_TORQUE", "protection_event"]
 
 FEATHERED_TORQUE = 0.0
 """Generator torque [N*m] commanded once the safety system has tripped."""
@@ -109,6 +117,91 @@ class CommandOrder:
 
 
 @dataclass(frozen=True)
+class ProtectionFinding:
+    """What :meth:`Protection.check` found: a warning, or the trip (``trip`` True), with its reason."""
+
+    trip: bool
+    reason: str
+
+
+WARNING_RELEASE = 0.9
+"""A speed warning is given again only after the speed has fallen below this fraction of the warning level."""
+
+
+class Protection:
+    """The turbine's protection functions on its measurements of each step (IEC 61400-1 §8.3).
+
+    Parameters
+    ----------
+    limits : ProtectionLimits
+        The turbine's levels (its definition's ``protection`` section or the defaults).
+    dt : float
+        Plant step [s], for the pitch rate from two consecutive measured angles.
+
+    Notes
+    -----
+    Per step, with Ω the rotor and Ω_g the generator speed, a_x, a_y the tower-top fore-aft and
+    side-side accelerations and θ_i the measured pitch of blade i:
+
+    - overspeed trip: Ω > Ω_trip or Ω_g > Ω_g,trip; warning once per excursion above Ω_warn or
+      Ω_g,warn, again after the speed fell below :data:`WARNING_RELEASE` of it;
+    - tower-top acceleration: √(a_x² + a_y²) > a_trip;
+    - pitch asymmetry: max_i θ_i − min_i θ_i > Δθ_trip;
+    - pitch rate: max_i |θ_i(k) − θ_i(k−1)| / Δt > θ̇_trip (the plant's actuator is rate-limited, so
+      only a failed actuator reaches it).
+
+    A measurement that is not finite is a trip as well: the protection cannot vouch for a turbine
+    it cannot see. The first trip found is the one reported; :class:`SafetySystem` latches it.
+    """
+
+    def __init__(self, limits: ProtectionLimits, dt: float) -> None:
+        if not dt > 0.0:
+            raise ValueError(f"dt: expected > 0 s, found {dt}")
+        self.limits = limits
+        self.dt = dt
+        self._previous_pitch: Optional[list] = None
+        self._warned = {"rotor": False, "generator": False}
+
+    def check(self, rotor_speed: float, generator_speed: float, tower_top_fa_accel: float,
+              tower_top_ss_accel: float, pitch: np.ndarray) -> list[ProtectionFinding]:
+        """The warnings and the trip (at most one, last) of one step's measurements (SI units, pitch per blade)."""
+        angles = np.asarray(pitch, dtype=float).tolist()  # B plain floats: cheaper than numpy for B = 3
+        previous, self._previous_pitch = self._previous_pitch, angles
+        limits, found = self.limits, []
+        acceleration = math.hypot(tower_top_fa_accel, tower_top_ss_accel)
+        values = (rotor_speed, generator_speed, acceleration, *angles)
+        if not all(map(math.isfinite, values)):
+            return [ProtectionFinding(True, f"measurement not finite: rotor speed {rotor_speed}, generator speed "
+                                            f"{generator_speed}, tower-top acceleration {acceleration}, pitch {angles}")]
+        for shaft, speed, warning, trip in (
+                ("rotor", rotor_speed, limits.rotor_speed_warning, limits.rotor_speed_trip),
+                ("generator", generator_speed, limits.generator_speed_warning, limits.generator_speed_trip)):
+            if speed > trip:
+                return found + [ProtectionFinding(True, f"{shaft} overspeed: {speed:.5g} rad/s above the trip level "
+                                                        f"{trip:.5g} rad/s")]
+            if speed > warning and not self._warned[shaft]:
+                self._warned[shaft] = True
+                found.append(ProtectionFinding(False, f"{shaft} overspeed warning: {speed:.5g} rad/s above "
+                                                      f"{warning:.5g} rad/s (trip at {trip:.5g} rad/s)"))
+            elif speed < WARNING_RELEASE * warning:
+                self._warned[shaft] = False
+        if acceleration > limits.tower_top_acceleration_trip:
+            return found + [ProtectionFinding(True, f"tower-top acceleration {acceleration:.4g} m/s^2 above the trip "
+                                                    f"level {limits.tower_top_acceleration_trip:.4g} m/s^2")]
+        spread = max(angles) - min(angles)
+        if spread > limits.pitch_asymmetry_trip:
+            return found + [ProtectionFinding(True, f"pitch asymmetry {math.degrees(spread):.3g} deg above the trip "
+                                                    f"level {math.degrees(limits.pitch_asymmetry_trip):.3g} deg "
+                                                    f"(pitch {[round(math.degrees(a), 2) for a in angles]} deg)")]
+        if previous is not None:
+            rate = max(abs(a - b) for a, b in zip(angles, previous)) / self.dt
+            if rate > limits.pitch_rate_trip:
+                return found + [ProtectionFinding(True, f"pitch rate {math.degrees(rate):.3g} deg/s above the trip "
+                                                        f"level {math.degrees(limits.pitch_rate_trip):.3g} deg/s")]
+        return found
+
+
+@dataclass(frozen=True)
 class SafetySettings:
     """When the safety chain trips and where it takes the blades.
 
@@ -138,13 +231,21 @@ class SafetySettings:
 
 
 class SafetySystem:
-    """The plant's safety chain: a watchdog on the commands that, once tripped, feathers and stays tripped.
+    """The plant's safety chain: a watchdog on the commands and the turbine's protection; once tripped, it feathers
+    and stays tripped.
+
+    Parameters
+    ----------
+    settings : SafetySettings
+    protection : Protection, optional
+        The protection functions :meth:`protect` runs on every step's measurements.
 
     Notes
     -----
     Watchdog: started at ``start(t0)``; the deadline is ``t0 + startup_timeout`` until
     the first ``command_applied(t)``, then ``t + command_timeout`` after every applied
-    command. :meth:`watch` trips once the deadline has passed.
+    command. :meth:`watch` trips once the deadline has passed. :meth:`protect` trips on the
+    first trip the protection finds.
 
     After the trip every blade's command ramps from its measured pitch θ_i at the trip
     to the feather angle at the actuator's rate limit, θ_c,i(k+1) = min(θ_c,i(k) +
@@ -159,9 +260,11 @@ class SafetySystem:
     chain stays open until it is reset on site; restarting the plant resets it here.
     """
 
-    def __init__(self, settings: SafetySettings) -> None:
+    def __init__(self, settings: SafetySettings, protection: Optional[Protection] = None) -> None:
         self.settings = settings
+        self.protection = protection
         self.reason: Optional[str] = None
+        self.expired = False
         self._deadline: Optional[float] = None
         self._armed = False
         self._feather_command: Optional[np.ndarray] = None
@@ -183,7 +286,11 @@ class SafetySystem:
         self._deadline = now + self.settings.command_timeout
 
     def watch(self, now: float, pitch: np.ndarray, awaiting: str) -> Optional[str]:
-        """Trip if the deadline has passed at ``now`` [s]; the reason the one time it trips, else None.
+        """Trip if the deadline has passed at ``now`` [s]; the reason the one time it expires, else None.
+
+        The watchdog expires once, also after a protection trip: the commands a tripped plant still
+        awaits in lockstep (it steps on them, feathering) have stopped coming too, and the caller then
+        steps on its own (:attr:`expired`).
 
         Parameters
         ----------
@@ -194,12 +301,31 @@ class SafetySystem:
         awaiting : str
             What is missing, for the reason (e.g. "control/pitch_command of step 412").
         """
-        if self.tripped or self._deadline is None or now < self._deadline:
+        if self.expired or self._deadline is None or now < self._deadline:
             return None
+        self.expired = True
         timeout, name = ((self.settings.command_timeout, "command_timeout") if self._armed
                          else (self.settings.startup_timeout, "startup_timeout"))
-        self.trip(f"{awaiting} missing for {name} {timeout:g} s", pitch)
-        return self.reason
+        reason = f"{awaiting} missing for {name} {timeout:g} s"
+        self.trip(reason, pitch)
+        return reason
+
+    def protect(self, rotor_speed: float, generator_speed: float, tower_top_fa_accel: float,
+                tower_top_ss_accel: float, pitch: np.ndarray) -> list[ProtectionFinding]:
+        """Run the protection on one step's measurements (:meth:`Protection.check`), tripping on a trip it finds;
+        what it found, to be reported (nothing once tripped, or without a protection)."""
+        if self.tripped or self.protection is None:
+            return []
+        found = self.protection.check(rotor_speed, generator_speed, tower_top_fa_accel, tower_top_ss_accel, pitch)
+        if found and found[-1].trip:
+            self.trip(found[-1].reason, pitch)
+        return found
+
+    @property
+    def consequence(self) -> str:
+        """What a trip does, for its event."""
+        return (f"safety system tripped, feathering to {self.settings.feather_angle:g} rad at "
+                f"{self.settings.feather_rate:g} rad/s with generator torque 0; latched until the plant restarts")
 
     def trip(self, reason: str, pitch: np.ndarray) -> None:
         """Trip now for ``reason``, the feather ramp starting at the measured ``pitch`` [rad] (no-op if tripped)."""
@@ -217,7 +343,17 @@ class SafetySystem:
         return self._feather_command.copy(), FEATHERED_TORQUE
 
     def command_returned(self) -> bool:
-        """Note a command arriving after the trip; True for the first one only (to report it once)."""
-        first = self.tripped and not self._return_reported
-        self._return_reported = self._return_reported or self.tripped
+        """Note a command arriving after the watchdog expired; True for the first one only (to report it once)."""
+        first = self.expired and not self._return_reported
+        self._return_reported = self._return_reported or self.expired
         return first
+
+
+def protection_event(finding: ProtectionFinding, safety: SafetySystem) -> tuple[int, str, str]:
+    """The ``control/events`` level, kind and detail of a protection finding (the same in every engine).
+
+    Levels are ``hawt_msgs/ControlEvent``'s: WARN 30 for a warning, ERROR 40 for a trip.
+    """
+    if finding.trip:
+        return 40, "protection_trip", f"{finding.reason}: {safety.consequence}"
+    return 30, "protection_warning", finding.reason

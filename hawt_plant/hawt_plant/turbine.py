@@ -18,7 +18,7 @@ turns clockwise seen from upwind.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Mapping
@@ -40,6 +40,7 @@ __all__ = [
     "Nacelle",
     "OperatingSchedule",
     "PitchActuator",
+    "ProtectionLimits",
     "Rotor",
     "Tower",
     "Turbine",
@@ -337,6 +338,65 @@ class PitchActuator:
 
 
 @dataclass(frozen=True)
+class ProtectionLimits:
+    """Where the turbine's protection system warns and trips (:class:`hawt_plant.safety_system.Protection`).
+
+    A definition's optional ``protection`` section gives any of them; each one it leaves out takes its
+    documented default from the turbine's own ratings (:func:`default_protection`). Speeds are
+    compared with the measured rotor and generator speeds, the acceleration with the tower top's
+    fore-aft and side-side acceleration combined, the asymmetry with the spread of the measured
+    blade pitch angles, the rate with each blade's measured pitch rate.
+
+    Attributes
+    ----------
+    rotor_speed_warning, rotor_speed_trip : float
+        [rad/s]: IEC 61400-1's n_A-style levels on the rotor (low-speed shaft).
+    generator_speed_warning, generator_speed_trip : float
+        [rad/s]: the same on the generator (high-speed shaft), so a broken shaft or gearbox is seen too.
+    tower_top_acceleration_trip : float
+        [m/s^2]
+    pitch_asymmetry_trip : float
+        Largest spread of the blades' pitch angles [rad].
+    pitch_rate_trip : float
+        Largest measured pitch rate of any blade [rad/s].
+    """
+
+    rotor_speed_warning: float
+    rotor_speed_trip: float
+    generator_speed_warning: float
+    generator_speed_trip: float
+    tower_top_acceleration_trip: float
+    pitch_asymmetry_trip: float
+    pitch_rate_trip: float
+
+
+OVERSPEED_WARNING = 1.12
+"""Default overspeed warning level, a fraction of rated speed (rotor and generator)."""
+OVERSPEED_TRIP = 1.18
+"""Default overspeed trip level, a fraction of rated speed: it acts below 1.2 x rated, above the 1.14 x rated that
+the packaged NREL 5 MW reached under IPC in 600 s of class A turbulence at 24 m/s."""
+TOWER_TOP_ACCELERATION_TRIP = 2.5
+"""Default tower-top acceleration trip level [m/s^2] (about a quarter of g)."""
+PITCH_ASYMMETRY_TRIP = math.radians(20.0)
+"""Default trip level of the spread of the blades' pitch angles [rad]: IPC spreads them by up to 11.5 deg on the
+packaged NREL 5 MW (600 s of class A turbulence at 18 and 24 m/s)."""
+PITCH_RATE_MARGIN = 1.1
+"""Default pitch-rate trip level, a fraction of the actuator's rate limit."""
+
+
+def default_protection(schedule: "OperatingSchedule", drivetrain: "Drivetrain",
+                       actuator: "PitchActuator") -> ProtectionLimits:
+    """The protection levels a definition without its own takes, from its rated rotor speed, gearbox ratio and
+    pitch actuator (the module constants above say the factors)."""
+    rated, ratio = schedule.rated_rotor_speed, drivetrain.gearbox_ratio
+    return ProtectionLimits(
+        rotor_speed_warning=OVERSPEED_WARNING * rated, rotor_speed_trip=OVERSPEED_TRIP * rated,
+        generator_speed_warning=OVERSPEED_WARNING * rated * ratio, generator_speed_trip=OVERSPEED_TRIP * rated * ratio,
+        tower_top_acceleration_trip=TOWER_TOP_ACCELERATION_TRIP, pitch_asymmetry_trip=PITCH_ASYMMETRY_TRIP,
+        pitch_rate_trip=PITCH_RATE_MARGIN * actuator.max_rate)
+
+
+@dataclass(frozen=True)
 class OperatingSchedule:
     """Baseline steady operating schedule (wind speeds [m/s], rotor speeds [rad/s])."""
 
@@ -439,6 +499,7 @@ class Turbine:
     pitch_actuator: PitchActuator
     schedule: OperatingSchedule
     aerodynamics: AerodynamicOptions
+    protection: ProtectionLimits
 
     @property
     def blade_length(self) -> float:
@@ -525,6 +586,9 @@ def load_turbine(path: str | Path) -> Turbine:
     doc = _Section(path.name, "", _derived(path, _read_yaml(path)))
     rotor = _rotor(doc.section("rotor"))
     aero = _blade_aerodynamics(doc.section("blade").section("aerodynamics"), rotor)
+    drivetrain, actuator, schedule = (_drivetrain(doc.section("drivetrain")),
+                                      _pitch_actuator(doc.section("pitch_actuator")), _schedule(doc.section("operation")))
+    protection = default_protection(schedule, drivetrain, actuator)
     airfoils = {name: _airfoil(path.parent / "airfoils" / f"{name}.yaml") for name in sorted(set(aero.airfoil))}
     return Turbine(
         name=doc.text("name"),
@@ -539,12 +603,13 @@ def load_turbine(path: str | Path) -> Turbine:
         blade_structure=_blade_structure(doc.section("blade").section("structure"), rotor),
         airfoils=airfoils,
         tower=_tower(doc.section("tower")),
-        drivetrain=_drivetrain(doc.section("drivetrain")),
+        drivetrain=drivetrain,
         generator=_generator(doc.section("generator")),
-        pitch_actuator=_pitch_actuator(doc.section("pitch_actuator")),
-        schedule=_schedule(doc.section("operation")),
+        pitch_actuator=actuator,
+        schedule=schedule,
         aerodynamics=_aerodynamics(doc.section("aerodynamics"), path.name) if doc.has("aerodynamics")
         else AerodynamicOptions(),
+        protection=_protection(doc.section("protection"), protection) if doc.has("protection") else protection,
     )
 
 
@@ -807,6 +872,21 @@ def _pitch_actuator(s: _Section) -> PitchActuator:
         natural_frequency=s.number("natural_frequency", low=0.0),
         damping_ratio=s.number("damping_ratio", low=0.0),
     )
+
+
+def _protection(s: _Section, defaults: ProtectionLimits) -> ProtectionLimits:
+    """The section's levels, each one left out its default; a warning level above its trip level is refused."""
+    unknown = sorted(set(s.keys()) - {f.name for f in fields(ProtectionLimits)})
+    if unknown:
+        raise s.error(unknown[0], f"unknown protection level (expected one of: "
+                                  f"{', '.join(f.name for f in fields(ProtectionLimits))})")
+    limits = ProtectionLimits(**{f.name: s.number(f.name, low=0.0, default=getattr(defaults, f.name))
+                                 for f in fields(ProtectionLimits)})
+    for shaft in ("rotor", "generator"):
+        warning, trip = getattr(limits, f"{shaft}_speed_warning"), getattr(limits, f"{shaft}_speed_trip")
+        if warning > trip:
+            raise s.error(f"{shaft}_speed_warning", f"expected a value <= {shaft}_speed_trip ({trip}), found {warning}")
+    return limits
 
 
 def _schedule(s: _Section) -> OperatingSchedule:

@@ -16,7 +16,7 @@ the plant's modal model (:mod:`hawt_plant.modal`), each on its own:
   the edge stiffness (standing still).
 
 It also lists the definition's aerodynamic options (what the plant runs unless its parameters say otherwise), each
-with its source.
+with its source, and the levels of its protection system (:class:`hawt_plant.turbine.ProtectionLimits`).
 """
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ from scipy.optimize import brentq, minimize
 from hawt_plant.bem import BemBlade, rotor_performance
 from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, rotor_inertia, tower_modal_properties
 from hawt_plant.operating_point import schedule_rotor_speed
-from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine
+from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, ProtectionLimits, Turbine
 
 __all__ = ["TurbineSummary", "format_summary", "peak_power_coefficient", "turbine_summary"]
 
@@ -102,6 +102,7 @@ class TurbineSummary:
     drivetrain_frequency: float
     blade_edge_frequency: float
     aerodynamics: AerodynamicOptions
+    protection: ProtectionLimits
 
 
 def peak_power_coefficient(turbine: Turbine, blade: BemBlade | None = None) -> tuple[float, float, float]:
@@ -180,13 +181,13 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         tower_ss_frequency=hertz(tower["ss"].stiffness, tower["ss"].modal_mass + top),
         drivetrain_frequency=hertz(drivetrain.torsional_stiffness, torsion_inertia),
         blade_edge_frequency=blade_edgewise_frequency(turbine),
-        aerodynamics=turbine.aerodynamics,
+        aerodynamics=turbine.aerodynamics, protection=turbine.protection,
     )
 
 
 def format_summary(summary: TurbineSummary) -> str:
     """The summary as a few lines of text (what ``hawt turbine show`` prints)."""
-    s = summary
+    s, p = summary, summary.protection
     rpm = 30.0 / math.pi
     bem_rated = "does not reach rated power" if math.isnan(s.bem_rated_wind_speed) else \
         f"reaches rated power at {s.bem_rated_wind_speed:.2f} m/s"
@@ -204,4 +205,10 @@ def format_summary(summary: TurbineSummary) -> str:
         f"{s.drivetrain_frequency:.3f} Hz",
         "aerodynamics (what the plant runs; its parameter of the same name, true or false, overrides one):",
         *(f"  {s.aerodynamics.state(name)}: {s.aerodynamics.sources[name]}" for name in AERODYNAMIC_OPTIONS),
+        f"protection (the safety system trips and feathers above these; the definition's protection section sets "
+        f"them): rotor {p.rotor_speed_trip * rpm:.2f} rpm ({p.rotor_speed_trip / s.rated_rotor_speed:.3g} x rated; "
+        f"warning at {p.rotor_speed_warning * rpm:.2f}), generator {p.generator_speed_trip * rpm:.1f} rpm (warning at "
+        f"{p.generator_speed_warning * rpm:.1f}), tower-top acceleration {p.tower_top_acceleration_trip:g} m/s^2, "
+        f"pitch asymmetry {math.degrees(p.pitch_asymmetry_trip):.3g} deg, pitch rate "
+        f"{math.degrees(p.pitch_rate_trip):.3g} deg/s",
     ])

@@ -126,6 +126,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     overrides = parse_overrides(graph, args.param)
     check_graph_parameters(graph, overrides)
     run = run_graph(graph, overrides, args.record, args.duration, _progress)
+    for event in run.events:
+        if event["level"] >= 30:
+            print(f"{event['kind']} at t={event['step'] * run.description.dt:.2f} s: {event['detail']}",
+                  file=sys.stderr)
     print(run.events[-1]["detail"] + (f"; recorded into {args.record}" if args.record else ""))
     return 0
 

@@ -11,6 +11,8 @@ plant advances with that command. The result equals the lockstep ROS graph bit f
 for the same graph, arguments and seed. A run can be written to MCAP with the topics the
 graph publishes, so ``hawt analyze`` and ``hawt compare`` read it unchanged.
 
+The plant's protection (hawt_plant.safety_system.Protection) runs here as in the plant node:
+a trip is a ``protection_trip`` event and the plant feathers from the next step on.
 What the runner does not do, since nothing can happen there that the schedule did not
 say: live switches and parameter sets, lost contributors, realtime.
 """
@@ -31,8 +33,8 @@ from hawt_core.parameter_table import ParameterError, resolve_values
 from hawt_core.topics import estimate_topic
 from hawt_plant.model import STATE_FIELDS
 from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
-from hawt_plant.plant_setup import aerodynamics_line, make_plant
-from hawt_plant.safety_system import command_rejection
+from hawt_plant.plant_setup import aerodynamics_line, make_plant, make_safety_system
+from hawt_plant.safety_system import command_rejection, protection_event
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
 
@@ -81,6 +83,7 @@ class InProcessRun:
         self.turbine, self.model, self.output = make_plant(plant_values)
         self.description = self.turbine.description(plant_values["dt"])
         self.actuator = self.turbine.pitch_actuator
+        self.safety = make_safety_system(self.turbine, plant_values)
         from hawt_controllers.mbc_node import pitch_limits
 
         self.assembler = LoopAssembler(self.description.blades, pitch_limits(assembler_values), self.description.dt)
@@ -180,8 +183,15 @@ class InProcessRun:
                              self.actuator.min_angle, self.actuator.max_angle,
                              self.turbine.generator.max_torque) is None:
             self.command = (np.asarray(command.pitch, dtype=float), float(collective.generator_torque))
-        self.output = self.model.step(*self.command)
+        if self.safety.tripped:
+            self.command = self.safety.feather(self.description.dt)
+        out = self.output = self.model.step(*self.command)
         self.step_index += 1
+        for finding in self.safety.protect(out.rotor_speed, out.generator_speed, out.tower_top_fa_accel,
+                                           out.tower_top_ss_accel, out.pitch):
+            level, kind, detail = protection_event(finding, self.safety)
+            self.events.append({"step": self.step_index, "source": "in_process", "level": level, "kind": kind,
+                                "detail": detail})
 
 
 _LOAD_FIELDS = ("azimuth", "rotor_speed", "root_moment_oop", "root_moment_ip", "pitch")

@@ -4,8 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from hawt_plant.safety_system import (FEATHERED_TORQUE, CommandOrder, SafetySettings, SafetySystem,
-                                      command_rejection)
+from hawt_plant.safety_system import (FEATHERED_TORQUE, WARNING_RELEASE, CommandOrder, Protection,
+                                      SafetySettings, SafetySystem, command_rejection, protection_event)
+from hawt_plant.turbine import ProtectionLimits, nrel_5mw
 
 SETTINGS = SafetySettings(command_timeout=1.0, startup_timeout=30.0, feather_angle=math.pi / 2,
                           feather_rate=math.radians(8.0))
@@ -97,11 +98,16 @@ def test_a_trip_is_reported_once_and_latches_whatever_commands_follow():
     assert [safety.command_returned() for _ in range(3)] == [True, False, False]
 
 
-def test_no_command_is_noted_as_returned_before_a_trip():
-    """command_returned is False while untripped, and does not use up the report of a later trip."""
+def test_no_command_is_noted_as_returned_before_the_watchdog_expires():
+    """command_returned is False while the watchdog has not expired, a protection trip included (the plant still
+    steps on its controllers' answers then), and does not use up the report of a later expiry."""
     safety = SafetySystem(SETTINGS)
+    safety.start(0.0)
     assert not safety.command_returned()
     safety.trip("test", np.zeros(3))
+    assert not safety.command_returned()
+    assert safety.watch(31.0, np.zeros(3), "step 1") == "step 1 missing for startup_timeout 30 s"
+    assert safety.reason == "test" and safety.expired
     assert safety.command_returned()
 
 
@@ -128,3 +134,84 @@ def test_settings_refuse_a_timeout_or_rate_that_is_not_positive(field):
     values = dict(command_timeout=1.0, startup_timeout=30.0, feather_angle=1.5, feather_rate=0.14)
     with pytest.raises(ValueError, match=field):
         SafetySettings(**{**values, field: 0.0})
+
+
+LIMITS = ProtectionLimits(rotor_speed_warning=1.4, rotor_speed_trip=1.5, generator_speed_warning=140.0,
+                          generator_speed_trip=150.0, tower_top_acceleration_trip=2.5,
+                          pitch_asymmetry_trip=math.radians(20.0), pitch_rate_trip=math.radians(8.8))
+NORMAL = dict(rotor_speed=1.2, generator_speed=120.0, tower_top_fa_accel=0.3, tower_top_ss_accel=0.1,
+              pitch=np.array([0.2, 0.21, 0.19]))
+"""One step's measurements well inside every level of LIMITS."""
+
+
+def _findings(**changed):
+    """What a fresh protection finds on NORMAL's measurements with ``changed`` replacing some."""
+    found = Protection(LIMITS, DT).check(**{**NORMAL, **changed})
+    return [(f.trip, f.reason) for f in found]
+
+
+def test_measurements_inside_every_level_find_nothing():
+    """Speeds below their warnings, a small acceleration, spread and rate: no finding."""
+    protection = Protection(LIMITS, DT)
+    assert protection.check(**NORMAL) == []
+    assert protection.check(**{**NORMAL, "pitch": NORMAL["pitch"] + math.radians(8.0) * DT}) == []
+
+
+@pytest.mark.parametrize("changed, reason", [
+    (dict(rotor_speed=1.51), "rotor overspeed: 1.51 rad/s above the trip level 1.5 rad/s"),
+    (dict(generator_speed=150.5), "generator overspeed: 150.5 rad/s above the trip level 150 rad/s"),
+    (dict(tower_top_fa_accel=2.0, tower_top_ss_accel=1.6), "tower-top acceleration 2.561 m/s^2 above the trip level"),
+    (dict(pitch=np.array([0.0, 0.0, math.radians(20.5)])), "pitch asymmetry 20.5 deg above the trip level 20 deg"),
+    (dict(rotor_speed=math.nan), "measurement not finite: rotor speed nan"),
+])
+def test_each_level_exceeded_is_a_trip_naming_the_cause_and_the_value(changed, reason):
+    """Overspeed of either shaft, the combined tower-top acceleration, the spread of the pitch angles, and a
+    measurement that is not finite: one trip finding, its reason naming what and how much."""
+    ((trip, text),) = _findings(**changed)
+    assert trip and text.startswith(reason), text
+
+
+def test_a_blade_moving_faster_than_its_rate_level_trips():
+    """9 deg/s between two steps against a level of 8.8 deg/s: a trip; the first step has no rate to judge."""
+    protection = Protection(LIMITS, DT)
+    assert protection.check(**NORMAL) == []
+    moved = NORMAL["pitch"] + np.array([0.0, math.radians(9.0) * DT, 0.0])
+    ((finding,),) = [protection.check(**{**NORMAL, "pitch": moved})]
+    assert finding.trip and finding.reason.startswith("pitch rate 9 deg/s above the trip level 8.8 deg/s")
+
+
+def test_an_overspeed_warning_comes_once_per_excursion():
+    """Above the warning level for three steps: one warning; below WARNING_RELEASE of it, then above again: a second
+    one; just below the warning level in between does not re-arm it."""
+    protection = Protection(LIMITS, DT)
+    speeds = [1.41, 1.42, 1.41, 1.39, 1.41, WARNING_RELEASE * 1.4 - 0.01, 1.45]
+    warnings = [[f.reason for f in protection.check(**{**NORMAL, "rotor_speed": w})] for w in speeds]
+    assert [len(w) for w in warnings] == [1, 0, 0, 0, 0, 0, 1]
+    assert warnings[0][0] == "rotor overspeed warning: 1.41 rad/s above 1.4 rad/s (trip at 1.5 rad/s)"
+
+
+def test_the_safety_system_trips_on_the_protections_trip_and_then_finds_nothing_more():
+    """protect() trips the system with the finding's reason; later steps, whatever they measure, find nothing; the
+    trip's event is an ERROR protection_trip saying what the trip does."""
+    safety = SafetySystem(SETTINGS, Protection(LIMITS, DT))
+    assert safety.protect(**NORMAL) == []
+    (finding,) = safety.protect(**{**NORMAL, "rotor_speed": 1.6})
+    assert safety.tripped and safety.reason == finding.reason and not safety.expired
+    assert safety.protect(**{**NORMAL, "rotor_speed": 3.0}) == []
+    level, kind, detail = protection_event(finding, safety)
+    assert (level, kind) == (40, "protection_trip")
+    assert detail.endswith("feathering to 1.5708 rad at 0.139626 rad/s with generator torque 0; latched until the "
+                           "plant restarts")
+
+
+def test_the_packaged_turbine_trips_below_1_2_times_rated_speed():
+    """The NREL 5 MW has no protection section: its levels are the defaults from its ratings, warning at 1.12 and trip
+    at 1.18 x rated (12.1 rpm, HSS x 97), 2.5 m/s^2, 20 deg of spread, 1.1 x the 8 deg/s actuator."""
+    turbine = nrel_5mw()
+    rated = turbine.schedule.rated_rotor_speed
+    limits = turbine.protection
+    assert limits.rotor_speed_trip / rated == pytest.approx(1.18) and limits.rotor_speed_warning / rated == \
+        pytest.approx(1.12)
+    assert limits.generator_speed_trip == pytest.approx(1.18 * rated * 97.0)
+    assert (limits.tower_top_acceleration_trip, math.degrees(limits.pitch_asymmetry_trip),
+            math.degrees(limits.pitch_rate_trip)) == pytest.approx((2.5, 20.0, 8.8))

@@ -209,3 +209,26 @@ def test_a_bad_aerodynamic_option_is_named_with_its_file_and_key(editable_copy, 
     """A value that is not true/false (or {value, source}), or an option the plant does not have."""
     with pytest.raises(TurbineDefinitionError, match=rf"turbine\.yaml: {message}"):
         load_turbine(editable_copy(["aerodynamics", key], value))
+
+
+def test_a_protection_section_sets_the_levels_it_names_and_the_rest_keep_their_defaults(editable_copy, turbine):
+    """``protection: {rotor_speed_trip: 1.45, pitch_asymmetry_trip: 0.1}``: those two levels, every other one the
+    default from the turbine's ratings (what a definition without the section gets)."""
+    limits = load_turbine(editable_copy(["protection"], {"rotor_speed_trip": 1.45, "pitch_asymmetry_trip": 0.1})
+                          ).protection
+    assert (limits.rotor_speed_trip, limits.pitch_asymmetry_trip) == (1.45, 0.1)
+    assert limits.generator_speed_trip == turbine.protection.generator_speed_trip
+    assert limits.rotor_speed_warning == turbine.protection.rotor_speed_warning
+
+
+@pytest.mark.parametrize("section, message", [
+    ({"rotor_overspeed": 1.5}, r"protection\.rotor_overspeed: unknown protection level \(expected one of: "
+                               r"rotor_speed_warning, rotor_speed_trip, "),
+    ({"rotor_speed_trip": -1.0}, r"protection\.rotor_speed_trip: expected a value > 0.0, found -1.0"),
+    ({"generator_speed_warning": 200.0, "generator_speed_trip": 150.0},
+     r"protection\.generator_speed_warning: expected a value <= generator_speed_trip \(150.0\), found 200.0"),
+], ids=["misspelled", "negative", "warning above trip"])
+def test_a_bad_protection_level_is_named_with_its_file_and_key(editable_copy, section, message):
+    """A misspelled level, a level that is not positive, a warning above its trip."""
+    with pytest.raises(TurbineDefinitionError, match=rf"turbine\.yaml: {message}"):
+        load_turbine(editable_copy(["protection"], section))
