@@ -25,6 +25,14 @@ contribution fades to zero over ``fade_time`` while the others go on, the comman
 flagged FLAG_STALE_IPC and a ``contribution_lost`` event says so; when it answers again
 (respawned) it is followed again (``contribution_returned``). A missing collective is never
 skipped: without it the plant's safety system takes over.
+
+Authority: a contribution topic is read only from its claimants, the controllers that have
+announced an interface on it (``controller_manager/controllers``); which of them contributes at
+a step is then the switches' business. Each message's publisher is identified by its GID and
+named through the ROS graph (hawt_node.command_senders, as the plant does for its commands);
+a message from any other publisher is refused before it is read, the first from each is an
+``intruder`` event. A message whose sender has not announced itself yet waits for it (at most
+hawt_node.command_senders.UNKNOWN_GRACE).
 """
 import math
 import time
@@ -49,6 +57,7 @@ from hawt_core.plant_description import PlantDescription
 from hawt_core.step_sync import StepAnswer, StepJoin
 from hawt_core.topics import (BLADE_LOADS, COLLECTIVE, CONTROLLER_STATES, PITCH_COMMAND, PLANT_DESCRIPTION,
                               RECORDER_NODE, mbc_topic)
+from hawt_node.command_senders import GuardedSubscription, Sample
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import ParameterSpec, accepted, declare_parameters, rejection
@@ -123,7 +132,8 @@ class MbcNode(Node):
         self.lockstep = self.values["mode"] == "lockstep"
         self.join = StepJoin(())
         self.demands: Dict[str, Any] = {}
-        self.subscribed: Dict[str, Any] = {}
+        self.subscribed: Dict[str, GuardedSubscription] = {}
+        self.claimants: Dict[str, Set[str]] = {}
         self.windows = InterfaceWindows((), 1.0)
         self.lost: Dict[str, tuple] = {}
         self.loads: Optional[BladeLoads] = None
@@ -153,14 +163,33 @@ class MbcNode(Node):
         """A controller's announcement: subscribe to what it claims; one active from step 0 contributes from 0."""
         self.announced.add(msg.name.rsplit("/", 1)[-1])
         for interface in msg.interfaces:
-            self._subscribe(parse_interface(interface).topic, message_type(interface))
+            topic = parse_interface(interface).topic
+            self.claimants.setdefault(topic, set()).add(msg.name)
+            self._subscribe(topic, message_type(interface))
+            self.subscribed[topic].allow(sorted(self.claimants[topic]))
         if msg.state == ControllerState.ACTIVE and msg.step == 0:
             self.windows.start(msg.interfaces)
 
     def _subscribe(self, topic: str, kind: type) -> None:
+        """Follow a contribution topic, taking only its claimants' messages (the module notes' authority)."""
         if topic not in self.subscribed:
-            self.subscribed[topic] = self.create_subscription(kind, topic, lambda m, t=topic: self._input(t, m),
-                                                              CONTROL_LOOP)
+            self.subscribed[topic] = GuardedSubscription(
+                self, kind, topic, CONTROL_LOOP, sorted(self.claimants.get(topic, ())),
+                lambda m, t=topic: self._input(t, m), lambda sample, t=topic: self._report_intruder(t, sample),
+                wait_for_allowed=True)
+
+    def _report_intruder(self, topic: str, sample: Sample) -> None:
+        """The first contribution of a publisher that is not a claimant of ``topic`` (the guard counts the rest)."""
+        who = sample.sender or f"a publisher the graph does not name (publisher gid {sample.gid.hex()})"
+        claimants = ", ".join(sorted(self.subscribed[topic].allowed)) or "no controller"
+        self.events(ControlEvent.ERROR, "intruder", f"{topic} step {sample.message.step} from {who} refused: only "
+                    f"{claimants} claim it (its later messages are refused and counted)",
+                    step=self.loads.step if self.loads is not None else 0)
+
+    def destroy_node(self) -> None:
+        for guard in self.subscribed.values():
+            guard.close()
+        super().destroy_node()
 
     def _check_parameters(self, changes):
         try:

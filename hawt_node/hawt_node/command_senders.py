@@ -8,7 +8,8 @@ executor spins; the owner's own subscription is only the doorbell. When it rings
 (:meth:`CommandSenders.rang`), :meth:`CommandSenders.take` takes every sample waiting in the
 second subscription with ``take_message``, which does return the message info; while
 :attr:`CommandSenders.look_again` holds (the announced sample has not reached the second
-reader yet, or a sample waits for its sender's name) the owner calls it again a moment later.
+reader yet: :attr:`CommandSenders.missing`) the owner calls it again a moment later, and while a
+sample waits for its sender's name (:attr:`CommandSenders.waiting`) every ``WAIT_PERIOD``.
 
 A GID is named through the ROS graph (:func:`publisher_names`: node name and namespace of
 each publisher, with its GID; ``_NODE_NAME_UNKNOWN_`` until the publisher's node has
@@ -18,19 +19,27 @@ e.g. ``mbc``, or absolute). A sample from a publisher the graph does not name ye
 it does, for ``UNKNOWN_GRACE`` seconds at most; then it is handed out as an unnamed
 intruder's.
 
+:class:`GuardedSubscription` puts the two together for a node: a callback that sees only the
+allowed senders' messages, the first message of every other publisher reported once (the
+owner's ``intruder`` event) and every one counted. Its allowed senders may change while it
+runs (the loop assembler allows a contribution topic's claimants as they announce
+themselves); a sample whose named sender is not allowed yet waits, like an unnamed one, at
+most ``UNKNOWN_GRACE`` for it to become so.
+
 What this does not stop (README, Safety and security): a process that names its node like
 the source, in the same namespace, is the source as far as the graph can tell; only DDS
 security (SROS2) authenticates participants.
 """
+import re
 import time
 from dataclasses import dataclass
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 
-__all__ = ["CommandSenders", "LOOKS", "READER_DEPTH", "Sample", "UNKNOWN_GRACE", "UNKNOWN_NODE", "publisher_names",
-           "qualified_names"]
+__all__ = ["CommandSenders", "GuardedSubscription", "LOOK_AGAIN", "LOOKS", "READER_DEPTH", "Sample", "UNKNOWN_GRACE",
+           "UNKNOWN_NODE", "publisher_names", "qualified_names"]
 
 READER_DEPTH = 100
 """Samples the hidden reader keeps until they are taken."""
@@ -41,6 +50,10 @@ UNKNOWN_GRACE = 10.0
 """Wall time [s] a sample waits for the graph to name its publisher; then it is an unnamed intruder's."""
 LOOKS = 50
 """Looks for a sample the doorbell announced before giving up on it (it was taken with an earlier one)."""
+LOOK_AGAIN = 0.001
+"""Wall time [s] after which a guarded subscription looks again for a sample announced but not taken yet."""
+WAIT_PERIOD = 0.05
+"""Wall time [s] between a guarded subscription's looks while samples wait for their sender's name."""
 
 
 @dataclass(frozen=True)
@@ -68,14 +81,21 @@ def qualified_names(names: Sequence[str], namespace: str) -> frozenset:
 
 
 class CommandSenders:
-    """The samples of ``topic`` with their senders, for ``node`` that obeys only ``sources`` (module notes)."""
+    """The samples of ``topic`` with their senders, for ``node`` that obeys only ``sources`` (module notes).
 
-    def __init__(self, node: Node, message_type: type, topic: str, qos: QoSProfile, sources: Sequence[str]) -> None:
+    With ``wait_for_allowed``, a sample whose named sender is not in :attr:`allowed` waits for it
+    (at most ``UNKNOWN_GRACE``), as one whose sender is not named yet does.
+    """
+
+    def __init__(self, node: Node, message_type: type, topic: str, qos: QoSProfile, sources: Sequence[str],
+                 wait_for_allowed: bool = False) -> None:
         self.node = node
         self.topic = node.resolve_topic_name(topic)
         self.allowed = qualified_names(sources, node.get_namespace())
-        self._reader_node = Node(f"_{node.get_name()}_senders", namespace=node.get_namespace(),
-                                 context=node.context, enable_rosout=False, start_parameter_services=False)
+        self.wait_for_allowed = wait_for_allowed
+        hidden = f"_{node.get_name()}_senders_{re.sub(r'[^A-Za-z0-9_]', '_', topic.strip('/'))}"
+        self._reader_node = Node(hidden, namespace=node.get_namespace(), context=node.context, enable_rosout=False,
+                                 start_parameter_services=False)
         # deeper than the doorbell's: an intruder's flood cannot push a source's sample out before it is taken
         reader_qos = QoSProfile(history=qos.history, depth=READER_DEPTH, reliability=qos.reliability,
                                 durability=qos.durability)
@@ -90,10 +110,15 @@ class CommandSenders:
         self._received_at_ring, self._looks = self._received, 0
 
     @property
-    def look_again(self) -> bool:
-        """Whether :meth:`take` should be called again shortly: the announced sample has not reached the reader
-        yet (at most LOOKS looks), or samples wait for the graph to name their publisher."""
-        return (self._received == self._received_at_ring and self._looks < LOOKS) or bool(self._unnamed)
+    def missing(self) -> bool:
+        """Whether :meth:`take` should be called again at once: the announced sample has not reached the reader
+        yet (at most LOOKS looks)."""
+        return self._received == self._received_at_ring and self._looks < LOOKS
+
+    @property
+    def waiting(self) -> bool:
+        """Whether samples wait for their sender to be named or allowed."""
+        return bool(self._unnamed)
 
     def take(self) -> List[Sample]:
         """The samples received, oldest first, each with its sender; those of a publisher the graph does not name yet
@@ -111,10 +136,12 @@ class CommandSenders:
         samples, unnamed = [], []
         for message, gid, arrived in self._unnamed:
             sender = self._name(gid)
-            if sender is None and time.monotonic() - arrived <= UNKNOWN_GRACE:
+            allowed = sender in self.allowed
+            undecided = sender is None or (self.wait_for_allowed and not allowed)
+            if undecided and time.monotonic() - arrived <= UNKNOWN_GRACE:
                 unnamed.append((message, gid, arrived))
             else:
-                samples.append(Sample(message, gid, sender, sender in self.allowed))
+                samples.append(Sample(message, gid, sender, allowed))
         self._unnamed = unnamed
         return samples
 
@@ -126,3 +153,58 @@ class CommandSenders:
     def close(self) -> None:
         """Destroy the hidden reader node."""
         self._reader_node.destroy_node()
+
+
+class GuardedSubscription:
+    """A subscription of ``node`` to ``topic`` whose ``callback`` gets only the messages of ``sources``.
+
+    The first sample of every other publisher goes to ``report`` (the owner's ``intruder``
+    event), and :attr:`refused` counts them all by publisher GID. ``sources`` may be changed
+    later (:meth:`allow`) with ``wait_for_allowed`` (module notes).
+    """
+
+    def __init__(self, node: Node, message_type: type, topic: str, qos: QoSProfile, sources: Sequence[str],
+                 callback: Callable[[Any], None], report: Callable[[Sample], None],
+                 wait_for_allowed: bool = False) -> None:
+        self.senders = CommandSenders(node, message_type, topic, qos, sources, wait_for_allowed)
+        self.callback, self.report = callback, report
+        self.refused: Dict[bytes, int] = {}
+        node.create_subscription(message_type, topic, self._ring, qos)
+        self._look_again = node.create_timer(LOOK_AGAIN, self._take)
+        self._look_again.cancel()
+        self._wait = node.create_timer(WAIT_PERIOD, self._take)
+        self._wait.cancel()
+
+    @property
+    def allowed(self) -> frozenset:
+        """The fully qualified names of the nodes whose messages are handed over."""
+        return self.senders.allowed
+
+    def allow(self, sources: Sequence[str]) -> None:
+        """Hand over the messages of ``sources`` from now on, those waiting for it included."""
+        self.senders.allowed = qualified_names(sources, self.senders.node.get_namespace())
+        if self.senders.waiting:
+            self._take()
+
+    def _ring(self, _: Any) -> None:
+        self.senders.rang()
+        self._take()
+
+    def _take(self) -> None:
+        samples = self.senders.take()
+        for timer, needed in ((self._look_again, self.senders.missing), (self._wait, self.senders.waiting)):
+            if not needed:
+                timer.cancel()
+            elif timer.is_canceled():
+                timer.reset()
+        for sample in samples:
+            if sample.allowed:
+                self.callback(sample.message)
+                continue
+            count = self.refused[sample.gid] = self.refused.get(sample.gid, 0) + 1
+            if count == 1:
+                self.report(sample)
+
+    def close(self) -> None:
+        """Destroy the hidden reader node."""
+        self.senders.close()

@@ -56,7 +56,7 @@ from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import STATE_FIELDS, TurbineOutput
 from hawt_plant.plant_setup import PARAMETERS, aerodynamics_line, check_parameters, make_plant, make_safety_system
 from hawt_plant.safety_system import CommandOrder, command_rejection, protection_event
-from hawt_node.command_senders import CommandSenders, Sample
+from hawt_node.command_senders import GuardedSubscription, Sample
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
 from hawt_node.parameters import declare_parameters
@@ -66,10 +66,6 @@ from hawt_node.writer_matching import unmatched_writers
 from hawt_core.topics import BLADE_LOADS, CLOCK, PITCH_COMMAND, PLANT_DESCRIPTION, RECORDER_PROGRESS, TURBINE_STATE
 
 __all__ = ["PlantNode", "PARAMETERS", "main"]
-
-LOOK_AGAIN = 0.001
-"""Wall time [s] after which the plant looks again for a command that was announced but not taken yet."""
-
 
 def _stamp(seconds: float) -> Time:
     nanoseconds = int(round(seconds * 1e9))
@@ -107,13 +103,12 @@ class PlantNode(Node):
         self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
         self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
         sources = [name for name in v["command_sources"] if name]
-        self.senders = CommandSenders(self, PitchCommand, PITCH_COMMAND, CONTROL_LOOP, sources) if sources else None
-        self.create_subscription(PitchCommand, PITCH_COMMAND,
-                                 self._on_command if self.senders is None else self._ring, CONTROL_LOOP)
-        self.intruders: dict[bytes, int] = {}
-        if self.senders is not None:
-            self._look_again = self.create_timer(LOOK_AGAIN, self._take_commands)
-            self._look_again.cancel()
+        if sources:
+            self.guard = GuardedSubscription(self, PitchCommand, PITCH_COMMAND, CONTROL_LOOP, sources,
+                                             self._on_command, self._report_intruder)
+        else:
+            self.guard = None
+            self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
         self.recorded_until: Optional[float] = None
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
         self.held = self.finishing = False
@@ -228,36 +223,17 @@ class PlantNode(Node):
             return True
         return not missing
 
-    def _ring(self, _: PitchCommand) -> None:
-        """A command has arrived: take it, and whatever else waits, with its sender (hawt_node.command_senders)."""
-        self.senders.rang()
-        self._take_commands()
-
-    def _take_commands(self) -> None:
-        samples = self.senders.take()
-        if self.senders.look_again:
-            self._look_again.reset()
-        else:
-            self._look_again.cancel()
-        for sample in samples:
-            if sample.allowed:
-                self._on_command(sample.message)
-            else:
-                self._refuse_intruder(sample)
-
-    def _refuse_intruder(self, sample: Sample) -> None:
-        """Count a command from a publisher that is not a command source; report the first of each publisher."""
-        count = self.intruders[sample.gid] = self.intruders.get(sample.gid, 0) + 1
-        if count == 1:
-            who = sample.sender or f"a publisher the graph does not name (publisher gid {sample.gid.hex()})"
-            self.events(ControlEvent.ERROR, "intruder", f"control/pitch_command step {sample.message.step} from "
-                        f"{who} refused: only {', '.join(sorted(self.senders.allowed))} may command this plant "
-                        "(its later commands are refused and counted)", step=self.step_index,
-                        stamp=_stamp(self.output.time))
+    def _report_intruder(self, sample: Sample) -> None:
+        """The first command of a publisher that is not a command source (the guard counts the rest)."""
+        who = sample.sender or f"a publisher the graph does not name (publisher gid {sample.gid.hex()})"
+        self.events(ControlEvent.ERROR, "intruder", f"control/pitch_command step {sample.message.step} from "
+                    f"{who} refused: only {', '.join(sorted(self.guard.allowed))} may command this plant "
+                    "(its later commands are refused and counted)", step=self.step_index,
+                    stamp=_stamp(self.output.time))
 
     def destroy_node(self) -> None:
-        if self.senders is not None:
-            self.senders.close()
+        if self.guard is not None:
+            self.guard.close()
         super().destroy_node()
 
     def _on_command(self, msg: PitchCommand) -> None:
@@ -411,8 +387,9 @@ class PlantNode(Node):
         latency = "" if self.lockstep else self.latency.summary()
         if latency:
             summary += "; " + latency
-        if self.intruders:
-            summary += f"; {sum(self.intruders.values())} commands from {len(self.intruders)} intruders refused"
+        if self.guard is not None and self.guard.refused:
+            refused = self.guard.refused
+            summary += f"; {sum(refused.values())} commands from {len(refused)} intruders refused"
         self.events(ControlEvent.INFO, "finished", summary, step=self.step_index, stamp=_stamp(self.output.time))
         self.done.set_result(True)
 

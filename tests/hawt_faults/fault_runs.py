@@ -9,7 +9,7 @@ import signal
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Dict, Iterable, List, Optional
+from typing import Any, Callable, Dict, Iterable, List, Optional
 
 import numpy as np
 import psutil
@@ -68,7 +68,8 @@ class Probe(ProbeNode):
                                           lambda msg, topic=topic: self._on_step(topic, msg.step), _PROBE_QOS)
         self.events: List[ControlEvent] = []
         self.node.create_subscription(ControlEvent, f"/{namespace}/control/events", self.events.append, _PROBE_QOS)
-        self.commands = self.node.create_publisher(PitchCommand, f"/{namespace}/control/pitch_command", _PROBE_QOS)
+        self.publishers = {"control/pitch_command": self.node.create_publisher(
+            PitchCommand, f"/{namespace}/control/pitch_command", _PROBE_QOS)}
         self.published = 0
 
     def _on_step(self, topic: str, step: int) -> None:
@@ -110,17 +111,22 @@ class Probe(ProbeNode):
         """True once an event of ``kind`` whose detail contains ``part_of_detail`` has arrived."""
         return any(event.kind == kind and part_of_detail in event.detail for event in self.events)
 
-    def publish_until(self, command: Callable[[int], PitchCommand], condition: Callable[[], bool],
-                      launcher: subprocess.Popen, what: str) -> None:
-        """Publish ``command(plant step)`` every 10 ms until ``condition()`` holds.
+    def publish_until(self, command: Callable[[int], Any], condition: Callable[[], bool],
+                      launcher: subprocess.Popen, what: str, topic: str = "control/pitch_command") -> None:
+        """Publish ``command(plant step)`` on ``topic`` (of this namespace) every 10 ms until ``condition()`` holds.
 
         The plant reads control/pitch_command keeping the latest sample only, so one
         injected message can be overwritten by the next command before it is taken.
         """
+        if topic not in self.publishers:
+            self.publishers[topic] = self.node.create_publisher(type(command(0)), f"/{self.namespace}/{topic}",
+                                                                _PROBE_QOS)
+        publisher = self.publishers[topic]
+
         def published_and_holds() -> bool:
             if condition():
                 return True
-            self.commands.publish(command(self.plant_step))
+            publisher.publish(command(self.plant_step))
             self.published += 1
             return False
         self.wait_while_launched(published_and_holds, launcher, what)

@@ -33,7 +33,8 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
     for burst in (1, 2):
         burst_end = injector.plant_step + 100
         while injector.plant_step < burst_end:
-            injector.commands.publish(PitchCommand(step=injector.plant_step - 50, pitch=FEATHERED, generator_torque=0.0))
+            injector.publishers["control/pitch_command"].publish(
+                PitchCommand(step=injector.plant_step - 50, pitch=FEATHERED, generator_torque=0.0))
             injector.spin(0.005)
         # the plant has reported this burst, and 1.5 s (more than stale_burst_gap) pass before the next one
         injector.wait_while_launched(lambda: sum(e.kind == "stale_input" for e in injector.events) >= burst,

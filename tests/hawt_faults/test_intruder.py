@@ -5,7 +5,7 @@ import re
 
 import numpy as np
 import pytest
-from hawt_msgs.msg import ControlEvent, PitchCommand
+from hawt_msgs.msg import CollectivePitch, ControlEvent, HarmonicPitch, PitchCommand
 
 from hawt_bag.step_comparison import step_differences
 from hawt_faults.fault_runs import assert_plant_finished, read_recording
@@ -95,3 +95,48 @@ def test_an_intruder_in_realtime_is_refused_named_and_never_applied(launch, prob
     assert np.all(np.asarray(state["generator_torque"])[np.asarray(state["step"]) >= start] > 1e4)
     assert not recording.events_of("watchdog") and not recording.events_of("invalid_input")
     assert_plant_finished(recording, 10.0)
+
+
+def _contribution_intruder(topic: str):
+    """What an intruder on a contribution topic sends for a plant step: the collective at fine pitch with zero torque
+    (the rotor would run away), or a 1P demand of cos 0.5 rad (28.6 deg of IPC)."""
+    if topic == "control/collective":
+        return lambda step: CollectivePitch(step=step, pitch=0.0, generator_torque=0.0)
+    return lambda step: HarmonicPitch(step=step, harmonic=1, cos=0.5, sin=0.0)
+
+
+@pytest.mark.parametrize("mode", ["lockstep", "realtime"])
+@pytest.mark.parametrize("topic", ["control/collective", "control/ipc/h1"])
+def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(launch, probe, topic, mode):
+    """The ipc graph in turbulence: a second publisher answers every step on the collective (pitch 0, torque 0) or on
+    the 1P demand (cos 0.5 rad) from step 100 until mbc has reported it and 40 messages are sent. mbc reads only the
+    claimants of a contribution topic: it names the intruder once (an ERROR intruder event), and nothing of it reaches
+    the plant. In lockstep the plant's topics are equal in every field at every step to a run without it; in realtime
+    the pitch command never comes near the intruder's (no step's individual pitch above 10 deg, the torque never 0)
+    and nothing trips."""
+    namespace = f"contribution_{mode[0]}{topic[-2:].replace('/', '')}"
+    arguments = ("wind_type:=turbulent", "seed:=3", f"mode:={mode}", "duration:=" + ("30" if mode == "lockstep" else
+                                                                                     "12"))
+    alone = launch("ipc", f"{namespace}_alone", *arguments) if mode == "lockstep" else None
+    if alone is not None:
+        alone.finish()
+    intruder = probe(namespace)
+    run = launch("ipc", namespace, *arguments)
+    intruder.wait_until_recorded(run.launcher, margin=0)
+    intruder.wait_for_step(100, run.launcher)
+    intruder.publish_until(_contribution_intruder(topic), lambda: intruder.reported("intruder", topic)
+                           and intruder.published >= 40, run.launcher, f"mbc's intruder event on {topic}", topic)
+    run.finish()
+
+    recording = read_recording(run.bag, namespace)
+    (event,) = recording.events_of("intruder")
+    assert event["level"] == ControlEvent.ERROR and event["source"] == f"/{namespace}/mbc"
+    assert f"{topic} step " in event["detail"] and " from /fault_probe refused: only " in event["detail"]
+    assert not recording.events_of("protection_trip") and not recording.events_of("watchdog")
+    if alone is not None:
+        plant = ("plant/blade_loads", "plant/state")
+        assert step_differences(alone.bag, run.bag, [f"/{namespace}_alone/{t}" for t in plant],
+                                [f"/{namespace}/{t}" for t in plant]) == []
+    commands = recording.commands.fields
+    assert np.abs(np.asarray(commands["individual"])).max() < math.radians(10.0)
+    assert np.asarray(commands["generator_torque"])[np.asarray(commands["step"]) > 50].min() > 0.0

@@ -99,6 +99,9 @@ MATCHES = {
     "aerodynamics.tower_drag": (0.0, 0.0, "AeroDyn15 TwrAero = True"),
     "aerodynamics.skewed_wake": (0.0, 0.0, "AeroDyn15 Skew_Mod = 1, SkewRedistr_Mod = default"),
     "aerodynamics.unsteady_airfoil": (0.0, 0.0, "AeroDyn15 UA_Mod = 3"),
+    **{f"protection.{name}": (1e-6, 0.0, "neither has a protection section: the defaults from the same ratings")
+       for name in ("rotor_speed_warning", "rotor_speed_trip", "generator_speed_warning", "generator_speed_trip",
+                    "tower_top_acceleration_trip", "pitch_asymmetry_trip")},
 }
 """Field of the definition -> (relative tolerance, absolute tolerance, why) of the import against the shipped."""
 
@@ -107,6 +110,8 @@ DELIBERATE = {
     "pitch_actuator.max_rate": (0.1396263, 0.1745, "Jonkman baseline 8 deg/s; DISCON.IN PC_MaxRat"),
     "schedule.min_rotor_speed": (0.7225663, 34.64286 / 97.0, "Jonkman's 6.9 rpm; DISCON.IN VS_MinOMSpd / GBRatio"),
     "schedule.optimal_tip_speed_ratio": (7.55, 7.5, "Jonkman's region 2; DISCON.IN VS_TSRopt"),
+    "protection.pitch_rate_trip": (1.1 * 0.1396263, 1.1 * 0.1745, "the default, 1.1 x the actuator's rate limit "
+                                                                   "(pitch_actuator.max_rate above)"),
     "aerodynamics.dynamic_inflow": (False, True, "hawt keeps the quasi-steady induction the linear models assume; "
                                                  "AeroDyn15 Wake_Mod = 1 with DBEMT_Mod = 2, OpenFAST 4's dynamic BEMT"),
 }
