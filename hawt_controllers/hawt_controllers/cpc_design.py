@@ -69,7 +69,6 @@ from hawt_plant.operating_point import baseline_operating_point
 from hawt_plant.turbine import Turbine
 from hawt_plant.turbine_summary import turbine_summary
 
-from ._validation import require_positive
 from .collective import BaselineCollectiveConfig, gain_correction_factor, load_baseline_config
 from .exceptions import ConfigurationError
 
@@ -81,6 +80,11 @@ JONKMAN_NATURAL_FREQUENCY = 0.6
 """omega_n of the pitch loop [rad/s], Jonkman et al. (2009) §7.4."""
 JONKMAN_DAMPING_RATIO = 0.7
 """zeta of the pitch loop [-], Jonkman et al. (2009) §7.4."""
+NATURAL_FREQUENCY_RANGE = (0.02, 3.0)
+"""The omega_n [rad/s] a design may ask for: ROSCO's tunings lie within 0.1-1 rad/s (IEA 15 MW 0.2, Jonkman 0.6);
+beyond 3 rad/s the loop would reach the drivetrain and tower modes, below 0.02 it no longer regulates."""
+DAMPING_RATIO_RANGE = (0.1, 5.0)
+"""The zeta [-] a design may ask for (ROSCO's tunings: 0.7-1.0)."""
 _CORNER_SHARE = 0.25  # the speed filter's corner as a share of the blade's first edgewise frequency (Jonkman §7.1)
 _SPEED_STEP = 1e-3  # [rad/s] central difference of the aerodynamic torque over the rotor speed
 
@@ -281,9 +285,9 @@ def design_collective(turbine: Turbine, natural_frequency: float = JONKMAN_NATUR
     ----------
     turbine : Turbine
     natural_frequency : float
-        omega_n of the pitch loop [rad/s], > 0.
+        omega_n of the pitch loop [rad/s], within :data:`NATURAL_FREQUENCY_RANGE`.
     damping_ratio : float
-        zeta [-], > 0.
+        zeta [-], within :data:`DAMPING_RATIO_RANGE`.
 
     Returns
     -------
@@ -295,8 +299,10 @@ def design_collective(turbine: Turbine, natural_frequency: float = JONKMAN_NATUR
         Naming the argument or the field at fault (a turbine whose numbers give a tuning the law refuses, e.g.
         region 2 ending before it starts).
     """
-    require_positive("natural_frequency", natural_frequency)
-    require_positive("damping_ratio", damping_ratio)
+    for name, value, (low, high), unit in (("natural_frequency", natural_frequency, NATURAL_FREQUENCY_RANGE, " rad/s"),
+                                           ("damping_ratio", damping_ratio, DAMPING_RATIO_RANGE, "")):
+        if not low <= value <= high:
+            raise ConfigurationError(name, f"{value:g}{unit} outside the design range [{low:g}, {high:g}]{unit}")
     summary = turbine_summary(turbine)
     points = region3_points(turbine)
     at_zero, theta_k = fit_sensitivity(points.pitch, points.sensitivity)

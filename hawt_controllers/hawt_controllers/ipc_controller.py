@@ -42,15 +42,23 @@ def config_from(values: Mapping[str, Any]) -> HarmonicIpcConfig:
     return HarmonicIpcConfig(**fields)
 
 
+MAX_GAIN = 1e-5
+"""Largest IPC gain a parameter may set [rad/(N*m*s), rad/(N*m)]: the NREL 5 MW's designed k_i is about 1.2e-8 (a
+0.09 rad/s crossover on its ~1e7 N*m/rad 1P plant gain), so 1e-5 is three decades beyond any design for a multi-MW
+rotor."""
+
+
 class HarmonicIpcController(Controller):
     """One harmonic's IPC as a plug-in (see the module notes)."""
 
     TYPE = "ipc"
     PARAMETERS = (
         ParameterSpec("harmonic", 1, "harmonic n this controller acts on", minimum=1, maximum=12, read_only=True),
-        ParameterSpec("integral_gain", _DEFAULT.integral_gain, "k_i of both axes", "rad/(N*m*s)", minimum=0.0),
-        ParameterSpec("proportional_gain", _DEFAULT.proportional_gain, "k_p of both axes", "rad/(N*m)",
-                      minimum=0.0),
+        ParameterSpec("integral_gain", _DEFAULT.integral_gain, "k_i of both axes (at most 1e-5: a thousand times "
+                      "the NREL 5 MW's design, a loop crossover far beyond the rotor's bandwidth)", "rad/(N*m*s)",
+                      minimum=0.0, maximum=MAX_GAIN),
+        ParameterSpec("proportional_gain", _DEFAULT.proportional_gain, "k_p of both axes (at most 1e-5)", "rad/(N*m)",
+                      minimum=0.0, maximum=MAX_GAIN),
         ParameterSpec("max_amplitude", _DEFAULT.max_amplitude, "limit of the demand's magnitude |(cos, sin)|",
                       "rad", minimum=0.0, maximum=0.5),
         ParameterSpec("phase_offset", _DEFAULT.phase_offset, "phase offset phi_n of the inverse transform", "rad",

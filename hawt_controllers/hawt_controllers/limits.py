@@ -59,6 +59,25 @@ class PitchLimits:
             raise ConfigurationError("min_angle", f"must be < max_angle ({high}), found {low}")
         require_positive("max_rate", self.max_rate)
 
+    def within(self, turbine: "PitchLimits") -> "PitchLimits":
+        """These limits narrowed to the turbine's: the higher floor, the lower ceiling, the lower rate.
+
+        Raises :class:`ConfigurationError` if nothing is left between floor and ceiling.
+        """
+        return PitchLimits(max(self.min_angle, turbine.min_angle), min(self.max_angle, turbine.max_angle),
+                           min(self.max_rate, turbine.max_rate))
+
+    def widening(self, turbine: "PitchLimits") -> dict[str, str]:
+        """The fields of these limits that lie beyond the turbine's, each with ``value beyond the turbine's value``
+        (empty if they only narrow them)."""
+        beyond = {}
+        for name, wider in (("min_angle", self.min_angle < turbine.min_angle - 1e-12),
+                            ("max_angle", self.max_angle > turbine.max_angle + 1e-12),
+                            ("max_rate", self.max_rate > turbine.max_rate + 1e-12)):
+            if wider:
+                beyond[name] = f"{getattr(self, name):g} beyond the turbine's {getattr(turbine, name):g}"
+        return beyond
+
 
 _FLAGS = tuple(LimitFlag(bits) for bits in range(4))  # by ANGLE_SATURATED | RATE_SATURATED bits
 

@@ -43,7 +43,6 @@ from hawt_msgs.msg import BladeLoads, CollectivePitch, ControllerState, ControlE
 from hawt_msgs.msg import PlantDescription as PlantDescriptionMessage
 from rclpy.node import Node
 
-from hawt_controllers.collective import DEFAULT_BASELINE_FILE, load_baseline_config
 from hawt_controllers.contribution_messages import from_message, message_type
 from hawt_controllers.exceptions import ConfigurationError
 from hawt_controllers.limits import PitchLimits
@@ -66,7 +65,8 @@ from hawt_node.writer_matching import WAIT_FOR_RECORDER, MatchedWriterGate
 
 __all__ = ["MbcNode", "PARAMETERS", "main"]
 
-_LIMITS = load_baseline_config(DEFAULT_BASELINE_FILE).pitch_limits
+NO_NARROWING = PitchLimits(-0.5, 1.6, 1.0)
+"""The pitch limit parameters' defaults, the ends of their ranges: the turbine's own limits apply."""
 
 PARAMETERS = (
     ParameterSpec("harmonics", [0], "harmonics n whose forward transform is published on control/mbc/h{n} "
@@ -77,9 +77,13 @@ PARAMETERS = (
     AWAIT_SCHEDULE,
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     WAIT_FOR_RECORDER,
-    ParameterSpec("min_pitch", _LIMITS.min_angle, "lowest pitch command", "rad", minimum=-0.5, maximum=1.6),
-    ParameterSpec("max_pitch", _LIMITS.max_angle, "highest pitch command", "rad", minimum=-0.5, maximum=1.6),
-    ParameterSpec("max_pitch_rate", _LIMITS.max_rate, "largest pitch rate", "rad/s", minimum=1e-3, maximum=1.0),
+    ParameterSpec("min_pitch", NO_NARROWING.min_angle, "lowest pitch command: it may raise the turbine's "
+                  "(plant/description), never lower it (the default keeps the turbine's)", "rad", minimum=-0.5,
+                  maximum=1.6),
+    ParameterSpec("max_pitch", NO_NARROWING.max_angle, "highest pitch command: it may lower the turbine's, never "
+                  "raise it (the default keeps the turbine's)", "rad", minimum=-0.5, maximum=1.6),
+    ParameterSpec("max_pitch_rate", NO_NARROWING.max_rate, "largest pitch rate: it may lower the turbine's, never "
+                  "raise it (the default keeps the turbine's)", "rad/s", minimum=1e-3, maximum=1.0),
     ParameterSpec("stale_steps", 5, "realtime: a contributor whose newest contribution is older than this many "
                   "steps is lost", minimum=1, maximum=1000),
     ParameterSpec("input_timeout", 1.0, "lockstep: a contributor that has not answered the step this long "
@@ -96,9 +100,28 @@ PARAMETERS = (
 )
 
 
-def pitch_limits(values) -> PitchLimits:
-    """The command's limits from the assembler's parameter values."""
+_PARAMETER_OF = {"min_angle": "min_pitch", "max_angle": "max_pitch", "max_rate": "max_pitch_rate"}
+"""The assembler's parameter of each PitchLimits field."""
+
+
+def requested_limits(values) -> PitchLimits:
+    """The pitch limits the assembler's parameter values ask for."""
     return PitchLimits(values["min_pitch"], values["max_pitch"], values["max_pitch_rate"])
+
+
+def turbine_limits(plant: PlantDescription) -> PitchLimits:
+    """The turbine's pitch limits, as plant/description gives them."""
+    return PitchLimits(plant.min_pitch, plant.max_pitch, plant.max_pitch_rate)
+
+
+def pitch_limits(values, plant: PlantDescription) -> PitchLimits:
+    """The command's limits: the turbine's, narrowed by the assembler's parameters where they ask for it (the same in
+    every engine)."""
+    try:
+        return requested_limits(values).within(turbine_limits(plant))
+    except ConfigurationError as error:
+        raise ParameterError(f"min_pitch, max_pitch: nothing left between them within the turbine's limits "
+                             f"({error.reason})") from None
 
 
 class MbcNode(Node):
@@ -110,11 +133,10 @@ class MbcNode(Node):
     def check_parameters(values) -> None:
         """The pitch limits must make sense together (min_pitch below max_pitch)."""
         try:
-            pitch_limits(values).validate()
+            requested_limits(values).validate()
         except ConfigurationError as error:
-            names = {"min_angle": "min_pitch", "max_angle": "max_pitch", "max_rate": "max_pitch_rate"}
             reason = error.reason.replace("max_angle", "max_pitch")
-            raise ParameterError(f"{names.get(error.field, error.field)}: {reason}") from None
+            raise ParameterError(f"{_PARAMETER_OF.get(error.field, error.field)}: {reason}") from None
 
     def __init__(self, **node_kwargs) -> None:
         super().__init__("mbc", **node_kwargs)
@@ -156,7 +178,13 @@ class MbcNode(Node):
             if n > 0:
                 check_configuration(n, self.plant.blades)
                 self.forward[n] = self.create_publisher(HarmonicLoads, mbc_topic(n), CONTROL_LOOP_HISTORY)
-        self.assembler = LoopAssembler(self.plant.blades, pitch_limits(self.values), self.plant.dt)
+        requested = requested_limits(self.values)
+        beyond = {name: text for name, text in requested.widening(turbine_limits(self.plant)).items()
+                  if getattr(requested, name) != getattr(NO_NARROWING, name)}
+        if beyond:
+            self.events(ControlEvent.WARN, "parameter_change", "; ".join(
+                f"{_PARAMETER_OF[name]} {text}: the turbine's applies" for name, text in beyond.items()))
+        self.assembler = LoopAssembler(self.plant.blades, pitch_limits(self.values, self.plant), self.plant.dt)
         self.windows.dt = self.plant.dt
 
     def _on_controller(self, msg: ControllerState) -> None:
@@ -193,7 +221,16 @@ class MbcNode(Node):
 
     def _check_parameters(self, changes):
         try:
-            pitch_limits(check_values(PARAMETERS, self.values, changes)).validate()
+            requested = requested_limits(check_values(PARAMETERS, self.values, changes))
+            if self.plant is not None:
+                changed = {change.name for change in changes}
+                beyond = {name: text for name, text in requested.widening(turbine_limits(self.plant)).items()
+                          if _PARAMETER_OF[name] in changed}
+                if beyond:
+                    raise ParameterError(", ".join(f"{_PARAMETER_OF[name]} {text}" for name, text in beyond.items())
+                                         + ": the loop assembler may narrow the turbine's pitch limits, never widen "
+                                           "them")
+                requested.within(turbine_limits(self.plant))
         except (ParameterError, ValueError) as error:
             return rejection(error)
         return accepted()
@@ -201,7 +238,7 @@ class MbcNode(Node):
     def _apply_parameters(self, changes) -> None:
         self.values = check_values(PARAMETERS, self.values, changes)
         if self.assembler is not None:
-            self.assembler.limits = pitch_limits(self.values)
+            self.assembler.limits = pitch_limits(self.values, self.plant)
         self.events(ControlEvent.INFO, "parameter_change",
                     ", ".join(f"{p.name}={p.value}" for p in changes), step=self.join.step or 0)
 

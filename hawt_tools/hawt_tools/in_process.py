@@ -86,7 +86,8 @@ class InProcessRun:
         self.safety = make_safety_system(self.turbine, plant_values)
         from hawt_controllers.mbc_node import pitch_limits
 
-        self.assembler = LoopAssembler(self.description.blades, pitch_limits(assembler_values), self.description.dt)
+        self.assembler = LoopAssembler(self.description.blades, pitch_limits(assembler_values, self.description),
+                                       self.description.dt)
         self.controllers: List[_Controller] = []
         for name, core_class, values in controllers:
             try:

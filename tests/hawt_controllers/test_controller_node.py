@@ -15,6 +15,7 @@ from rclpy.parameter import Parameter
 
 from hawt_controllers.blade_sine_node import BladeSineNode
 from hawt_controllers.ipc_node import IpcNode
+from hawt_controllers.mbc_node import MbcNode
 from hawt_core.topics import BLADE_LOADS, EVENTS, PLANT_DESCRIPTION, SWITCHES, TURBINE_STATE, ipc_topic
 from hawt_plant.turbine import nrel_5mw
 from hawt_node.qos import CONTROL_LOOP_HISTORY, EVENTS as EVENTS_QOS, LATCHED
@@ -100,7 +101,8 @@ def test_a_harmonic_the_transform_cannot_give_for_two_blades_is_refused(graph):
 
 def test_live_parameters_are_checked_by_the_law_and_applied_at_the_next_step(graph):
     """A valid integral gain is accepted and applied from the next step (parameter_change event names the step);
-    a NaN and max_amplitude = 0 (which the law refuses) are rejected with the reason, the node stays up."""
+    a NaN, max_amplitude = 0 (which the law refuses) and a gain of 1e30 (beyond the table's 1e-5) are rejected with
+    the reason, the node stays up."""
     context, add, spin_until = graph
     plant = add(FakePlant(context))
     ipc = add(IpcNode(context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
@@ -113,6 +115,8 @@ def test_live_parameters_are_checked_by_the_law_and_applied_at_the_next_step(gra
     assert not nan.successful and "integral_gain" in nan.reason
     zero, = ipc.set_parameters([Parameter("max_amplitude", value=0.0)])
     assert not zero.successful and "max_amplitude" in zero.reason
+    absurd, = ipc.set_parameters([Parameter("integral_gain", value=1e30)])
+    assert not absurd.successful and "integral_gain" in absurd.reason and "1e-05" in absurd.reason
     plant.send(1)
     spin_until(lambda: 1 in plant.answers, "the answer of step 1")
     change = [e for e in plant.events if e.kind == "parameter_change"]
@@ -259,3 +263,23 @@ def test_a_contributor_still_starting_at_the_first_step_is_waited_for_not_lost(g
     spin_until(lambda: commands, "step 0's command")
     assert commands[0].step == 0 and any(abs(v) > 0.0 for v in commands[0].individual)
     assert not any(e.kind == "contribution_lost" for e in plant.events)
+
+
+def test_the_loop_assemblers_live_limits_may_narrow_the_turbines_never_widen_them(graph):
+    """mbc on the NREL 5 MW's description (0..90 deg, 8 deg/s): max_pitch_rate 1 rad/s (57 deg/s) and min_pitch
+    -0.5 rad are refused, naming the turbine's value, and the assembler keeps the turbine's limits; 4 deg/s is
+    accepted and applied."""
+    context, add, spin_until = graph
+    add(FakePlant(context))
+    mbc = add(MbcNode(context=context, cli_args=_arguments()))
+    spin_until(lambda: mbc.assembler is not None, "mbc has the plant's description")
+    turbine = nrel_5mw().pitch_actuator
+    assert (mbc.assembler.limits.min_angle, mbc.assembler.limits.max_angle, mbc.assembler.limits.max_rate) == \
+        (turbine.min_angle, turbine.max_angle, turbine.max_rate)
+    for name, value, beyond in (("max_pitch_rate", 1.0, "max_pitch_rate 1 beyond the turbine's 0.139626"),
+                                ("min_pitch", -0.5, "min_pitch -0.5 beyond the turbine's 0")):
+        result, = mbc.set_parameters([Parameter(name, value=value)])
+        assert not result.successful and result.reason.startswith(beyond) and "never widen" in result.reason
+    assert mbc.assembler.limits.max_rate == turbine.max_rate and mbc.assembler.limits.min_angle == 0.0
+    narrower, = mbc.set_parameters([Parameter("max_pitch_rate", value=math.radians(4.0))])
+    assert narrower.successful and mbc.assembler.limits.max_rate == pytest.approx(math.radians(4.0))

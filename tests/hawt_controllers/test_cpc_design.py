@@ -137,10 +137,12 @@ def test_the_written_tuning_loads_and_a_cpc_on_it_passes_the_rated_speed_check(i
 
 
 @pytest.mark.parametrize("arguments, message", [
-    ({"natural_frequency": 0.0}, "natural_frequency: must be > 0"),
-    ({"damping_ratio": math.nan}, "damping_ratio: must be finite"),
+    ({"natural_frequency": 0.0}, r"natural_frequency: 0 rad/s outside the design range \[0.02, 3\] rad/s"),
+    ({"natural_frequency": 1e6}, r"natural_frequency: 1e\+06 rad/s outside the design range"),
+    ({"damping_ratio": math.nan}, r"damping_ratio: nan outside the design range \[0.1, 5\]"),
 ])
 def test_a_bad_design_argument_is_refused_naming_it(arguments, message):
+    """Zero, absurdly large (K_I would be 2.4e10) or NaN: refused with the design range."""
     with pytest.raises(ConfigurationError, match=message):
         design_collective(nrel_5mw(), **arguments)
 
@@ -219,7 +221,8 @@ def test_hawt_design_cpc_prints_the_schedule_and_jonkmans_and_writes_the_tuning(
 
 
 @pytest.mark.parametrize("arguments, message", [
-    (["--natural-frequency", "-1"], "hawt design: natural_frequency: must be > 0"),
+    (["--natural-frequency", "-1"], "hawt design: natural_frequency: -1 rad/s outside the design range"),
+    (["--natural-frequency", "1e6"], "hawt design: natural_frequency: 1e+06 rad/s outside the design range"),
     (["--turbine", "/nonexistent/turbine.yaml"], "hawt design: /nonexistent/turbine.yaml"),
     (["--discon", "/nonexistent/DISCON.IN"], "hawt design: --discon: /nonexistent/DISCON.IN: no such file"),
 ])

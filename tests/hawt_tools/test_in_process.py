@@ -1,10 +1,12 @@
 """The in-process runner (DESIGN §6): the graph's cores without middleware, equal to the lockstep graph bit for bit."""
+import math
 import shutil
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from hawt_bag.step_comparison import rows_by_step, step_differences
 from hawt_tools.graph_file import NodeSpec, ParameterFile, ParameterValues
@@ -134,3 +136,22 @@ def test_hawt_run_says_first_which_aerodynamic_options_the_plant_has():
     run_graph(graph, parse_overrides(graph, ["plant.tower_drag:=false"]), duration=0.05, progress=lines.append)
     assert lines[0] == ("NREL 5MW onshore: aerodynamics: tower_shadow on, tower_drag off, skewed_wake on, "
                         "unsteady_airfoil on, dynamic_inflow off (the turbine's; by parameter: tower_drag)")
+
+
+def test_the_commanded_pitch_rate_is_the_turbines_whatever_the_graph(hawt_cli, tmp_path):
+    """The ipc graph, 30 s in turbulence, on a copy of the NREL 5 MW whose pitch actuator is limited to 2 deg/s (the
+    IEA 15 MW's): no step's command moves a blade faster than 2 deg/s, though the graph sets no limit and its
+    controllers' tunings are the 8 deg/s turbine's (the loop assembler takes the limits from plant/description)."""
+    turbine = tmp_path / "slow_pitch"
+    shutil.copytree(PACKAGED_NREL_5MW, turbine)
+    definition = yaml.safe_load((turbine / "turbine.yaml").read_text())
+    definition["pitch_actuator"]["max_rate"] = math.radians(2.0)
+    (turbine / "turbine.yaml").write_text(yaml.safe_dump(definition))
+    bag = tmp_path / "run.mcap"
+    result = subprocess.run([*hawt_cli, "run", "ipc", "-p", f"plant.turbine_file:={turbine}", "wind_type:=turbulent",
+                             "duration:=30", "--record", str(bag)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    pitch = rows_by_step(bag, ("/wt1/control/pitch_command",))["/wt1/control/pitch_command"]["pitch"]
+    rate = np.abs(np.diff(pitch, axis=0)) / 0.01
+    assert rate.max() <= math.radians(2.0) * (1 + 1e-9)
+    assert rate.max() > math.radians(1.9), "the premise: the rate limit acts"
