@@ -372,6 +372,10 @@ def _parse_node(entry: Any, line: int, path: Path, substitute: _Substitutor) -> 
         return str(value)
 
     executable = text("exec")
+    for key, value in (("pkg", text("pkg")), ("exec", executable)):
+        if not re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.-]*", value) or ".." in value:
+            raise GraphError(f"{key_where(key)}: {key} {value!r} is not a package or executable name (no path, no "
+                             "'..'): a graph file runs the executables its packages install, nothing else")
     name = text("name", executable)
     if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
         raise GraphError(f"{key_where('name')}: node name {name!r} is not a valid ROS name "

@@ -80,6 +80,13 @@ def test_launch_arguments_override_defaults(folder):
     ("launch: []\n", r"graph.yaml: the graph has no node"),
     (GOOD.replace('- arg: {name: gain, default: "2.5"}', "- arg: {name: gain}"), r"graph.yaml:2: launch argument 'gain' has no default and was not given \(pass gain:=VALUE\)"),
     (GOOD.replace("    pkg: hawt_tools\n", "", 1), r"graph.yaml:3: node is missing 'pkg'"),
+    (GOOD.replace("exec: relay", "exec: /bin/sh"), r"graph.yaml:5: exec '/bin/sh' is not a package or executable name "
+                                                  r"\(no path, no '..'\): a graph file runs the executables its packages "
+                                                  r"install, nothing else"),
+    (GOOD.replace("exec: relay", "exec: ../../../../usr/bin/touch"), r"graph.yaml:5: exec '../../../../usr/bin/touch' "
+                                                                   r"is not a package or executable name"),
+    (GOOD.replace("pkg: hawt_tools\n", "pkg: ../hawt_tools\n", 1), r"graph.yaml:4: pkg '../hawt_tools' is not a "
+                                                                   r"package or executable name"),
 ])
 def test_a_broken_graph_is_refused_naming_file_line_and_key(folder, text, message):
     """Each typo or wrong value gives a one-line GraphError with the position and, where it can, a suggestion."""
