@@ -218,7 +218,7 @@ COMPARED_FIELDS = ("rotor_speed", "pitch", "root_moment_oop", "hub_tilt_moment",
 """What the overlays of several runs show (per-blade fields: blade 1)."""
 
 MARKED_EVENTS = ("switch", "watchdog", "intruder", "controller_failed", "contribution_lost", "contribution_returned",
-                 "node_died", "node_respawn", "invalid_input")
+                 "node_died", "node_respawn", "invalid_input", "protection_warning", "protection_trip")
 """Event kinds the time series mark."""
 
 
