@@ -27,8 +27,9 @@ flagged FLAG_STALE_IPC and a ``contribution_lost`` event says so; when it answer
 skipped: without it the plant's safety system takes over.
 
 Authority: a contribution topic is read only from its claimants, the controllers that have
-announced an interface on it (``controller_manager/controllers``); which of them contributes at
-a step is then the switches' business. Each message's publisher is identified by its GID and
+announced an interface on it (``controller_manager/controllers``), and from the controllers the
+graph names in ``controllers`` (their first contributions may overtake their announcements on a
+busy machine); which of them contributes at a step is then the switches' business. Each message's publisher is identified by its GID and
 named through the ROS graph (hawt_node.command_senders, as the plant does for its commands);
 a message from any other publisher is refused before it is read, the first from each is an
 ``intruder`` event. A message whose sender has not announced itself yet waits for it (at most
@@ -194,7 +195,7 @@ class MbcNode(Node):
             topic = parse_interface(interface).topic
             self.claimants.setdefault(topic, set()).add(msg.name)
             self._subscribe(topic, message_type(interface))
-            self.subscribed[topic].allow(sorted(self.claimants[topic]))
+            self.subscribed[topic].allow(self._allowed(topic))
         if msg.state == ControllerState.ACTIVE and msg.step == 0:
             self.windows.start(msg.interfaces)
 
@@ -202,9 +203,14 @@ class MbcNode(Node):
         """Follow a contribution topic, taking only its claimants' messages (the module notes' authority)."""
         if topic not in self.subscribed:
             self.subscribed[topic] = GuardedSubscription(
-                self, kind, topic, CONTROL_LOOP, sorted(self.claimants.get(topic, ())),
+                self, kind, topic, CONTROL_LOOP, self._allowed(topic),
                 lambda m, t=topic: self._input(t, m), lambda sample, t=topic: self._report_intruder(t, sample),
                 wait_for_allowed=True)
+
+    def _allowed(self, topic: str) -> list:
+        """Who may contribute on ``topic``: its claimants so far and the graph's own controllers (``controllers``),
+        whose first contributions may overtake their announcements on a busy machine."""
+        return sorted(self.claimants.get(topic, set()) | self.expected)
 
     def _report_intruder(self, topic: str, sample: Sample) -> None:
         """The first contribution of a publisher that is not a claimant of ``topic`` (the guard counts the rest)."""

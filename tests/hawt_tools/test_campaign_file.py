@@ -20,7 +20,7 @@ duration: 20
 transient: 5
 controllers:
   baseline: {graph: baseline}
-  ipc_1p: {graph: ipc, arguments: {ipc_h2: false, ipc_h3: false}, parameters: ["ipc_h1.integral_gain:=0.5"]}
+  ipc_1p: {graph: ipc, arguments: {ipc_h2: false, ipc_h3: false}, parameters: ["ipc_h1.integral_gain:=2e-08"]}
 """
 
 
@@ -39,7 +39,7 @@ def test_a_good_file_gives_every_case_once_with_a_key_of_what_defines_it(tmp_pat
     assert [(c.controller.name, c.speed, c.seed) for c in cases] == [
         (name, speed, seed) for name in ("baseline", "ipc_1p") for speed in (13.0, 18.0) for seed in (1, 2)]
     assert len({c.key for c in cases}) == 8
-    changed = load_campaign(_write(tmp_path, GOOD.replace("integral_gain:=0.5", "integral_gain:=0.6")))
+    changed = load_campaign(_write(tmp_path, GOOD.replace("integral_gain:=2e-08", "integral_gain:=3e-08")))
     again = plan_cases(changed)
     assert [a.key == b.key for a, b in zip(cases, again)] == [True] * 4 + [False] * 4, \
         "a parameter of one controller changes the keys of its cases only"
@@ -58,8 +58,8 @@ def test_a_good_file_gives_every_case_once_with_a_key_of_what_defines_it(tmp_pat
      "campaign.yaml:9: controllers.baseline.grahp: unknown key (did you mean 'graph'?)"),
     (GOOD.replace("{graph: baseline}", "{graph: baselin}"), "campaign.yaml:9: controllers.baseline: baselin: no"),
     (GOOD.replace("ipc_h2: false", "ipc_h7: false"), "campaign.yaml:10: controllers.ipc_1p: "),
-    (GOOD.replace("integral_gain:=0.5", "integral_gian:=0.5"), "campaign.yaml:10: controllers.ipc_1p: "),
-    (GOOD.replace("integral_gain:=0.5", "integral_gain:=nan"), "campaign.yaml:10: controllers.ipc_1p: "),
+    (GOOD.replace("integral_gain:=2e-08", "integral_gian:=2e-08"), "campaign.yaml:10: controllers.ipc_1p: "),
+    (GOOD.replace("integral_gain:=2e-08", "integral_gain:=nan"), "campaign.yaml:10: controllers.ipc_1p: "),
     ("wind: {speeds: [5]\n", "campaign.yaml:2:1: YAML error"),
 ], ids=["key typo", "speed range", "speed order", "seeds", "class", "duration", "missing", "site", "controller key",
         "graph", "argument", "parameter name", "parameter value", "yaml"])
@@ -70,7 +70,7 @@ def test_a_bad_file_is_one_line_naming_file_line_and_key(tmp_path, text, message
 
 
 def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_cli):
-    path = _write(tmp_path, GOOD.replace("integral_gain:=0.5", "integral_gian:=0.5"))
+    path = _write(tmp_path, GOOD.replace("integral_gain:=2e-08", "integral_gian:=2e-08"))
     result = subprocess.run([*hawt_cli, "campaign", str(path), "-o", str(tmp_path / "out")], capture_output=True,
                             text=True, timeout=120)
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
