@@ -51,7 +51,8 @@ def graph_outliving(folder: Path, graph: str, *nodes: str) -> Path:
 
 
 class Probe(ProbeNode):
-    """A node in the test process that follows one turbine's steps and events and can publish pitch commands.
+    """A node in the test process that follows one turbine's steps (the plant's, the collective's and the loop
+    assembler's commands, which close the loop) and events, and can publish on any topic.
 
     ``steps[topic]`` is the newest step seen on each followed topic (-1 before the first); ``published`` counts the
     pitch commands it has sent.
@@ -61,7 +62,7 @@ class Probe(ProbeNode):
         super().__init__("fault_probe")
         self.namespace = namespace
         followed = {"plant/blade_loads": BladeLoads, "control/collective": CollectivePitch,
-                    **{f"control/ipc/h{n}": HarmonicPitch for n in harmonics}}
+                    "control/pitch_command": PitchCommand, **{f"control/ipc/h{n}": HarmonicPitch for n in harmonics}}
         self.steps: Dict[str, int] = dict.fromkeys(followed, -1)
         for topic, message_type in followed.items():
             self.node.create_subscription(message_type, f"/{namespace}/{topic}",
@@ -93,12 +94,13 @@ class Probe(ProbeNode):
         self.wait_while_launched(lambda: self.steps[topic] >= step, launcher, f"answer of step {step} on {topic}")
 
     def wait_until_recorded(self, launcher: subprocess.Popen, margin: int = 50) -> None:
-        """Spin until the recorder subscribes to the followed, command and event topics; then ``margin`` steps more.
+        """Spin until the recorder subscribes to the followed and event topics; then ``margin`` steps more on each
+        followed topic (the loop is closed: the loop assembler answers).
 
         In realtime the plant does not wait for controllers that start after it, so the
         recorder may discover a controller's topic while the loop already runs.
         """
-        topics = [f"/{self.namespace}/{topic}" for topic in (*self.steps, "control/pitch_command", "control/events")]
+        topics = [f"/{self.namespace}/{topic}" for topic in (*self.steps, "control/events")]
         self.wait_while_launched(lambda: not unrecorded_topics(self.node, topics), launcher, "the recorder's subscriptions")
         for topic, step in dict(self.steps).items():
             self.wait_while_launched(lambda: self.steps[topic] >= step + margin, launcher, f"{margin} answers more on {topic}")
