@@ -20,6 +20,7 @@ import yaml
 from hawt_bag.errors import BagError
 
 from hawt_tools.graph_file import GraphError, load_graph
+from hawt_tools.view import ViewOptionError
 from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
 __all__ = ["main", "find_graph"]
@@ -61,16 +62,16 @@ def _cmd_launch(args: argparse.Namespace) -> int:
     from hawt_tools.launcher import package_prefix
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
-    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority,
-                      args.view_port if args.view else None)
+    view = _view_command(args.view_port, args.view_allow_parameter_sets) if args.view else None
+    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority, view)
 
 
 def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
-               record: Optional[str], priority: int = 0, view_port: Optional[int] = None) -> int:
+               record: Optional[str], priority: int = 0, view: Optional[List[str]] = None) -> int:
     """Run a checked graph (separate processes or composed), recording it into ``record`` if given.
 
-    ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority. With ``view_port``
-    the ``view`` executable serves the graph to Foxglove on that port while it runs.
+    ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority. With ``view`` (the
+    ``view`` executable's command line, :func:`_view_command`) it serves the graph to Foxglove while it runs.
     """
     from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
     from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
@@ -83,7 +84,6 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
     if priority:
         check_priority(priority)
-    view = _view_command(view_port) if view_port is not None else None
     recorder = _start_recorder(Path(record)) if record else None
     events = viewer = None
     try:
@@ -172,14 +172,15 @@ def _stop_process(process: subprocess.Popen) -> int:
     return process.wait()
 
 
-def _view_command(port: int) -> List[str]:
-    """The command line of hawt_tools' ``view`` executable serving on ``port``."""
+def _view_command(port: int, allow_parameter_sets: bool = False) -> List[str]:
+    """The command line of hawt_tools' ``view`` executable serving on ``port`` (letting clients set parameters if
+    asked)."""
     from hawt_tools.launcher import package_prefix
 
     executable = Path(package_prefix("hawt_tools") or "") / "lib" / "hawt_tools" / "view"
     if not executable.is_file():
         raise RuntimeError("hawt_tools' view executable is not installed (run scripts/setup.sh)")
-    return [str(executable), "--port", str(port)]
+    return [str(executable), "--port", str(port), *(["--allow-parameter-sets"] if allow_parameter_sets else [])]
 
 
 def _cmd_view(args: argparse.Namespace) -> int:
@@ -730,6 +731,8 @@ def _parser() -> argparse.ArgumentParser:
     launch.add_argument("--view", action="store_true",
                         help="serve the graph live to Foxglove while it runs (as 'hawt view', on --view-port)")
     launch.add_argument("--view-port", type=int, default=8765, metavar="N", help="port of --view (default 8765)")
+    launch.add_argument("--view-allow-parameter-sets", action="store_true",
+                        help="let --view's clients set parameters (as 'hawt view --allow-parameter-sets')")
     launch.set_defaults(run=_cmd_launch)
 
     run = commands.add_parser(
@@ -1037,7 +1040,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     args = parse_command_line(argv)
     try:
         return args.run(args)
-    except (GraphError, BagError, SchedulingError) as error:
+    except (GraphError, BagError, SchedulingError, ViewOptionError) as error:
         print(f"hawt {args.command}: {error}", file=sys.stderr)
         return 2
     except RuntimeError as error:

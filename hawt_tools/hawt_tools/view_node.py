@@ -41,8 +41,9 @@ from hawt_bag.message_types import message_class
 from hawt_bag.recorder import TopicDiscovery, adapted_qos, visible
 from hawt_core.topics import CLOCK, VIEW_NODE
 from hawt_node.node_main import run_nodes
-from hawt_tools.view import (CDR, ROS2MSG, ViewOptions, add_view_arguments, coerce, options_from, parameter_name,
-                             split_parameter_name)
+from hawt_tools.origin_gate import OriginGate
+from hawt_tools.view import (CDR, ROS2MSG, ViewOptionError, ViewOptions, add_view_arguments, coerce, is_loopback,
+                             options_from, parameter_name, split_parameter_name)
 
 __all__ = ["View", "main", "ros2_schema", "to_parameter", "view", "TIME_PERIOD"]
 
@@ -82,13 +83,22 @@ class View(Node):
         self._lock = threading.Lock()
         self._foxglove = foxglove.Context()
         self.server = foxglove.start_server(
-            name="hawt", host=options.host, port=options.port, context=self._foxglove,
+            name="hawt", host="127.0.0.1", port=0, context=self._foxglove,
             capabilities=[Capability.Time, Capability.Parameters], server_listener=_Parameters(self))
+        self.gate: Optional[OriginGate] = None
+        try:
+            self.gate = OriginGate(options.host, options.port, f"ws://127.0.0.1:{self.server.port}",
+                                   options.allow_origins, self.get_logger().warning)
+        except OSError as error:
+            raise ViewOptionError(f"--port {options.port} on {options.host}: {error.strerror or error}") from None
+        if not is_loopback(options.host):
+            self.get_logger().warning(f"serving on {options.host} (--allow-remote): anyone who reaches this address "
+                                      "sees the graph")
         self.discovery = TopicDiscovery(self, visible, self._subscribe, "viewing")
         self.create_subscription(ParameterEvent, "/parameter_events", self._parameters_changed, 100)
         self.create_timer(options.poll_period, self.discovery.poll)
         self.discovery.poll()
-        self.get_logger().info(f"serving the graph on ws://{options.host}:{self.server.port} "
+        self.get_logger().info(f"serving the graph on ws://{options.host}:{self.gate.port} "
                                "(Foxglove: Open connection, Foxglove WebSocket)")
 
     def _subscribe(self, topic: str, type_name: str, publishers) -> None:
@@ -114,11 +124,14 @@ class View(Node):
         self.get_logger().info(f"viewing {topic} [{type_name}]")
 
     def destroy_node(self) -> None:
-        """Stop the server (clients are disconnected), close the channels, say what was forwarded, destroy."""
+        """Stop the gate and the server (clients are disconnected), close the channels, say what was forwarded,
+        destroy."""
         self.server.stop()
         for channel in self._channels.values():
             channel.close()
-        self.get_logger().info(f"forwarded {sum(self.counts.values())} messages of {len(self.counts)} topics")
+        if self.gate is not None:  # it served
+            self.gate.stop()
+            self.get_logger().info(f"forwarded {sum(self.counts.values())} messages of {len(self.counts)} topics")
         super().destroy_node()
 
     def _parameters_changed(self, event: ParameterEvent) -> None:
@@ -216,6 +229,10 @@ class _Parameters(ServerListener):
 
     def on_set_parameters(self, client: Client, parameters: list[Parameter],
                           request_id: Optional[str] = None) -> list[Parameter]:
+        if not self._node.options.allow_parameter_sets:
+            self._node.server.publish_status("parameters not set: this view is read-only (hawt view "
+                                             "--allow-parameter-sets lets clients set them)", StatusLevel.Error)
+            return self._node.get_parameters([parameter.name for parameter in parameters])
         return self._node.set_parameters(parameters)
 
 
@@ -231,4 +248,8 @@ def main(argv: Optional[Sequence[str]] = None) -> None:
     ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
     parser = argparse.ArgumentParser(prog="view", description="Serve the running graph to Foxglove.")
     add_view_arguments(parser)
-    sys.exit(view(options_from(parser.parse_args(argv[:len(argv) - len(ros_args)])), ["view", *ros_args]))
+    try:
+        sys.exit(view(options_from(parser.parse_args(argv[:len(argv) - len(ros_args)])), ["view", *ros_args]))
+    except ViewOptionError as error:
+        print(f"view: {error}", file=sys.stderr)
+        sys.exit(2)

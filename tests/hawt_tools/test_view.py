@@ -4,7 +4,9 @@ import asyncio
 import json
 import re
 import signal
+import socket
 import struct
+import subprocess
 import time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -108,7 +110,7 @@ def test_a_client_of_the_view_sees_the_recorded_blade_loads_and_sets_a_gain_that
     bag = tmp_path / "viewed.mcap"
     parameter = "/viewed/ipc_h1.integral_gain"
     with LaunchedGraph(["ipc", "namespace:=viewed", "duration:=600", "-p", "plant.report_period:=1", "--record",
-                        str(bag), "--view", "--view-port", "0"]) as graph:
+                        str(bag), "--view", "--view-port", "0", "--view-allow-parameter-sets"]) as graph:
         graph.wait_for_line("serving the graph on ws://")
         port = int(re.search(r"ws://127\.0\.0\.1:(\d+)", "".join(graph.lines)).group(1))
         (viewer,) = [child for child in psutil.Process(graph.process.pid).children(recursive=True)
@@ -176,3 +178,71 @@ def test_the_time_goes_to_the_clients_at_most_every_time_period_of_wall_time():
     # A few more than wall / TIME_PERIOD: the client's clock starts after its connection, and messages sent before
     # it (or bunched by a busy machine) arrive inside it (seen: 21 in 0.92 s). Without the limit: 934 in 1.1 s.
     assert 1 <= count <= wall / TIME_PERIOD + 5, (count, wall)
+
+
+async def _handshake(port: int, origin=None) -> str:
+    """Connect with ``origin`` (None: no Origin header, as a native client) and return the server's first op."""
+    headers = {"Origin": origin} if origin else None
+    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[_SUBPROTOCOL], origin=None,
+                                  additional_headers=headers, max_size=None) as socket:
+        return json.loads(await asyncio.wait_for(socket.recv(), 30))["op"]
+
+
+async def _set_a_parameter(port: int) -> str:
+    """Ask the view to set a parameter; the message of the status it answers with."""
+    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[_SUBPROTOCOL], max_size=None) as socket:
+        await socket.send(json.dumps({"op": "setParameters", "id": "set", "parameters": [
+            {"name": "/wt1/mbc.min_pitch", "value": -0.5, "type": "float64"}]}))
+        while True:
+            frame = json.loads(await asyncio.wait_for(socket.recv(), 30))
+            if frame["op"] == "status":
+                return frame["message"]
+
+
+def test_only_native_clients_and_allowed_origins_reach_the_view(hawt_cli):
+    """A standalone `hawt view --allow-origin http://ok.example`: a client without an Origin header (a native app)
+    and one from the allowed page get the server's serverInfo; a page from http://evil.example.com is answered
+    403 before anything is served, and the view logs the option that would let it in. Without
+    --allow-parameter-sets a parameter set is refused with a status saying so."""
+    with subprocess.Popen([*hawt_cli, "view", "--port", "0", "--allow-origin", "http://ok.example"],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True) as view:
+        try:
+            lines = []
+            while not (found := re.search(r"serving the graph on ws://127\.0\.0\.1:(\d+)", "".join(lines))):
+                line = view.stdout.readline()
+                assert line, f"the view ended: {''.join(lines)}"
+                lines.append(line)
+            port = int(found.group(1))
+            assert asyncio.run(_handshake(port)) == "serverInfo"
+            assert "this view is read-only" in asyncio.run(_set_a_parameter(port))
+            assert asyncio.run(_handshake(port, "http://ok.example")) == "serverInfo"
+            with pytest.raises(websockets.InvalidStatus) as refused:
+                asyncio.run(_handshake(port, "http://evil.example.com"))
+            assert refused.value.response.status_code == 403
+        finally:
+            view.send_signal(signal.SIGINT)
+            output = view.communicate(timeout=30)[0]
+    assert "refused a WebSocket client from Origin http://evil.example.com" in output
+    assert "hawt view --allow-origin http://evil.example.com accepts it" in output
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--host", "0.0.0.0"], "hawt view: --host 0.0.0.0: not this machine's loopback; anyone who reaches it would "
+                            "see the graph (add --allow-remote to serve it anyway)"),
+    (["--port", "70000"], "hawt view: --port 70000: expected 0 to 65535"),
+], ids=["remote host", "bad port"])
+def test_a_view_it_cannot_serve_safely_is_one_line_and_exit_2(hawt_cli, arguments, message):
+    """A host beyond loopback without --allow-remote, a port outside 0-65535: one line, exit 2, nothing served."""
+    result = subprocess.run([*hawt_cli, "view", *arguments], capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stderr.strip()) == (2, message)
+
+
+def test_a_busy_port_is_one_line_and_exit_2(hawt_cli):
+    """Another program holds the port: one line naming it, exit 2."""
+    with socket.socket() as holder:
+        holder.bind(("127.0.0.1", 0))
+        holder.listen()
+        port = holder.getsockname()[1]
+        result = subprocess.run([*hawt_cli, "view", "--port", str(port)], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert result.stderr.startswith(f"hawt view: --port {port} on 127.0.0.1: "), result.stderr

@@ -1,0 +1,115 @@
+"""The view's front door: a WebSocket relay that lets in native clients and the web pages it is told to trust.
+
+A browser sends the page's ``Origin`` with every WebSocket handshake, and any page open on this
+machine can reach a server on 127.0.0.1. foxglove-sdk's server (0.30) does not look at the header,
+so ``hawt view`` puts this relay in front of it: the Foxglove server listens on a loopback port of
+its own, and the relay listens where the user asked. A handshake with an ``Origin`` that is not in
+``allowed`` is answered 403 and logged with the option that would accept it; one without the
+header (a native client: the Foxglove desktop app, a script) is let in. Every frame is passed on
+unchanged in both directions, and the subprotocol the client chose goes on to the server.
+
+The relay is the ``websockets`` library's server and client (its ``process_request`` hook makes
+the check); what is written here is only the pairing of the two connections.
+"""
+from __future__ import annotations
+
+import asyncio
+import threading
+from http import HTTPStatus
+from typing import Callable, Iterable, Optional
+
+from websockets.asyncio.client import connect
+from websockets.asyncio.server import ServerConnection, serve
+from websockets.exceptions import ConnectionClosed
+from websockets.http11 import Request, Response
+
+__all__ = ["OriginGate", "SUBPROTOCOLS"]
+
+SUBPROTOCOLS = ("foxglove.sdk.v1",)
+"""The WebSocket subprotocols the Foxglove server behind the gate speaks."""
+
+
+class OriginGate:
+    """Relay ``host:port`` to the WebSocket server at ``backend`` (``ws://127.0.0.1:N``), refusing foreign Origins.
+
+    Parameters
+    ----------
+    host, port : str, int
+        Where the gate listens (port 0: any free one; :attr:`port` is the one taken).
+    backend : str
+        URL of the server behind the gate.
+    allowed : iterable of str
+        Origins let in besides clients that send none (e.g. ``https://app.foxglove.dev``).
+    log : callable
+        Takes one line per refused client.
+
+    Raises
+    ------
+    OSError
+        The port cannot be taken (in use, or not allowed).
+    """
+
+    def __init__(self, host: str, port: int, backend: str, allowed: Iterable[str],
+                 log: Callable[[str], None]) -> None:
+        self.backend = backend
+        self.allowed = frozenset(allowed)
+        self.log = log
+        self.port: Optional[int] = None
+        self._loop = asyncio.new_event_loop()
+        self._stopped: Optional[asyncio.Event] = None
+        started = threading.Event()
+        failure: list[BaseException] = []
+        self._thread = threading.Thread(target=self._run, args=(host, port, started, failure), daemon=True,
+                                        name="origin_gate")
+        self._thread.start()
+        started.wait()
+        if failure:
+            raise failure[0]
+
+    def _run(self, host: str, port: int, started: threading.Event, failure: list) -> None:
+        asyncio.set_event_loop(self._loop)
+        self._loop.run_until_complete(self._serve(host, port, started, failure))
+
+    async def _serve(self, host: str, port: int, started: threading.Event, failure: list) -> None:
+        self._stopped = asyncio.Event()
+        try:
+            server = await serve(self._relay, host, port, process_request=self._check_origin,
+                                 subprotocols=list(SUBPROTOCOLS), max_size=None, compression=None)
+        except OSError as error:
+            failure.append(error)
+            started.set()
+            return
+        self.port = server.sockets[0].getsockname()[1]
+        started.set()
+        async with server:
+            await self._stopped.wait()
+
+    def _check_origin(self, connection: ServerConnection, request: Request) -> Optional[Response]:
+        origin = request.headers.get("Origin")
+        if origin is None or origin in self.allowed:
+            return None
+        self.log(f"refused a WebSocket client from Origin {origin} (a web page; only native clients and "
+                 f"--allow-origin ORIGIN are let in): hawt view --allow-origin {origin} accepts it")
+        return connection.respond(HTTPStatus.FORBIDDEN, f"Origin {origin} is not allowed\n")
+
+    async def _relay(self, client: ServerConnection) -> None:
+        protocols = [client.subprotocol] if client.subprotocol else None
+        async with connect(self.backend, subprotocols=protocols, max_size=None, compression=None) as server:
+            pumps = [asyncio.create_task(self._pump(client, server)), asyncio.create_task(self._pump(server, client))]
+            _, pending = await asyncio.wait(pumps, return_when=asyncio.FIRST_COMPLETED)
+            for pump in pending:
+                pump.cancel()
+
+    @staticmethod
+    async def _pump(source, sink) -> None:
+        try:
+            async for frame in source:
+                await sink.send(frame)
+        except ConnectionClosed:
+            pass
+
+    def stop(self) -> None:
+        """Close the listening socket and every relayed connection."""
+        if self._stopped is not None and self._loop.is_running():
+            self._loop.call_soon_threadsafe(self._stopped.set)
+        self._thread.join(timeout=5.0)
