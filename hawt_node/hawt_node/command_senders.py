@@ -23,8 +23,8 @@ intruder's.
 allowed senders' messages, the first message of every other publisher reported once (the
 owner's ``intruder`` event) and every one counted. Its allowed senders may change while it
 runs (the loop assembler allows a contribution topic's claimants as they announce
-themselves); a sample whose named sender is not allowed yet waits, like an unnamed one, at
-most ``UNKNOWN_GRACE`` for it to become so.
+themselves); a sample whose named sender is not allowed yet waits at most ``ANNOUNCE_GRACE``
+for it to become so.
 
 What this does not stop (README, Safety and security): a process that names its node like
 the source, in the same namespace, is the source as far as the graph can tell; only DDS
@@ -35,10 +35,11 @@ import time
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 
-__all__ = ["CommandSenders", "GuardedSubscription", "LOOK_AGAIN", "LOOKS", "READER_DEPTH", "Sample", "UNKNOWN_GRACE",
+__all__ = ["ANNOUNCE_GRACE", "CommandSenders", "GuardedSubscription", "LOOK_AGAIN", "LOOKS", "READER_DEPTH", "Sample", "UNKNOWN_GRACE",
            "UNKNOWN_NODE", "publisher_names", "qualified_names"]
 
 READER_DEPTH = 100
@@ -48,6 +49,9 @@ UNKNOWN_NODE = "_NODE_NAME_UNKNOWN_"
 """The node name the ROS graph (rmw_dds_common) gives an endpoint whose node it has not heard of yet."""
 UNKNOWN_GRACE = 10.0
 """Wall time [s] a sample waits for the graph to name its publisher; then it is an unnamed intruder's."""
+ANNOUNCE_GRACE = 2.0
+"""Wall time [s] a sample whose named sender is not allowed waits for it to become so (``wait_for_allowed``): a
+controller's latched announcement comes within milliseconds of its publisher's discovery."""
 LOOKS = 50
 """Looks for a sample the doorbell announced before giving up on it (it was taken with an earlier one)."""
 LOOK_AGAIN = 0.001
@@ -84,7 +88,7 @@ class CommandSenders:
     """The samples of ``topic`` with their senders, for ``node`` that obeys only ``sources`` (module notes).
 
     With ``wait_for_allowed``, a sample whose named sender is not in :attr:`allowed` waits for it
-    (at most ``UNKNOWN_GRACE``), as one whose sender is not named yet does.
+    (at most ``ANNOUNCE_GRACE``), as one whose sender is not named yet does (``UNKNOWN_GRACE``).
     """
 
     def __init__(self, node: Node, message_type: type, topic: str, qos: QoSProfile, sources: Sequence[str],
@@ -137,8 +141,9 @@ class CommandSenders:
         for message, gid, arrived in self._unnamed:
             sender = self._name(gid)
             allowed = sender in self.allowed
-            undecided = sender is None or (self.wait_for_allowed and not allowed)
-            if undecided and time.monotonic() - arrived <= UNKNOWN_GRACE:
+            grace = UNKNOWN_GRACE if sender is None else ANNOUNCE_GRACE if self.wait_for_allowed and not allowed \
+                else -1.0
+            if time.monotonic() - arrived <= grace:
                 unnamed.append((message, gid, arrived))
             else:
                 samples.append(Sample(message, gid, sender, allowed))
@@ -170,9 +175,12 @@ class GuardedSubscription:
         self.callback, self.report = callback, report
         self.refused: Dict[bytes, int] = {}
         node.create_subscription(message_type, topic, self._ring, qos)
-        self._look_again = node.create_timer(LOOK_AGAIN, self._take)
+        # wall-time waits: steady-clock timers, which register no time-jump callback on the node's ROS clock (rcl
+        # warns once a clock has many, and a loop assembler guards one topic per interface)
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._look_again = node.create_timer(LOOK_AGAIN, self._take, clock=steady)
         self._look_again.cancel()
-        self._wait = node.create_timer(WAIT_PERIOD, self._take)
+        self._wait = node.create_timer(WAIT_PERIOD, self._take, clock=steady)
         self._wait.cancel()
 
     @property
