@@ -39,8 +39,8 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 
-__all__ = ["ANNOUNCE_GRACE", "CommandSenders", "GuardedSubscription", "LOOK_AGAIN", "LOOKS", "READER_DEPTH", "Sample", "UNKNOWN_GRACE",
-           "UNKNOWN_NODE", "publisher_names", "qualified_names"]
+__all__ = ["ANNOUNCE_GRACE", "CommandSenders", "GuardedSubscription", "LOOK_AGAIN", "LOOKS", "READER_DEPTH", "Sample",
+           "UNKNOWN_GRACE", "UNKNOWN_NODE", "publisher_names", "qualified_names"]
 
 READER_DEPTH = 100
 """Samples the hidden reader keeps until they are taken."""

@@ -172,7 +172,8 @@ class Protection:
         values = (rotor_speed, generator_speed, acceleration, *angles)
         if not all(map(math.isfinite, values)):
             return [ProtectionFinding(True, f"measurement not finite: rotor speed {rotor_speed}, generator speed "
-                                            f"{generator_speed}, tower-top acceleration {acceleration}, pitch {angles}")]
+                                            f"{generator_speed}, tower-top acceleration {acceleration}, "
+                                            f"pitch {angles}")]
         for shaft, speed, warning, trip in (
                 ("rotor", rotor_speed, limits.rotor_speed_warning, limits.rotor_speed_trip),
                 ("generator", generator_speed, limits.generator_speed_warning, limits.generator_speed_trip)):
