@@ -32,7 +32,8 @@ graph names in ``controllers`` (their first contributions may overtake their ann
 busy machine); which of them contributes at a step is then the switches' business. Each
 message's publisher is identified by its GID and named through the ROS graph
 (hawt_node.command_senders, as the plant does for its commands); a message from any other
-publisher is refused before it is read, the first from each is an ``intruder`` event. A message whose sender has not announced itself yet waits for it (at most
+publisher is refused before it is read, the first from each is an ``intruder`` event. A
+message whose sender has not announced itself yet waits for it (at most
 hawt_node.command_senders.ANNOUNCE_GRACE).
 """
 import math
