@@ -8,6 +8,7 @@ import difflib
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -232,6 +233,42 @@ def _cmd_bag_recover(args: argparse.Namespace) -> int:
     return 0
 
 
+def _output_file(path: str, option: str) -> Path:
+    """``path`` as a file a command may write when its work is done, checked before the work: its folder exists and
+    it is not a folder itself (GraphError, one line)."""
+    target = Path(path)
+    if target.is_dir():
+        raise GraphError(f"{option} {path}: is a folder; expected a file name")
+    if not target.resolve().parent.is_dir():
+        raise GraphError(f"{option} {path}: the folder {target.resolve().parent} does not exist")
+    return target
+
+
+def _output_folder(path: Path, option: str) -> Path:
+    """``path`` as a folder a command fills, checked before the work: a folder or nothing yet, under a folder that
+    exists (GraphError, one line)."""
+    if path.exists() and not path.is_dir():
+        raise GraphError(f"{option} {path}: is a file; expected a folder (or a name that does not exist yet)")
+    if not path.resolve().parent.is_dir():
+        raise GraphError(f"{option} {path}: the folder {path.resolve().parent} does not exist")
+    return path
+
+
+SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://[A-Za-z0-9_.\-\[\]:]+:(\d{1,5})")
+"""A Dask scheduler's address as ``--scheduler`` takes it: ``tcp://HOST:PORT`` (or ``tls://``)."""
+
+
+def _scheduler_address(address: Optional[str]) -> Optional[str]:
+    """``--scheduler``'s address, checked before anything starts (GraphError, one line)."""
+    if address is None:
+        return None
+    found = SCHEDULER_ADDRESS.fullmatch(address)
+    if found is None or not 0 < int(found.group(2)) < 65536:
+        raise GraphError(f"--scheduler {address}: expected tcp://HOST:PORT with a port of 1 to 65535 (the address "
+                         "dask-scheduler prints)")
+    return address
+
+
 def _progress(line: str) -> None:
     """Stage lines of long work, on an interactive terminal only (stderr stays one error line otherwise)."""
     if sys.stderr.isatty():
@@ -383,7 +420,7 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     if inflow is True:
         raise GraphError("dynamic_inflow:=true: the linear models have quasi-steady aerodynamics (no inflow states "
                          "yet); linearise without it")
-    output = Path(args.output)
+    output = _output_file(args.output, "--output")
     _progress(f"linearizing at {len(args.wind_speeds)} wind speed(s), {args.azimuths} azimuths each, "
               f"{args.workers} worker(s)")
     start = time.monotonic()
@@ -475,6 +512,8 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
 
     if args.discon and not Path(args.discon).is_file():
         raise GraphError(f"--discon: {args.discon}: no such file")
+    if args.output:
+        _output_file(args.output, "-o")
     try:
         turbine = turbine_from(args.turbine)
         design = design_collective(turbine, args.natural_frequency, args.damping)
@@ -647,9 +686,10 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise GraphError(f"--workers {args.workers}: expected 1 or more")
+    scheduler = _scheduler_address(args.scheduler)
     campaign = load_campaign(Path(args.campaign))
-    output = Path(args.output or Path(args.campaign).stem)
-    done = run_campaign(campaign, output, args.workers, args.scheduler, args.bags,
+    output = _output_folder(Path(args.output or Path(args.campaign).stem), "-o")
+    done = run_campaign(campaign, output, args.workers, scheduler, args.bags,
                         report=lambda line: print(line, flush=True))
     if done.rows:
         tables = write_tables(campaign, done.rows, output)

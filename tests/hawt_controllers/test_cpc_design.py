@@ -225,6 +225,7 @@ def test_hawt_design_cpc_prints_the_schedule_and_jonkmans_and_writes_the_tuning(
     (["--natural-frequency", "1e6"], "hawt design: natural_frequency: 1e+06 rad/s outside the design range"),
     (["--turbine", "/nonexistent/turbine.yaml"], "hawt design: /nonexistent/turbine.yaml"),
     (["--discon", "/nonexistent/DISCON.IN"], "hawt design: --discon: /nonexistent/DISCON.IN: no such file"),
+    (["-o", "/nonexistent/cpc.yaml"], "hawt design: -o /nonexistent/cpc.yaml: the folder /nonexistent does not exist"),
 ])
 def test_hawt_design_cpc_refuses_bad_input_with_one_line(hawt_cli, arguments, message):
     result = subprocess.run([*hawt_cli, "design", "cpc", *arguments], capture_output=True, text=True, timeout=120)

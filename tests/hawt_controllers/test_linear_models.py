@@ -113,8 +113,10 @@ def test_models_written_are_read_back_as_state_space_models(models, tmp_path):
     (["shear_exponent:=abc"], "shear_exponent: expected a number"),
     (["dynamic_inflow:=true"], "quasi-steady aerodynamics"),
     (["dynamic_inflow:=maybe"], "expected turbine, true or false"),
+    (["--output", "/nonexistent/x.npz"], "--output /nonexistent/x.npz: the folder /nonexistent does not exist"),
 ])
 def test_bad_input_is_one_line_and_exit_2(words, message, capsys, tmp_path):
+    """Each before any linearisation runs, the last (an output under no folder) too."""
     assert cli.main(["linearize", "--output", str(tmp_path / "x.npz"), *words]) == 2
     error = capsys.readouterr().err.strip()
     assert message in error and "\n" not in error

@@ -182,3 +182,23 @@ def test_compare_reads_campaign_folders(local_run, hawt_cli):
     header, *rows = result.stdout.splitlines()
     assert header.split() == ["baseline", "ipc_1p"] and rows[-1].startswith("AEP [GWh]")
     assert "%" in rows[0], "the second controller's change against the first"
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--scheduler", "foo"], "--scheduler foo: expected tcp://HOST:PORT with a port of 1 to 65535"),
+    (["--scheduler", "tcp://127.0.0.1:99999"], "--scheduler tcp://127.0.0.1:99999: expected tcp://HOST:PORT"),
+    (["-o", "FILE"], "-o FILE: is a file; expected a folder"),
+    (["-o", "/nonexistent/out"], "-o /nonexistent/out: the folder /nonexistent does not exist"),
+], ids=["not an address", "port out of range", "output is a file", "no parent folder"])
+def test_a_campaign_that_could_not_deliver_is_refused_before_any_case_runs(hawt_cli, campaign_file, tmp_path,
+                                                                            arguments, message):
+    """A scheduler that is no address and an output that is a file or under no folder: one line, exit 2, before
+    any case runs (an existing file was once the end of a whole case's work), and the file is left as it was."""
+    existing = tmp_path / "results.txt"
+    existing.write_text("kept\n")
+    arguments = [str(existing) if word == "FILE" else word for word in arguments]
+    message = message.replace("FILE", str(existing))
+    result = subprocess.run([*hawt_cli, "campaign", str(campaign_file), *arguments], capture_output=True, text=True,
+                            timeout=120)
+    assert result.returncode == 2 and result.stderr.startswith(f"hawt campaign: {message}"), result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1 and existing.read_text() == "kept\n"
