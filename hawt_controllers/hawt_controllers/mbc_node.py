@@ -215,10 +215,9 @@ class MbcNode(Node):
 
     def _report_intruder(self, topic: str, sample: Sample) -> None:
         """The first contribution of a publisher that is not a claimant of ``topic`` (the guard counts the rest)."""
-        who = sample.sender or f"a publisher the graph does not name (publisher gid {sample.gid.hex()})"
         claimants = ", ".join(sorted(self.subscribed[topic].allowed)) or "no controller"
-        self.events(ControlEvent.ERROR, "intruder", f"{topic} step {sample.message.step} from {who} refused: only "
-                    f"{claimants} claim it (its later messages are refused and counted)",
+        self.events(ControlEvent.ERROR, "intruder", f"{topic} step {sample.message.step} from {sample.who} refused: "
+                    f"only {claimants} claim it (its later messages are refused and counted)",
                     step=self.loads.step if self.loads is not None else 0)
 
     def destroy_node(self) -> None:
@@ -230,14 +229,14 @@ class MbcNode(Node):
         try:
             requested = requested_limits(check_values(PARAMETERS, self.values, changes))
             if self.plant is not None:
-                changed = {change.name for change in changes}
-                beyond = {name: text for name, text in requested.widening(turbine_limits(self.plant)).items()
+                turbine, changed = turbine_limits(self.plant), {change.name for change in changes}
+                beyond = {name: text for name, text in requested.widening(turbine).items()
                           if _PARAMETER_OF[name] in changed}
                 if beyond:
                     raise ParameterError(", ".join(f"{_PARAMETER_OF[name]} {text}" for name, text in beyond.items())
                                          + ": the loop assembler may narrow the turbine's pitch limits, never widen "
                                            "them")
-                requested.within(turbine_limits(self.plant))
+                requested.within(turbine)  # something left between floor and ceiling
         except (ParameterError, ValueError) as error:
             return rejection(error)
         return accepted()

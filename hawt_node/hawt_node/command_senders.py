@@ -6,10 +6,10 @@ fails under it (rclpy 9.1.2). :class:`CommandSenders` gets the GID another way. 
 subscription on the same topic, with the same QoS, belongs to a hidden node that no
 executor spins; the owner's own subscription is only the doorbell. When it rings
 (:meth:`CommandSenders.rang`), :meth:`CommandSenders.take` takes every sample waiting in the
-second subscription with ``take_message``, which does return the message info; while
-:attr:`CommandSenders.look_again` holds (the announced sample has not reached the second
-reader yet: :attr:`CommandSenders.missing`) the owner calls it again a moment later, and while a
-sample waits for its sender's name (:attr:`CommandSenders.waiting`) every ``WAIT_PERIOD``.
+second subscription with ``take_message``, which does return the message info. While the
+announced sample has not reached the second reader yet (:attr:`CommandSenders.missing`) the
+owner calls it again a moment later (``LOOK_AGAIN``), and while a sample waits for its
+sender's name (:attr:`CommandSenders.waiting`) every ``WAIT_PERIOD``.
 
 A GID is named through the ROS graph (:func:`publisher_names`: node name and namespace of
 each publisher, with its GID; ``_NODE_NAME_UNKNOWN_`` until the publisher's node has
@@ -69,6 +69,11 @@ class Sample:
     sender: Optional[str]
     """The sending node's fully qualified name (None: the graph did not name this publisher within UNKNOWN_GRACE)."""
     allowed: bool
+
+    @property
+    def who(self) -> str:
+        """The sender as an event names it: its node, or its publisher GID if the graph does not name it."""
+        return self.sender or f"a publisher the graph does not name (publisher gid {self.gid.hex()})"
 
 
 def publisher_names(node: Node, topic: str) -> Dict[bytes, str]:

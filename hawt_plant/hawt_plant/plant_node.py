@@ -225,9 +225,8 @@ class PlantNode(Node):
 
     def _report_intruder(self, sample: Sample) -> None:
         """The first command of a publisher that is not a command source (the guard counts the rest)."""
-        who = sample.sender or f"a publisher the graph does not name (publisher gid {sample.gid.hex()})"
         self.events(ControlEvent.ERROR, "intruder", f"control/pitch_command step {sample.message.step} from "
-                    f"{who} refused: only {', '.join(sorted(self.guard.allowed))} may command this plant "
+                    f"{sample.who} refused: only {', '.join(sorted(self.guard.allowed))} may command this plant "
                     "(its later commands are refused and counted)", step=self.step_index,
                     stamp=_stamp(self.output.time))
 
@@ -360,8 +359,7 @@ class PlantNode(Node):
             self.command = self.safety.feather(self.values["dt"])
         out = self.output = self.model.step(*self.command)
         self.step_index += 1
-        for finding in self.safety.protect(out.rotor_speed, out.generator_speed, out.tower_top_fa_accel,
-                                           out.tower_top_ss_accel, out.pitch):
+        for finding in self.safety.protect(out):
             self.events(*protection_event(finding, self.safety), step=self.step_index, stamp=_stamp(out.time))
         if self.step_index % max(1, int(round(self.values["report_period"] / self.values["dt"]))) == 0:
             self._progress()

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -311,15 +311,19 @@ class SafetySystem:
         self.trip(reason, pitch)
         return reason
 
-    def protect(self, rotor_speed: float, generator_speed: float, tower_top_fa_accel: float,
-                tower_top_ss_accel: float, pitch: np.ndarray) -> list[ProtectionFinding]:
+    def protect(self, output: Any) -> list[ProtectionFinding]:
         """Run the protection on one step's measurements (:meth:`Protection.check`), tripping on a trip it finds;
-        what it found, to be reported (nothing once tripped, or without a protection)."""
+        what it found, to be reported (nothing once tripped, or without a protection).
+
+        ``output`` is the model's output of the step (:class:`hawt_plant.model.TurbineOutput`, or anything with its
+        ``rotor_speed``, ``generator_speed``, ``tower_top_fa_accel``, ``tower_top_ss_accel`` and ``pitch``).
+        """
         if self.tripped or self.protection is None:
             return []
-        found = self.protection.check(rotor_speed, generator_speed, tower_top_fa_accel, tower_top_ss_accel, pitch)
+        found = self.protection.check(output.rotor_speed, output.generator_speed, output.tower_top_fa_accel,
+                                      output.tower_top_ss_accel, output.pitch)
         if found and found[-1].trip:
-            self.trip(found[-1].reason, pitch)
+            self.trip(found[-1].reason, output.pitch)
         return found
 
     @property

@@ -233,25 +233,16 @@ def _cmd_bag_recover(args: argparse.Namespace) -> int:
     return 0
 
 
-def _output_file(path: str, option: str) -> Path:
-    """``path`` as a file a command may write when its work is done, checked before the work: its folder exists and
-    it is not a folder itself (GraphError, one line)."""
+def _output_path(path: str | Path, option: str, folder: bool = False) -> Path:
+    """``path`` as the file (or, with ``folder``, the folder) a command writes once its work is done, checked before
+    the work: nothing of the other kind is there, and the folder it goes into exists (GraphError, one line)."""
     target = Path(path)
-    if target.is_dir():
-        raise GraphError(f"{option} {path}: is a folder; expected a file name")
+    if target.exists() and target.is_dir() != folder:
+        raise GraphError(f"{option} {path}: " + ("is a file; expected a folder (or a name that does not exist yet)"
+                                                 if folder else "is a folder; expected a file name"))
     if not target.resolve().parent.is_dir():
         raise GraphError(f"{option} {path}: the folder {target.resolve().parent} does not exist")
     return target
-
-
-def _output_folder(path: Path, option: str) -> Path:
-    """``path`` as a folder a command fills, checked before the work: a folder or nothing yet, under a folder that
-    exists (GraphError, one line)."""
-    if path.exists() and not path.is_dir():
-        raise GraphError(f"{option} {path}: is a file; expected a folder (or a name that does not exist yet)")
-    if not path.resolve().parent.is_dir():
-        raise GraphError(f"{option} {path}: the folder {path.resolve().parent} does not exist")
-    return path
 
 
 SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://[A-Za-z0-9_.\-\[\]:]+:(\d{1,5})")
@@ -420,7 +411,7 @@ def _cmd_linearize(args: argparse.Namespace) -> int:
     if inflow is True:
         raise GraphError("dynamic_inflow:=true: the linear models have quasi-steady aerodynamics (no inflow states "
                          "yet); linearise without it")
-    output = _output_file(args.output, "--output")
+    output = _output_path(args.output, "--output")
     _progress(f"linearizing at {len(args.wind_speeds)} wind speed(s), {args.azimuths} azimuths each, "
               f"{args.workers} worker(s)")
     start = time.monotonic()
@@ -513,7 +504,7 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
     if args.discon and not Path(args.discon).is_file():
         raise GraphError(f"--discon: {args.discon}: no such file")
     if args.output:
-        _output_file(args.output, "-o")
+        _output_path(args.output, "-o")
     try:
         turbine = turbine_from(args.turbine)
         design = design_collective(turbine, args.natural_frequency, args.damping)
@@ -688,7 +679,7 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
         raise GraphError(f"--workers {args.workers}: expected 1 or more")
     scheduler = _scheduler_address(args.scheduler)
     campaign = load_campaign(Path(args.campaign))
-    output = _output_folder(Path(args.output or Path(args.campaign).stem), "-o")
+    output = _output_path(args.output or Path(args.campaign).stem, "-o", folder=True)
     done = run_campaign(campaign, output, args.workers, scheduler, args.bags,
                         report=lambda line: print(line, flush=True))
     if done.rows:

@@ -186,10 +186,9 @@ class InProcessRun:
             self.command = (np.asarray(command.pitch, dtype=float), float(collective.generator_torque))
         if self.safety.tripped:
             self.command = self.safety.feather(self.description.dt)
-        out = self.output = self.model.step(*self.command)
+        self.output = self.model.step(*self.command)
         self.step_index += 1
-        for finding in self.safety.protect(out.rotor_speed, out.generator_speed, out.tower_top_fa_accel,
-                                           out.tower_top_ss_accel, out.pitch):
+        for finding in self.safety.protect(self.output):
             level, kind, detail = protection_event(finding, self.safety)
             self.events.append({"step": self.step_index, "source": "in_process", "level": level, "kind": kind,
                                 "detail": detail})

@@ -69,6 +69,7 @@ class OriginGate:
     def _run(self, host: str, port: int, started: threading.Event, failure: list) -> None:
         asyncio.set_event_loop(self._loop)
         self._loop.run_until_complete(self._serve(host, port, started, failure))
+        self._loop.close()
 
     async def _serve(self, host: str, port: int, started: threading.Event, failure: list) -> None:
         self._stopped = asyncio.Event()

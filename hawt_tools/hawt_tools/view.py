@@ -36,7 +36,6 @@ class ViewOptions:
         Keep-last depth of each subscription: messages a topic may be behind before the oldest are dropped.
     timeout : float
         Longest wait for a node's parameter service [s].
-
     allow_origins : tuple of str
         Web-page Origins let in besides native clients (hawt_tools.origin_gate).
     allow_parameter_sets : bool

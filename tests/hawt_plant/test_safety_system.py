@@ -1,5 +1,6 @@
 """Specification of hawt_plant.safety_system: command checks, step order and the latched safety chain."""
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -194,10 +195,10 @@ def test_the_safety_system_trips_on_the_protections_trip_and_then_finds_nothing_
     """protect() trips the system with the finding's reason; later steps, whatever they measure, find nothing; the
     trip's event is an ERROR protection_trip saying what the trip does."""
     safety = SafetySystem(SETTINGS, Protection(LIMITS, DT))
-    assert safety.protect(**NORMAL) == []
-    (finding,) = safety.protect(**{**NORMAL, "rotor_speed": 1.6})
+    assert safety.protect(SimpleNamespace(**NORMAL)) == []
+    (finding,) = safety.protect(SimpleNamespace(**{**NORMAL, "rotor_speed": 1.6}))
     assert safety.tripped and safety.reason == finding.reason and not safety.expired
-    assert safety.protect(**{**NORMAL, "rotor_speed": 3.0}) == []
+    assert safety.protect(SimpleNamespace(**{**NORMAL, "rotor_speed": 3.0})) == []
     level, kind, detail = protection_event(finding, safety)
     assert (level, kind) == (40, "protection_trip")
     assert detail.endswith("feathering to 1.5708 rad at 0.139626 rad/s with generator torque 0; latched until the "
