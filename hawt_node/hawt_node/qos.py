@@ -12,21 +12,23 @@ CONTROL_LOOP = QoSProfile(
 )
 
 #: What a control-loop publisher keeps: reliable like CONTROL_LOOP, but a reader that falls
-#: behind (a recorder, a test, a plot) by up to this many samples still gets every one of them.
-#: Depth is not part of QoS matching, so controllers still read with CONTROL_LOOP (latest only).
+#: behind (a recorder, a test, a plot) by up to this many samples still gets every one of them,
+#: and a transient-local reader that joins late (a respawned recorder) gets the last ones sent.
+#: Depth and durability offered do not stop a volatile reader from matching, so controllers
+#: still read with CONTROL_LOOP (latest only, nothing from before they joined).
 CONTROL_LOOP_HISTORY = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=2000,
     reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.VOLATILE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
 
-#: Events: the ROS default (reliable, keep last 10), deep enough not to drop bursts.
+#: Events: reliable, deep enough not to drop bursts, kept for a recorder that joins late.
 EVENTS = QoSProfile(
     history=HistoryPolicy.KEEP_LAST,
     depth=100,
     reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.VOLATILE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
 
 LATCHED = QoSProfile(

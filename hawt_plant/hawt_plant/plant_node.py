@@ -38,7 +38,10 @@ recorded lockstep run is complete however busy the machine is. At ``duration`` t
 finishes only once the recorder has written its last step, so stopping the graph loses
 nothing of the backlog. A hold that lasts a second is logged, and again every 5 s while
 it lasts. A held plant is not waiting on its controllers (the safety system's clock
-restarts on release); a recorder that writes nothing for ``recorder_timeout`` is given up
+restarts on release). With ``recorder_required`` (``hawt launch --record``) it waits however
+long the recorder takes: a recorder that dies is respawned by the launcher, gets back the
+steps it missed from the publishers' transient-local history (hawt_node.qos), and releases
+the plant. Without it, a recorder that writes nothing for ``recorder_timeout`` is given up
 with a ``recorder`` event.
 """
 import math
@@ -101,7 +104,7 @@ class PlantNode(Node):
         self.description_publisher.publish(PlantDescription(**turbine.description(v["dt"]).as_fields()))
         self.loads_publisher = self.create_publisher(BladeLoads, BLADE_LOADS, CONTROL_LOOP_HISTORY)
         self.state_publisher = self.create_publisher(TurbineState, TURBINE_STATE, CONTROL_LOOP_HISTORY)
-        self.clock_publisher = self.create_publisher(Clock, CLOCK, 10) if self.lockstep else None
+        self.clock_publisher = self.create_publisher(Clock, CLOCK, CONTROL_LOOP_HISTORY) if self.lockstep else None
         sources = [name for name in v["command_sources"] if name]
         if sources:
             self.guard = GuardedSubscription(self, PitchCommand, PITCH_COMMAND, CONTROL_LOOP, sources,
@@ -329,9 +332,10 @@ class PlantNode(Node):
             self._advance()
 
     def _give_up_a_stalled_recorder(self) -> None:
-        """A held plant whose recorder has written nothing for recorder_timeout goes on without back-pressure."""
+        """A held plant whose recorder has written nothing for recorder_timeout goes on without back-pressure,
+        unless the recorder is required."""
         timeout = self.values["recorder_timeout"]
-        if time.monotonic() - max(self.recorder_heard_at, self.held_at) < timeout:
+        if self.values["recorder_required"] or time.monotonic() - max(self.recorder_heard_at, self.held_at) < timeout:
             return
         self.events(ControlEvent.WARN, "recorder", f"the recorder has written nothing more of {BLADE_LOADS} for "
                     f"{timeout:g} s (up to t={self.recorded_until:.2f} s, the plant at t={self.output.time:.2f} s): "

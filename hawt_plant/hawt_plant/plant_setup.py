@@ -81,8 +81,11 @@ PARAMETERS = (
                   "recorder catches up, so a recording is complete at any load (0: never hold)", "s", minimum=0.0,
                   maximum=600.0, read_only=True),
     ParameterSpec("recorder_timeout", 10.0, "lockstep: wall time a held plant waits on a recorder that writes "
-                  "nothing more before it goes on without it (a recorder event says so)", "s", minimum=0.1,
-                  maximum=3600.0, read_only=True),
+                  "nothing more before it goes on without it (a recorder event says so); not with "
+                  "recorder_required", "s", minimum=0.1, maximum=3600.0, read_only=True),
+    ParameterSpec("recorder_required", False, "lockstep: a held plant waits for its recorder however long it "
+                  "takes, never going on without it (hawt launch --record sets it and respawns a recorder that "
+                  "dies; --record-optional does not)", read_only=True),
     ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
     ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
                   "unanswered, resends included; must exceed resend_period) after which the safety system trips "

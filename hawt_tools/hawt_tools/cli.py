@@ -64,28 +64,32 @@ def _cmd_launch(args: argparse.Namespace) -> int:
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
     view = _view_command(args.view_port, args.view_allow_parameter_sets) if args.view else None
-    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority, view)
+    return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority, view,
+                      args.record_optional)
 
 
 def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
-               record: Optional[str], priority: int = 0, view: Optional[List[str]] = None) -> int:
+               record: Optional[str], priority: int = 0, view: Optional[List[str]] = None,
+               record_optional: bool = False) -> int:
     """Run a checked graph (separate processes or composed), recording it into ``record`` if given.
 
     ``priority`` > 0 runs the nodes (not the recorder) under SCHED_FIFO at that priority. With ``view`` (the
-    ``view`` executable's command line, :func:`_view_command`) it serves the graph to Foxglove while it runs.
+    ``view`` executable's command line, :func:`_view_command`) it serves the graph to Foxglove while it runs. A
+    recorder that dies is respawned and the plant waits for it (hawt_tools.recording), unless ``record_optional``.
     """
     from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
     from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
+    from hawt_tools.recording import SupervisedRecorder, stop_process
 
     # --mode beats the graph's own 'mode' values (an override of every node that has one); -p beats --mode
     modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes if takes_parameter(graph, spec, "mode")] \
         if mode else []
     overrides = parse_overrides(graph, modes + list(parameters))
-    global_parameters = launcher_parameters(graph, bool(record))
+    global_parameters = launcher_parameters(graph, bool(record), record_optional)
     check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
     if priority:
         check_priority(priority)
-    recorder = _start_recorder(Path(record)) if record else None
+    recorder = SupervisedRecorder(Path(record), record_optional) if record else None
     events = viewer = None
     try:
         if view is not None:
@@ -93,7 +97,9 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
         if recorder is not None:  # deaths, respawns and stops from outside into the bag
             from hawt_tools.launch_events import LaunchEvents
 
-            events = LaunchEvents(spec.full_namespace for spec in graph.nodes)
+            namespaces = [spec.full_namespace for spec in graph.nodes]
+            events = LaunchEvents(namespaces)
+            recorder.watch(events, namespaces)
         if composed:
             if priority:
                 set_priority(priority)
@@ -104,13 +110,13 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
                                 events=events).run(duration)
     finally:
         if recorder is not None:
-            recorded = _stop_process(recorder)
+            recorded = recorder.stop()
         if events is not None:
             events.close()
         if viewer is not None:
-            _stop_process(viewer)
+            stop_process(viewer)
     if recorder is not None and recorded != 0:
-        raise RuntimeError(f"the recorder of {record} failed (exit code {recorded})")
+        raise RuntimeError(recorder.lost or f"the recorder of {record} failed (exit code {recorded})")
     return code
 
 
@@ -133,44 +139,6 @@ def _cmd_run(args: argparse.Namespace) -> int:
                   file=sys.stderr)
     print(run.events[-1]["detail"] + (f"; recorded into {args.record}" if args.record else ""))
     return 0
-
-
-def _start_recorder(path: Path) -> subprocess.Popen:
-    """Start the ``record`` executable of hawt_bag on ``path`` and wait until it has created the bag."""
-    from hawt_core.stop_signals import LAUNCHER_PID
-    from hawt_tools.launcher import package_prefix
-
-    if path.exists():
-        raise BagError(f"{path}: exists; refusing to overwrite a bag (choose another --record name)")
-    prefix = package_prefix("hawt_bag")
-    executable = Path(prefix or "") / "lib" / "hawt_bag" / "record"
-    if prefix is None or not executable.is_file():
-        raise RuntimeError("hawt_bag's record executable is not installed (run scripts/setup.sh)")
-    recorder = subprocess.Popen([str(executable), "-o", str(path)], stdin=subprocess.DEVNULL,
-                                start_new_session=True, env={**os.environ, LAUNCHER_PID: str(os.getpid())})
-    deadline = time.monotonic() + 20.0
-    while not path.exists():
-        if recorder.poll() is not None:
-            raise RuntimeError(f"the recorder of {path} exited before recording (exit code {recorder.returncode})")
-        if time.monotonic() > deadline:
-            _stop_process(recorder)
-            raise RuntimeError(f"the recorder of {path} did not start within 20 s")
-        time.sleep(0.02)
-    return recorder
-
-
-def _stop_process(process: subprocess.Popen) -> int:
-    """Stop the recorder or the view after the graph (SIGINT: the recorder takes what is still arriving, then
-    finishes the bag)."""
-    for sig, timeout in ((signal.SIGINT, 30.0), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
-        if process.poll() is not None:
-            break
-        os.killpg(process.pid, sig)
-        try:
-            process.wait(timeout)
-        except subprocess.TimeoutExpired:
-            continue
-    return process.wait()
 
 
 def _view_command(port: int, allow_parameter_sets: bool = False) -> List[str]:
@@ -758,7 +726,11 @@ def _parser() -> argparse.ArgumentParser:
                         help="override a parameter of one node (repeatable)")
     launch.add_argument("--record", metavar="FILE.mcap",
                         help="record every topic into this new bag; the recorder starts before the graph "
-                             "and stops after it")
+                             "and stops after it. A recorder that dies is respawned, and a lockstep plant waits "
+                             "for it, so the bag has every step")
+    launch.add_argument("--record-optional", action="store_true",
+                        help="with --record: a recorder that dies is not respawned and the plant goes on without "
+                             "it after its recorder_timeout (the bag then misses steps)")
     launch.add_argument("--view", action="store_true",
                         help="serve the graph live to Foxglove while it runs (as 'hawt view', on --view-port)")
     launch.add_argument("--view-port", type=int, default=8765, metavar="N", help="port of --view (default 8765)")
@@ -1064,6 +1036,8 @@ def parse_command_line(argv: Optional[List[str]] = None) -> argparse.Namespace:
         args.arguments += extra
     elif extra:
         parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    if getattr(args, "record_optional", False) and not args.record:
+        parser.error("--record-optional: needs --record")
     return args
 
 

@@ -37,6 +37,7 @@ __all__ = [
     "executable_path",
     "parse_overrides",
     "launcher_parameters",
+    "describe_exit",
     "ros_arguments",
     "ProcessGraph",
     "run_composed",
@@ -112,14 +113,17 @@ def _report_event(events: Optional[Callable[[str, int, str, str], None]], namesp
             events(namespace, level, kind, detail)
 
 
-def launcher_parameters(graph: Graph, recorded: bool) -> Dict[str, object]:
+def launcher_parameters(graph: Graph, recorded: bool, record_optional: bool = False) -> Dict[str, object]:
     """The parameters ``hawt launch`` gives every node (a node that does not declare one ignores it).
 
-    ``wait_for_recorder`` when the run is recorded (no message is sent before the recorder reads it);
+    ``wait_for_recorder`` when the run is recorded (no message is sent before the recorder reads it), and
+    ``recorder_required`` unless the recording is optional (a held plant waits for a respawned recorder);
     ``await_schedule`` when the graph has a controller_manager (no step is answered before its schedule is
     known, so every scheduled switch comes at its step in every node).
     """
     values: Dict[str, object] = {"wait_for_recorder": True} if recorded else {}
+    if recorded and not record_optional:
+        values["recorder_required"] = True
     if any(spec.executable == "controller_manager" for spec in graph.nodes):
         values["await_schedule"] = True
     return values
@@ -166,7 +170,7 @@ def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
     return arguments
 
 
-def _describe_exit(code: int) -> str:
+def describe_exit(code: int) -> str:
     if code < 0:
         try:
             return f"killed by {signal.Signals(-code).name}"
@@ -237,7 +241,7 @@ class ProcessGraph:
         if spec.respawn and (spec.respawn_max_retries < 0 or process.retries < spec.respawn_max_retries):
             process.retries += 1
             process.restart_at = now + spec.respawn_delay
-            line = f"{spec.label} ended ({_describe_exit(code)}); respawning in {spec.respawn_delay:g} s " \
+            line = f"{spec.label} ended ({describe_exit(code)}); respawning in {spec.respawn_delay:g} s " \
                    f"(respawn {process.retries})"
             self._say("hawt launch", line)
             _report_event(self.events, [spec.full_namespace], logging.WARNING, "node_respawn", line)
@@ -246,7 +250,7 @@ class ProcessGraph:
             if spec.shutdown_on_exit:
                 self.request_stop(0, f"{spec.label} finished (on_exit: shutdown)")
         else:
-            reason = f"node {spec.label} died unexpectedly ({_describe_exit(code)})"
+            reason = f"node {spec.label} died unexpectedly ({describe_exit(code)})"
             _report_event(self.events, [spec.full_namespace], logging.ERROR, "node_died",
                           f"{reason}; stopping the graph")
             self.request_stop(1, reason)

@@ -3,8 +3,9 @@
 The recorder of a running ``hawt launch ipc --record`` is stopped (SIGSTOP, as a starved process
 would be): the plant must stop within its ``recorder_window`` of what the recorder has written,
 say so, and go on when the recorder does, leaving a bag that ``hawt bag verify`` finds complete.
-A recorder that stays stopped past ``recorder_timeout`` is given up with a recorder event (also logged:
-the recorder it is about may never take it), and the run still completes.
+With ``--record-optional``, a recorder that stays stopped past ``recorder_timeout`` is given up with a
+recorder event (also logged: the recorder it is about may never take it), and the run still completes;
+without it the plant waits for the recorder however long it takes (tests/hawt_faults/test_recorder_loss.py).
 """
 import re
 
@@ -26,18 +27,18 @@ def _recorder(graph: LaunchedGraph) -> psutil.Process:
     return next(child for child in children if any(part.endswith("hawt_bag/record") for part in child.cmdline()))
 
 
-def _launch(bag, duration: float, timeout: float, window: float) -> LaunchedGraph:
+def _launch(bag, duration: float, timeout: float, window: float, optional: bool) -> LaunchedGraph:
     return LaunchedGraph(["ipc", "namespace:=bp", f"duration:={duration:g}", "-p", "plant.report_period:=0.1",
                           "-p", f"plant.recorder_window:={window:g}", "-p", f"plant.recorder_timeout:={timeout:g}",
-                          "--record", str(bag)])
+                          "--record", str(bag), *(["--record-optional"] if optional else [])])
 
 
 def _run_stopping_the_recorder(bag, duration: float, timeout: float, at: str, until: str,
-                               window: float = WINDOW) -> tuple[list, list, list]:
+                               window: float = WINDOW, optional: bool = False) -> tuple[list, list, list]:
     """Run the graph, stop its recorder once the plant prints ``at``, let it go on once the plant prints ``until``
     (a line after the stop: a busy machine's recorder may have held the plant before); the lines printed up to the
     stop, those printed while the recorder was stopped, and all."""
-    with _launch(bag, duration, timeout, window) as graph:
+    with _launch(bag, duration, timeout, window, optional) as graph:
         graph.wait_for_line(at)
         recorder = _recorder(graph)
         recorder.suspend()
@@ -75,9 +76,9 @@ def test_the_plant_finishes_only_once_the_recorder_has_written_its_last_step(tmp
     assert ranges["/bp/plant/blade_loads"] == ranges["/bp/control/pitch_command"] == ((0, 499),), verification.text()
 
 
-def test_a_recorder_stopped_for_good_is_given_up_with_an_event_and_the_run_completes(tmp_path):
+def test_an_optional_recorder_stopped_for_good_is_given_up_with_an_event_and_the_run_completes(tmp_path):
     *_, lines = _run_stopping_the_recorder(tmp_path / "given_up.mcap", 8, 2, "t=2.0 s (",
-                                           "going on without waiting for it")
+                                           "going on without waiting for it", optional=True)
     # The recorder event is published and logged: the recorder it is about, given up, may never take it. A busy
     # machine may add warnings of its own (a fresh-clone CI run printed two; which the other was, it did not show).
     output = "".join(lines)

@@ -112,9 +112,12 @@ def test_rclpy_own_parameters_and_the_launcher_globals_pass_the_check():
     with a controller_manager) are accepted."""
     graph = load_graph(find_graph("ipc"), {}, package_prefix)
     overrides = parse_overrides(graph, ["cpc.use_sim_time:=true", "plant.start_type_description_service:=false"])
-    assert launcher_parameters(graph, recorded=True) == {"wait_for_recorder": True, "await_schedule": True}
+    assert launcher_parameters(graph, recorded=True) == {"wait_for_recorder": True, "recorder_required": True,
+                                                         "await_schedule": True}
+    assert "recorder_required" not in launcher_parameters(graph, recorded=True, record_optional=True)
     values = check_graph_parameters(graph, overrides, launcher_parameters(graph, recorded=True))
     assert all(values[f"/wt1/{name}"]["wait_for_recorder"] is True for name in ("plant", "cpc", "mbc", "ipc_h1"))
+    assert values["/wt1/plant"]["recorder_required"] is True
     assert all(values[f"/wt1/{name}"]["await_schedule"] is True for name in ("cpc", "mbc", "ipc_h1"))
     assert not {"wait_for_recorder", "await_schedule"} & set(values["/wt1/controller_manager"])
     assert "await_schedule" not in values["/wt1/plant"]
