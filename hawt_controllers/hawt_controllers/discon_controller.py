@@ -16,6 +16,9 @@ set (the library's per-blade demands, records 42-44, less their mean: the collec
   When it replaces another collective controller, it is given that controller's last collective pitch as
   the measured pitch of every blade, so the pitch starts where the outgoing one left it. A deactivation
   makes the last call (status -1); so does the end of the process.
+- The library file is checked before anything starts (``check_values``, which every engine's parameter
+  check runs: hawt_controllers.discon_library.check_library): an ELF shared object of this machine that
+  exports ``DISCON``, else one line naming ``library``, the file and what is wrong.
 - While inactive the library is not called; the (unpublished) output is the measured pitch and torque.
 - A library that fails (``aviFAIL`` < 0) raises :class:`~hawt_controllers.controller.ControllerFailure`
   with its message: the ROS node reports it and stops answering (the plant's safety system takes over);
@@ -33,7 +36,7 @@ from hawt_core.plant_description import PlantDescription
 
 from .controller import (BladeContribution, CollectiveContribution, Contribution, Controller, ControllerFailure,
                          mean_pitch)
-from .discon_library import DisconFailure, DisconInputs, DisconLibrary, DisconLoadError
+from .discon_library import DisconFailure, DisconInputs, DisconLibrary, DisconLoadError, check_library
 from .rosco_input import is_rosco_input, rosco_files, write_private_input
 
 __all__ = ["DisconController"]
@@ -96,13 +99,17 @@ class DisconController(Controller):
 
     @classmethod
     def check_values(cls, values: Mapping[str, Any]) -> None:
-        """The files exist and are readable; ROSCO's IPC needs ``individual_pitch``; two gains and offsets."""
+        """The library passes check_library (an ELF shared object of this machine exporting ``DISCON``), the input
+        file is readable; ROSCO's IPC needs ``individual_pitch``; two gains and offsets."""
         library, infile = cls.files(values)
-        for name, path in (("library", library), ("infile", infile)):
-            try:
-                path.open("rb").close()
-            except OSError as error:
-                raise ParameterError(f"{name}: {path}: {error.strerror}") from None
+        try:
+            check_library(library)
+        except DisconLoadError as error:
+            raise ParameterError(f"library: {error}") from None
+        try:
+            infile.open("rb").close()
+        except OSError as error:
+            raise ParameterError(f"infile: {infile}: {error.strerror}") from None
         for name in ("ipc_integral_gain", "ipc_azimuth_offset"):
             if len(values[name]) != 2:
                 raise ParameterError(f"{name}: expected 2 values (1P, 2P), found {len(values[name])}")

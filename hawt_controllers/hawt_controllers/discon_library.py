@@ -15,6 +15,16 @@ BladedInterface.f90``, ``Fill_avrSWAP``/``Retrieve_avrSWAP``), and what ROSCO 2.
 ``PitchControl`` and ``VariableSpeedControl``; ``DISCON.F90``). The blade records exist for blades
 1-3 only: the interface is three-bladed at most.
 
+:func:`check_library` is what a library file must pass before anything starts (the controller's
+``check_values``, run by every engine's parameter check): a regular file, an ELF shared object
+(``ET_DYN``) of this process's class, byte order and architecture (the first 20 bytes of its ELF header,
+read with :mod:`struct`, against those of ``/proc/self/exe``), that the dynamic loader loads with its
+dependencies, and that exports ``DISCON``. The symbol is looked up by loading the library (uncalled,
+once per process: the load every instance needs anyway) rather than by reading its symbol table: the
+load also finds a missing dependency, and no ELF reader is among hawt's dependencies. Loading runs the
+library's constructors; ROSCO's are the compiler's (``frame_dummy``) and its Fortran runtime's set-up,
+which write nothing.
+
 Each :class:`DisconLibrary` loads its **own copy** of the library file (a private temporary file),
 because a library keeps its state in static memory: ROSCO refuses a second first call in one loaded
 image ("This ROSCO dynamic library has already been loaded"), and two turbines or two tunings in one
@@ -32,7 +42,9 @@ from __future__ import annotations
 import ctypes
 import enum
 import functools
+import platform
 import shutil
+import struct
 import tempfile
 import weakref
 from dataclasses import dataclass
@@ -42,7 +54,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 __all__ = ["Record", "RECORDS", "DisconInputs", "DisconDemands", "DisconLibrary", "DisconLoadError",
-           "DisconFailure", "SWAP_LENGTH", "MESSAGE_LENGTH", "MAX_BLADES"]
+           "DisconFailure", "SWAP_LENGTH", "MESSAGE_LENGTH", "MAX_BLADES", "check_library"]
 
 SWAP_LENGTH = 2048
 """Records in the swap array: beyond ROSCO's extended interface (records 1001-1018, platform motion)."""
@@ -154,10 +166,71 @@ class DisconDemands:
     warning: str = ""
 
 
+_ELF_TYPES = {1: "a relocatable object", 2: "an executable", 4: "a core dump"}
+"""ELF ``e_type`` values other than ET_DYN (3, a shared object), as they are named in a refusal."""
+
+
+def _elf_header(path: Path) -> Optional[Tuple[int, int, int, int]]:
+    """``(class, data, type, machine)`` of an ELF file (EI_CLASS, EI_DATA, e_type, e_machine); None without one."""
+    with open(path, "rb") as file:
+        header = file.read(20)
+    if len(header) < 20 or header[:4] != b"\x7fELF" or header[5] not in (1, 2):
+        return None
+    e_type, machine = struct.unpack("<HH" if header[5] == 1 else ">HH", header[16:20])
+    return header[4], header[5], e_type, machine
+
+
+@functools.lru_cache(maxsize=None)
+def _this_machine() -> Tuple[int, int, int]:
+    """``(class, data, machine)`` of this process's own executable: what a library loaded into it must have."""
+    elf_class, data, _, machine = _elf_header(Path("/proc/self/exe"))
+    return elf_class, data, machine
+
+
+def _machine_text(elf_class: int, data: int, machine: int) -> str:
+    return f"{32 * elf_class}-bit {('little', 'big')[data - 1]}-endian, ELF machine {machine}"
+
+
 @functools.lru_cache(maxsize=None)
 def _load_dependencies(library: Path) -> ctypes.CDLL:
     """Load the original library once, uncalled, so that its dependencies are in the process for every copy."""
     return ctypes.CDLL(str(library), mode=ctypes.RTLD_LOCAL)
+
+
+def check_library(library: Path) -> None:
+    """Refuse a file that cannot be a DISCON library of this process (module notes); it stays loaded, uncalled.
+
+    Raises
+    ------
+    DisconLoadError
+        One line naming the file and what is wrong: missing, not a regular file, unreadable, no ELF header,
+        another ELF type than a shared object, another machine's, not loadable (e.g. a missing dependency),
+        no ``DISCON`` symbol.
+    """
+    library = Path(library)
+    if not library.exists():
+        raise DisconLoadError(f"{library}: no such library file")
+    if not library.is_file():
+        raise DisconLoadError(f"{library} is not a regular file")
+    try:
+        header = _elf_header(library)
+    except OSError as error:
+        raise DisconLoadError(f"{library}: cannot read: {error.strerror}") from None
+    if header is None:
+        raise DisconLoadError(f"{library} is not a shared library (no ELF header)")
+    elf_class, data, e_type, machine = header
+    if e_type != 3:
+        raise DisconLoadError(f"{library} is not a shared library (ELF type {e_type}: "
+                              f"{_ELF_TYPES.get(e_type, 'unknown')}, not a shared object)")
+    if (elf_class, data, machine) != _this_machine():
+        raise DisconLoadError(f"{library} is built for another machine ({_machine_text(elf_class, data, machine)}; "
+                              f"this {platform.machine()} machine is {_machine_text(*_this_machine())})")
+    try:
+        loaded = _load_dependencies(library.resolve())
+    except OSError as error:
+        raise DisconLoadError(f"{library}: cannot load: {error}") from None
+    if not hasattr(loaded, "DISCON"):
+        raise DisconLoadError(f"{library} has no DISCON symbol")
 
 
 def _c_string(text: str) -> ctypes.Array:
@@ -174,10 +247,7 @@ class _Image:
             shutil.copyfile(library, copy)
             handle = ctypes.CDLL(str(copy), mode=ctypes.RTLD_LOCAL)
             copy.unlink()
-            self.function = handle.DISCON
-        except AttributeError:
-            self.remove()
-            raise DisconLoadError(f"{library}: no DISCON function in this library") from None
+            self.function = handle.DISCON  # the original passed check_library
         except OSError as error:
             self.remove()
             raise DisconLoadError(f"{library}: cannot load: {error}") from None
@@ -234,7 +304,7 @@ class DisconLibrary:
     Raises
     ------
     DisconLoadError
-        A missing or unloadable library, no ``DISCON`` symbol, an unreadable input file, B > 3.
+        A library that fails :func:`check_library`, an unreadable input file, B > 3.
 
     Notes
     -----
@@ -247,18 +317,13 @@ class DisconLibrary:
                  pitch_limits: Tuple[float, float, float], individual_pitch: bool = False,
                  outname: Optional[str] = None) -> None:
         library, infile = Path(library), Path(infile)
-        if not library.is_file():
-            raise DisconLoadError(f"{library}: no such library file")
+        check_library(library)
         try:
             infile.open("rb").close()
         except OSError as error:
             raise DisconLoadError(f"{infile}: cannot read the input file: {error.strerror}") from None
         if not 1 <= blades <= MAX_BLADES:
             raise DisconLoadError(f"blades: the DISCON interface carries 1 to {MAX_BLADES} blades, found {blades}")
-        try:
-            _load_dependencies(library.resolve())
-        except OSError as error:
-            raise DisconLoadError(f"{library}: cannot load: {error}") from None
         self.library = library
         self.blades = blades
         self.individual_pitch = individual_pitch

@@ -1,4 +1,5 @@
-"""Every node's parameters checked against its table before a graph starts (``hawt launch``, ``hawt run``).
+"""Every node's parameters checked against its table before a graph starts (``hawt launch``, ``hawt run``, and
+``hawt campaign`` for every case before any worker starts).
 
 Each node gets exactly the values rcl will give it (hawt_tools.node_parameters: the graph's
 ``{name, value}`` entries, ``{from: FILE}`` files with wildcards, ``-p`` overrides), and
@@ -11,8 +12,10 @@ option, or the parameter file the value came from), the node and the parameter:
 - a name neither the table nor rclpy itself declares (a did-you-mean);
 - a value of another type than the row's (as rcl refuses it), a NaN or infinity, one
   outside the row's range or choices;
-- values that break a rule across parameters, if the node class offers a cheap
-  ``check_parameters(values)`` (e.g. the plant's ``command_timeout > resend_period``).
+- values that break a rule across parameters, or name a file that cannot serve, if the node
+  class offers a cheap ``check_parameters(values)`` (e.g. the plant's ``command_timeout >
+  resend_period``; a ``discon`` controller's library that is no ELF shared object of this
+  machine exporting ``DISCON``, hawt_controllers.discon_library.check_library).
 
 Not checked: a node whose class has no ``PARAMETERS`` table, or whose executable is no
 Python entry point with a ``node_class`` (a C++ node, a script) — it gets its values

@@ -51,7 +51,10 @@ Decks the import refuses, with the file and key named (:class:`DeckError`): a mi
 CompServo other than 1 or a ServoDyn controller that is not ROSCO (PCMode and VSContrl 5 with a ROSCO DLL_InFile:
 the limits and rated values come from it), MHK turbines; blades that differ (ED PreCone, BldFile or AD ADBlFile
 per blade), AD AFTabMod other than 1 (polars over Reynolds number or a control setting), a polar without lift or
-drag columns or not over -180..180 deg.
+drag columns or not over -180..180 deg. A value out of range is refused before anything is written: the values
+the import computes with where they are read (:data:`_FLOORS`, TipRad > HubRad), every other one by the
+definition's own checks, run on it before :func:`write_turbine` writes it (one line naming the deck's file and
+key, the value and the range allowed; e.g. ``..._ElastoDyn.dat: GBRatio: expected a value > 0, found 0``).
 """
 from __future__ import annotations
 
@@ -60,6 +63,8 @@ import json
 import math
 import os
 import re
+import shutil
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Sequence, Tuple
@@ -68,6 +73,7 @@ import numpy as np
 from openfast_io.FAST_reader import InputReader_OpenFAST
 
 from hawt_controllers.rosco_input import read_settings
+from hawt_plant.turbine import TurbineDefinitionError, load_turbine
 
 __all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "AerodynamicMapping", "DeckError", "ImportedAirfoil",
            "ImportedTurbine", "Sourced", "node_widths", "aerodynamic_options", "import_deck", "turbine_text",
@@ -145,10 +151,31 @@ def _key(name: str) -> str:
     return re.sub(r"(?<=[A-Za-z])(\d)$", r"(\1)", name)
 
 
+_FLOORS = {"GBRatio": (0.0, True), "GenIner": (0.0, True), "DTTorSpr": (0.0, True), "HubIner": (0.0, False),
+           "HubRad": (0.0, False), "AdjBlMs": (0.0, True), "BMassDen": (0.0, True)}
+"""Lower bounds (value, strict) of the deck values the import computes with before the definition is checked
+(rotor speeds over GBRatio, the shaft's torsion frequency from the inertias and DTTorSpr, the blade's mass): a
+value out of range is refused where it is read, naming it, instead of failing in that arithmetic. Every other
+range is the turbine definition's (:func:`hawt_plant.turbine.load_turbine`, run by :func:`write_turbine`)."""
+
+
+def _below_floor(key: str, values: np.ndarray, file: str) -> None:
+    """Refuse the first of ``values`` under the floor of ``key`` (:data:`_FLOORS`), if it has one."""
+    if key not in _FLOORS:
+        return
+    low, strict = _FLOORS[key]
+    bad = np.flatnonzero(values <= low if strict else values < low)
+    if bad.size:
+        where = f" (value {bad[0] + 1} of {values.size})" if values.size > 1 else ""
+        raise DeckError(f"{file}: {_key(key)}: expected {'values' if values.size > 1 else 'a value'} "
+                        f"{'>' if strict else '>='} {low:g}, found {values[bad[0]]:g}{where}")
+
+
 def _number(values: Mapping[str, Any], key: str, file: str) -> float:
     value = values.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise DeckError(f"{file}: {_key(key)}: expected a number, found {value!r}")
+    _below_floor(key, np.array([value], dtype=float), file)
     return float(value)
 
 
@@ -159,7 +186,16 @@ def _array(values: Mapping[str, Any], key: str, file: str) -> np.ndarray:
         out = np.array([np.nan])
     if out.ndim != 1 or out.size == 0 or not np.all(np.isfinite(out)):
         raise DeckError(f"{file}: {_key(key)}: expected a list of numbers, found {values.get(key)!r}")
+    _below_floor(key, out, file)
     return out
+
+
+def _blade_length(ed: Mapping[str, Any], file: str) -> float:
+    """ElastoDyn TipRad - HubRad [m], which must be positive."""
+    hub, tip = _number(ed, "HubRad", file), _number(ed, "TipRad", file)
+    if tip <= hub:
+        raise DeckError(f"{file}: TipRad: expected a value > HubRad ({hub:g}), found {tip:g}")
+    return tip - hub
 
 
 class _Discon:
@@ -267,7 +303,7 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
     ed, blade, tower = _read_elastodyn(deck, main, files)
     ad, ad_blade = _read_aerodyn(deck, main, ed, files)
     sd, discon = _read_servodyn(deck, main, files)
-    length = _number(ed, "TipRad", files["ed"]) - _number(ed, "HubRad", files["ed"])
+    length = _blade_length(ed, files["ed"])
     aerodynamics, airfoils = _blade_aerodynamics(deck, ad, ad_blade, length, files)
     torsion = _torsion_frequency(ed, blade, files)
     definition = {
@@ -547,7 +583,7 @@ def _torsion_frequency(ed: Mapping[str, Any], blade: Mapping[str, Any], files: M
     ed_file, blade_file = files["ed"], files["blade"]
     stiffness = _number(ed, "DTTorSpr", ed_file)
     hub_radius = _number(ed, "HubRad", ed_file)
-    span = _array(blade, "BlFract", blade_file) * (_number(ed, "TipRad", ed_file) - hub_radius)
+    span = _array(blade, "BlFract", blade_file) * _blade_length(ed, ed_file)
     density = _number(blade, "AdjBlMs", blade_file) * _array(blade, "BMassDen", blade_file)
     cone = math.radians(_number(ed, "PreCone(1)", ed_file))
     rotor = _number(ed, "HubIner", ed_file) + ed["NumBl"] * math.cos(cone) ** 2 * float(
@@ -909,18 +945,49 @@ def _airfoil_text(airfoil: ImportedAirfoil, deck: str) -> str:
             f"columns: [alpha, cl, cd, cm]\ntable:\n{rows}\n")
 
 
+def _refusal(turbine: ImportedTurbine, error: TurbineDefinitionError) -> DeckError:
+    """The loader's refusal of the imported definition (``FILE: KEY.PATH: problem``) as the deck's: its file and
+    key (the value's source), the problem, and the definition's key."""
+    file, _, rest = str(error).partition(": ")
+    path, _, problem = rest.partition(": ")
+    if file == "turbine.yaml":
+        item: Any = turbine.definition
+        for key in path.split("."):
+            item = item.get(key) if isinstance(item, dict) else None
+        if isinstance(item, Sourced):
+            return DeckError(f"{item.source}: {problem} ({path} of the turbine definition)")
+    source = next((airfoil.source for airfoil in turbine.airfoils if f"{airfoil.name}.yaml" == file), turbine.deck.name)
+    return DeckError(f"{source}: {problem} ({path} of the imported {file})")
+
+
 def write_turbine(turbine: ImportedTurbine, directory: str | os.PathLike) -> Path:
-    """Write ``directory/turbine.yaml`` and ``directory/airfoils/<name>.yaml`` (replacing files of those names).
+    """Check the definition and write ``directory/turbine.yaml`` and ``directory/airfoils/<name>.yaml`` (replacing
+    files of those names).
+
+    The files are written into a temporary folder and loaded from there (:func:`hawt_plant.turbine.load_turbine`:
+    the definition's ranges and rules); only a definition that loads is copied into ``directory``, which is made
+    then.
 
     Returns
     -------
     Path
         The ``turbine.yaml`` written.
+
+    Raises
+    ------
+    DeckError
+        The definition is refused: one line naming the deck's file and key of the value and the allowed range;
+        ``directory`` is left as it was.
     """
-    directory = Path(directory)
-    (directory / "airfoils").mkdir(parents=True, exist_ok=True)
-    for airfoil in turbine.airfoils:
-        (directory / "airfoils" / f"{airfoil.name}.yaml").write_text(_airfoil_text(airfoil, turbine.deck.name))
-    path = directory / "turbine.yaml"
-    path.write_text(turbine_text(turbine))
-    return path
+    with tempfile.TemporaryDirectory(prefix="hawt-turbine-import-") as staging:
+        staged = Path(staging)
+        (staged / "airfoils").mkdir()
+        for airfoil in turbine.airfoils:
+            (staged / "airfoils" / f"{airfoil.name}.yaml").write_text(_airfoil_text(airfoil, turbine.deck.name))
+        (staged / "turbine.yaml").write_text(turbine_text(turbine))
+        try:
+            load_turbine(staged / "turbine.yaml")
+        except TurbineDefinitionError as error:
+            raise _refusal(turbine, error) from None
+        shutil.copytree(staged, directory, dirs_exist_ok=True)
+    return Path(directory) / "turbine.yaml"

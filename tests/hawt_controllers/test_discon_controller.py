@@ -75,7 +75,7 @@ def test_the_ipc_parameters_go_into_the_private_rosco_input(tmp_path):
 
 
 @pytest.mark.parametrize("values, message", [
-    ({"library": "/nonexistent/libdiscon.so"}, r"library: /nonexistent/libdiscon.so: No such file"),
+    ({"library": "/nonexistent/libdiscon.so"}, r"library: /nonexistent/libdiscon.so: no such library file"),
     ({"infile": "/nonexistent/DISCON.IN"}, r"infile: /nonexistent/DISCON.IN: No such file"),
     ({"ipc_mode": 1}, r"ipc_mode: ROSCO's IPC commands each blade; set individual_pitch true"),
     ({"ipc_integral_gain": [1e-8]}, r"ipc_integral_gain: expected 2 values \(1P, 2P\), found 1"),
@@ -95,7 +95,7 @@ def test_ipc_parameters_for_a_library_that_is_not_rosco_are_refused(fake, tmp_pa
 def test_a_library_without_discon_fails_configure_naming_the_library(tmp_path):
     other = tmp_path / "libother.so"
     subprocess.run(["gcc", "-shared", "-fPIC", "-DENTRY=OTHER", "-o", str(other), str(FAKE_SOURCE)], check=True)
-    with pytest.raises(ParameterError, match="library: .*libother.so: no DISCON function"):
+    with pytest.raises(ParameterError, match="library: .*libother.so has no DISCON symbol"):
         DisconController(_values(other, tmp_path), PLANT)
 
 
@@ -204,11 +204,46 @@ def test_a_switch_from_rosco_to_cpc_and_ipc_and_back_starts_each_collective_wher
     assert np.abs(np.asarray(speed) / run.description.rated_rotor_speed - 1).max() < 0.1
 
 
-def test_hawt_run_with_a_missing_library_exits_2_in_one_line(hawt_cli):
-    result = subprocess.run([*hawt_cli, "run", "rosco", "-p", "rosco.library:=/nonexistent/libdiscon.so"],
-                            capture_output=True, text=True, timeout=120)
-    assert result.returncode == 2, result.stderr
-    assert "/nonexistent/libdiscon.so" in result.stderr and len(result.stderr.strip().splitlines()) == 1
+CAMPAIGN = """\
+wind: {{speeds: [12], seeds: [1]}}
+duration: 10
+controllers:
+  rosco: {{graph: rosco, parameters: ["rosco.library:={library}"]}}
+"""
+
+
+def _engine_command(engine: str, library: Path, directory: Path) -> list:
+    """``hawt run``, ``hawt launch`` (recording into directory/out) or ``hawt campaign`` (into directory/out) of
+    the rosco graph with ``library`` as its DISCON library."""
+    if engine == "campaign":
+        campaign = directory / "campaign.yaml"
+        campaign.write_text(CAMPAIGN.format(library=library))
+        return ["campaign", str(campaign), "-o", str(directory / "out")]
+    return [engine, "rosco", "-p", f"rosco.library:={library}", "--record", str(directory / "out")]
+
+
+@pytest.mark.parametrize("engine", ["run", "launch", "campaign"])
+@pytest.mark.parametrize("kind, reason", [
+    ("text", "is not a shared library (no ELF header)"),
+    ("no DISCON", "has no DISCON symbol"),
+    ("missing", ": no such library file"),
+])
+def test_a_library_that_cannot_be_discon_is_refused_by_every_engine_before_anything_starts(
+        hawt_cli, tmp_path, engine, kind, reason):
+    """A text file, a shared library exporting OTHER instead of DISCON, no file: exit 2, one line naming the
+    parameter, the file and what is wrong; nothing printed or written before it (no bag, no campaign folder)."""
+    library = {"text": tmp_path / "libtext.so", "no DISCON": tmp_path / "libother.so",
+               "missing": tmp_path / "libmissing.so"}[kind]
+    if kind == "text":
+        library.write_text("not a library\n")
+    elif kind == "no DISCON":
+        subprocess.run(["gcc", "-shared", "-fPIC", "-DENTRY=OTHER", "-o", str(library), str(FAKE_SOURCE)], check=True)
+    result = subprocess.run([*hawt_cli, *_engine_command(engine, library, tmp_path)], capture_output=True,
+                            text=True, timeout=120)
+    assert result.returncode == 2, result.stdout[-2000:] + result.stderr[-2000:]
+    assert result.stderr.startswith(f"hawt {engine}: ") and len(result.stderr.strip().splitlines()) == 1
+    assert f"rosco.library: {library}{'' if reason.startswith(':') else ' '}{reason}" in result.stderr
+    assert result.stdout == "" and not (tmp_path / "out").exists()
 
 
 def test_importing_the_core_does_not_import_rclpy():

@@ -1,13 +1,14 @@
 """hawt_controllers.discon_library: the Bladed DISCON interface through ctypes, specified on a fake library built
 here from ``data/fake_discon.c`` (it logs the records it receives and returns fixed demands) and on ROSCO."""
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from hawt_controllers.discon_library import (DisconDemands, DisconFailure, DisconInputs, DisconLibrary,
-                                             DisconLoadError, Record)
+                                             DisconLoadError, Record, check_library)
 from hawt_controllers.rosco_input import read_settings, rosco_files, write_private_input
 
 FAKE_SOURCE = Path(__file__).parent / "data" / "fake_discon.c"
@@ -122,14 +123,53 @@ def test_a_missing_library_is_a_one_line_load_error(tmp_path):
 
 def test_a_library_without_the_discon_symbol_is_a_load_error(tmp_path):
     library = _build(tmp_path, "libother.so", entry="OTHER")
-    with pytest.raises(DisconLoadError, match=r"libother.so: no DISCON function in this library"):
+    with pytest.raises(DisconLoadError, match=r"libother.so has no DISCON symbol"):
         DisconLibrary(library, _infile(tmp_path), 3, 0.01, LIMITS)
 
 
 def test_a_file_that_is_no_library_is_a_load_error(tmp_path):
     (tmp_path / "libtext.so").write_text("not a library")
-    with pytest.raises(DisconLoadError, match=r"libtext.so: cannot load"):
+    with pytest.raises(DisconLoadError, match=r"libtext.so is not a shared library \(no ELF header\)$"):
         DisconLibrary(tmp_path / "libtext.so", _infile(tmp_path), 3, 0.01, LIMITS)
+
+
+def test_rosco_passes_the_library_check():
+    check_library(rosco_files()[0])
+
+
+def test_a_folder_is_no_library(tmp_path):
+    with pytest.raises(DisconLoadError, match=r"is not a regular file$"):
+        check_library(tmp_path)
+
+
+def test_an_object_file_is_no_shared_library(tmp_path):
+    subprocess.run(["gcc", "-c", "-fPIC", "-o", str(tmp_path / "fake.o"), str(FAKE_SOURCE)], check=True)
+    with pytest.raises(DisconLoadError, match=r"fake.o is not a shared library \(ELF type 1: a relocatable object, "
+                                              r"not a shared object\)$"):
+        check_library(tmp_path / "fake.o")
+
+
+def test_a_library_of_another_architecture_is_refused_before_it_is_loaded(fake, tmp_path):
+    """The fake with its ELF header's e_machine (bytes 18-19, this machine's byte order) made SPARC's, 2."""
+    image = bytearray(fake.read_bytes())
+    image[18:20] = (2).to_bytes(2, sys.byteorder)
+    (tmp_path / "libsparc.so").write_bytes(bytes(image))
+    with pytest.raises(DisconLoadError, match=r"libsparc.so is built for another machine \(64-bit [a-z]+-endian, "
+                                              r"ELF machine 2; this \w+ machine is 64-bit [a-z]+-endian, ELF "
+                                              r"machine \d+\)$"):
+        check_library(tmp_path / "libsparc.so")
+
+
+def test_a_library_whose_dependency_is_missing_is_refused_naming_the_dependency(tmp_path):
+    """Linked against libgone.so, which is then removed: the loader's own reason, before any call."""
+    subprocess.run(["gcc", "-shared", "-fPIC", "-o", str(tmp_path / "libgone.so"), "-x", "c", "/dev/null"],
+                   check=True)
+    library = tmp_path / "libneeds.so"
+    subprocess.run(["gcc", "-shared", "-fPIC", "-o", str(library), str(FAKE_SOURCE), f"-L{tmp_path}",
+                    "-Wl,--no-as-needed", "-lgone"], check=True)
+    (tmp_path / "libgone.so").unlink()
+    with pytest.raises(DisconLoadError, match=r"libneeds.so: cannot load: .*libgone.so: cannot open shared object"):
+        check_library(library)
 
 
 def test_an_unreadable_input_file_is_a_load_error(fake, tmp_path):

@@ -425,6 +425,28 @@ def _with_reynolds_polars(tmp_path: Path, case) -> Path:
     return fst
 
 
+def _with_elastodyn(key: str, value: str):
+    """A deck maker: the NREL 5 MW with ElastoDyn's ``key`` set to ``value``."""
+    def make(tmp_path: Path, case) -> Path:
+        fst = _copy_5mw(tmp_path, case)
+        _set(fst.parent / "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat", key, value)
+        return fst
+
+    return make
+
+
+def _with_a_negative_blade_mass_density(tmp_path: Path, case) -> Path:
+    """The NREL 5 MW with the BMassDen (third column) of the blade's third station negated."""
+    fst = _copy_5mw(tmp_path, case)
+    blade = fst.parent / "NRELOffshrBsline5MW_Blade.dat"
+    lines = blade.read_text().splitlines()
+    index = next(k for k, line in enumerate(lines) if line.split()[:1] == ["1.951000000000000E-02"])
+    words = lines[index].split()
+    lines[index] = "  ".join(words[:2] + ["-" + words[2]] + words[3:])
+    blade.write_text("\n".join(lines) + "\n")
+    return fst
+
+
 @pytest.mark.parametrize("make_deck, message", [
     (_without_tower_file, "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat: TwrFile: "
                           "NRELOffshrBsline5MW_Onshore_ElastoDyn_Tower.dat: no such file"),
@@ -433,10 +455,21 @@ def _with_reynolds_polars(tmp_path: Path, case) -> Path:
     (_with_aerodisk, "NREL-5MW.fst: CompAero: 1 (AeroDisk) is not supported"),
     (_with_reynolds_polars, "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: AFTabMod: 2 is not supported"),
     (lambda tmp_path, case: case(BAR_10), "BAR_10.fst: CompElast: 2 (BeamDyn blades) is not supported"),
-], ids=["missing tower file", "missing airfoil", "AeroDisk", "polars over Reynolds number", "BeamDyn blades"])
+    (_with_elastodyn("GBRatio", "0"), "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat: GBRatio: expected a value > 0, "
+                                      "found 0\n"),
+    (_with_elastodyn("GBRatio", "-97"), "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat: GBRatio: expected a value > 0, "
+                                        "found -97\n"),
+    (_with_elastodyn("TowerHt", "0"), "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat TowerHt - TowerBsHt: expected a "
+                                      "value > 0.0, found 0 (tower.height of the turbine definition)\n"),
+    (_with_a_negative_blade_mass_density, "NRELOffshrBsline5MW_Blade.dat: BMassDen: expected values > 0, found "
+                                          "-773.363 (value 3 of 49)\n"),
+], ids=["missing tower file", "missing airfoil", "AeroDisk", "polars over Reynolds number", "BeamDyn blades",
+        "no gearbox ratio", "a negative gearbox ratio", "no tower", "a negative blade mass density"])
 def test_a_bad_deck_is_refused_with_one_line_naming_the_file_and_key(hawt_cli, rosco_case, tmp_path, make_deck,
                                                                      message):
-    """A missing file or an option the plant cannot honour: exit 2, one line on stderr naming file and key."""
+    """A missing file, an option the plant cannot honour, a value out of its range: exit 2, one line on stderr
+    naming file and key (and the value and the range allowed), and nothing written (the values the import computes
+    with are checked where they are read, the others by the definition's checks before it is written)."""
     result = subprocess.run([*hawt_cli, "turbine", "import", str(make_deck(tmp_path, rosco_case)), "-o",
                              str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
