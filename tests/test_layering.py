@@ -17,7 +17,8 @@ ROS_MODULES = {
                          "repetitive_cpc_node", "coleman_excitation_node", "lqg_ipc_node", "discon_node",
                          "main_bearing_ipc_node"},
     "hawt_bag": {"recorder", "replayer"},
-    "hawt_tools": {"launcher", "launch_events", "controller_client", "graph_info", "example_nodes", "view_node"},
+    "hawt_tools": {"launcher", "launch_events", "recording", "controller_client", "graph_info", "example_nodes",
+                   "view_node"},
 }
 """Modules that are ROS nodes or node plumbing; every other module of a package is a core or a library."""
 ROS_DISTRIBUTION = ("rclpy", "rcl_interfaces", "lifecycle_msgs", "rosgraph_msgs", "builtin_interfaces", "std_msgs",

@@ -16,7 +16,15 @@ format, see ``ros2/launch`` ``launch_yaml/parser.py``)::
         remap:
         - {from: in, to: loads}
 
-Supported actions: ``arg`` and ``node``. Supported substitutions: ``$(var NAME)``,
+Supported actions: ``arg``, ``node`` and ``executable``. A ``node`` runs an executable its package installs
+(``pkg``/``exec``, no path); any other program needs an explicit ``executable`` action, as in ROS 2 launch::
+
+    - executable: {cmd: "$(find-pkg-prefix my_tools)/bin/logger --out $(var out)", name: logger}
+
+Its ``cmd`` is split into words as a shell would (``shlex``) but run without a shell, so no shell syntax is
+interpreted; the program must exist when the graph is read. Only ``hawt launch`` (separate processes) runs
+``executable`` actions; ``hawt run``, ``--composed`` and campaigns, which run ROS nodes in one process, refuse
+such a graph. Supported substitutions: ``$(var NAME)``,
 ``$(env NAME [DEFAULT])``, ``$(find-pkg-share PKG)``, ``$(find-pkg-prefix PKG)``,
 ``$(dirname)``, ``$(filename)`` and hawt's ``$(turbine-tuning TURBINE KIND)`` (a turbine's controller
 tuning file, :func:`hawt_controllers.tunings.tuning_file`); a substitution may hold others, e.g.
@@ -27,6 +35,8 @@ and the key at fault.
 import difflib
 import os
 import re
+import shlex
+import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
@@ -43,13 +53,16 @@ __all__ = [
     "check_parameter_file",
     "did_you_mean",
     "load_marked_yaml",
+    "ProgramSpec",
 ]
 
 NODE_KEYS = (
     "pkg", "exec", "name", "namespace", "param", "remap", "args", "ros_args", "respawn",
     "respawn_delay", "respawn_max_retries", "on_exit", "output", "env", "sigterm_timeout",
 )
-ACTIONS = ("arg", "node")
+PROGRAM_KEYS = ("cmd", "name", "cwd", "env", "respawn", "respawn_delay", "respawn_max_retries", "on_exit",
+                "sigterm_timeout", "output", "shell")
+ACTIONS = ("arg", "node", "executable")
 _PARAMETER_SCALARS = (bool, int, float, str)
 
 
@@ -103,12 +116,41 @@ class NodeSpec:
 
 
 @dataclass(frozen=True)
+class ProgramSpec:
+    """One ``executable`` action: a program that is not a package's node, run by ``hawt launch`` only."""
+
+    name: str
+    command: Tuple[str, ...]
+    cwd: str = ""
+    env: Tuple[Tuple[str, str], ...] = ()
+    respawn: bool = False
+    respawn_delay: float = 0.0
+    respawn_max_retries: int = -1
+    shutdown_on_exit: bool = False
+    sigterm_timeout: float = 5.0
+    line: int = 0
+
+    @property
+    def label(self) -> str:
+        """How the launcher names it in its output: ``program NAME``."""
+        return f"program {self.name}"
+
+
+@dataclass(frozen=True)
 class Graph:
-    """A checked graph file: its nodes in file order."""
+    """A checked graph file: its nodes and programs (``executable`` actions) in file order."""
 
     path: Path
     nodes: Tuple[NodeSpec, ...]
     arguments: Dict[str, str] = field(default_factory=dict)
+    programs: Tuple[ProgramSpec, ...] = ()
+
+    def refuse_programs(self, engine: str) -> None:
+        """Raise GraphError if the graph has an ``executable`` action, which ``engine`` cannot run."""
+        if self.programs:
+            program = self.programs[0]
+            raise GraphError(f"{self.path}:{program.line}: the 'executable' action {program.name!r} runs only "
+                             f"under hawt launch (separate processes), not {engine}")
 
     def node(self, name: str) -> NodeSpec:
         """The node called ``name`` (plain name or fully qualified)."""
@@ -351,17 +393,9 @@ def _parse_remaps(entries: Any, where: str, substitute: _Substitutor, path: Path
     return tuple(remaps)
 
 
-def _parse_node(entry: Any, line: int, path: Path, substitute: _Substitutor) -> NodeSpec:
-    where = f"{path}:{line}"
-    if not isinstance(entry, _Map):
-        raise GraphError(f"{where}: 'node' must be a mapping with at least 'pkg' and 'exec'")
-    for key in entry:
-        if key not in NODE_KEYS:
-            raise GraphError(f"{path}:{entry.key_lines[key]}: unknown key {key!r} in node" + did_you_mean(key, NODE_KEYS))
-    for key in ("pkg", "exec"):
-        if key not in entry:
-            raise GraphError(f"{where}: node is missing {key!r}")
-
+def _texts(entry: "_Map", line: int, path: Path, substitute: _Substitutor) -> Tuple[Callable[[str], str],
+                                                                                     Callable[..., str]]:
+    """``key_where(key)`` (file:line of a key) and ``text(key, default)`` (its substituted string) of an action."""
     def key_where(key: str) -> str:
         return f"{path}:{entry.key_lines.get(key, line)}"
 
@@ -370,19 +404,12 @@ def _parse_node(entry: Any, line: int, path: Path, substitute: _Substitutor) -> 
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
             raise GraphError(f"{key_where(key)}: {key!r} must be a string, found {value!r}")
         return str(value)
+    return key_where, text
 
-    executable = text("exec")
-    for key, value in (("pkg", text("pkg")), ("exec", executable)):
-        if not re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.-]*", value) or ".." in value:
-            raise GraphError(f"{key_where(key)}: {key} {value!r} is not a package or executable name (no path, no "
-                             "'..'): a graph file runs the executables its packages install, nothing else")
-    name = text("name", executable)
-    if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
-        raise GraphError(f"{key_where('name')}: node name {name!r} is not a valid ROS name "
-                         "(letters, digits and '_', starting with a letter)")
-    namespace = text("namespace")
-    if namespace and not re.fullmatch(r"/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*/?", namespace):
-        raise GraphError(f"{key_where('namespace')}: namespace {namespace!r} is not a valid ROS namespace")
+
+def _process_options(entry: "_Map", line: int, path: Path, substitute: _Substitutor) -> Dict[str, Any]:
+    """What a node and a program have alike: respawn, on_exit, sigterm_timeout and env."""
+    key_where, text = _texts(entry, line, path, substitute)
     on_exit = text("on_exit")
     if on_exit not in ("", "shutdown"):
         raise GraphError(f"{key_where('on_exit')}: on_exit must be 'shutdown', found {on_exit!r}")
@@ -390,17 +417,7 @@ def _parse_node(entry: Any, line: int, path: Path, substitute: _Substitutor) -> 
     if not isinstance(env_entries, list) or not all(isinstance(e, _Map) and set(e) == {"name", "value"}
                                                     for e in env_entries):
         raise GraphError(f"{key_where('env')}: 'env' must be a list of {{name, value}} entries")
-    arguments = substitute(entry.get("args", ""), line)
-    ros_arguments = substitute(entry.get("ros_args", ""), line)
-    return NodeSpec(
-        package=text("pkg"),
-        executable=executable,
-        name=name,
-        namespace=namespace,
-        parameters=_parse_parameters(entry.get("param", []), key_where("param"), line, substitute, path),
-        remaps=_parse_remaps(entry.get("remap", []), key_where("remap"), substitute, path),
-        arguments=tuple(str(arguments).split()),
-        ros_arguments=tuple(str(ros_arguments).split()),
+    return dict(
         respawn=_boolean(substitute(entry.get("respawn", False), line), key_where("respawn"), "'respawn'"),
         respawn_delay=_number(substitute(entry.get("respawn_delay", 0.0), line), key_where("respawn_delay"),
                               "'respawn_delay'"),
@@ -412,6 +429,74 @@ def _parse_node(entry: Any, line: int, path: Path, substitute: _Substitutor) -> 
         env=tuple((str(e["name"]), str(substitute(e["value"], e.line))) for e in env_entries),
         line=line,
     )
+
+
+def _check_keys(entry: Any, line: int, path: Path, kind: str, keys: Sequence[str], required: Sequence[str]) -> None:
+    where = f"{path}:{line}"
+    if not isinstance(entry, _Map):
+        raise GraphError(f"{where}: '{kind}' must be a mapping with at least {' and '.join(map(repr, required))}")
+    for key in entry:
+        if key not in keys:
+            raise GraphError(f"{path}:{entry.key_lines[key]}: unknown key {key!r} in {kind}" + did_you_mean(key, keys))
+    for key in required:
+        if key not in entry:
+            raise GraphError(f"{where}: {kind} is missing {key!r}")
+
+
+def _parse_node(entry: Any, line: int, path: Path, substitute: _Substitutor) -> NodeSpec:
+    _check_keys(entry, line, path, "node", NODE_KEYS, ("pkg", "exec"))
+    key_where, text = _texts(entry, line, path, substitute)
+    executable = text("exec")
+    for key, value in (("pkg", text("pkg")), ("exec", executable)):
+        if not re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.-]*", value) or ".." in value:
+            raise GraphError(f"{key_where(key)}: {key} {value!r} is not a package or executable name (no path, no "
+                             "'..'): a node runs an executable its package installs; another program needs an "
+                             "'executable' action")
+    name = text("name", executable)
+    if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
+        raise GraphError(f"{key_where('name')}: node name {name!r} is not a valid ROS name "
+                         "(letters, digits and '_', starting with a letter)")
+    namespace = text("namespace")
+    if namespace and not re.fullmatch(r"/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*/?", namespace):
+        raise GraphError(f"{key_where('namespace')}: namespace {namespace!r} is not a valid ROS namespace")
+    arguments = substitute(entry.get("args", ""), line)
+    ros_arguments = substitute(entry.get("ros_args", ""), line)
+    return NodeSpec(
+        package=text("pkg"),
+        executable=executable,
+        name=name,
+        namespace=namespace,
+        parameters=_parse_parameters(entry.get("param", []), key_where("param"), line, substitute, path),
+        remaps=_parse_remaps(entry.get("remap", []), key_where("remap"), substitute, path),
+        arguments=tuple(str(arguments).split()),
+        ros_arguments=tuple(str(ros_arguments).split()),
+        **_process_options(entry, line, path, substitute),
+    )
+
+
+def _parse_program(entry: Any, line: int, path: Path, substitute: _Substitutor) -> ProgramSpec:
+    """An ``executable`` action: ``cmd`` split into words (no shell), its program found now."""
+    _check_keys(entry, line, path, "executable", PROGRAM_KEYS, ("cmd",))
+    key_where, text = _texts(entry, line, path, substitute)
+    if _boolean(substitute(entry.get("shell", False), line), key_where("shell"), "'shell'"):
+        raise GraphError(f"{key_where('shell')}: shell: true is not supported: hawt runs an 'executable' action's "
+                         "cmd without a shell")
+    cmd = text("cmd")
+    try:
+        command = tuple(shlex.split(cmd))
+    except ValueError as error:
+        raise GraphError(f"{key_where('cmd')}: cmd: {error}") from None
+    if not command:
+        raise GraphError(f"{key_where('cmd')}: cmd is empty")
+    program = shutil.which(command[0])
+    if program is None:
+        raise GraphError(f"{key_where('cmd')}: cmd: no program {command[0]!r} (not an executable file, nor on PATH)")
+    name = text("name", Path(command[0]).name)
+    cwd = text("cwd")
+    if cwd and not Path(cwd).is_dir():
+        raise GraphError(f"{key_where('cwd')}: cwd {cwd!r} is not a folder")
+    return ProgramSpec(name=name, command=(program, *command[1:]), cwd=cwd,
+                       **_process_options(entry, line, path, substitute))
 
 
 def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
@@ -447,6 +532,7 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
     declared = []
     substitute = _Substitutor(path, variables, package_prefix or (lambda _p: None))
     nodes: List[NodeSpec] = []
+    programs: List[ProgramSpec] = []
     for action in actions:
         if not isinstance(action, _Map) or len(action) != 1:
             raise GraphError(f"{path}:{getattr(action, 'line', data.key_lines['launch'])}: each entry of 'launch' "
@@ -467,6 +553,8 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
                                  f"(pass {name}:=VALUE)")
         elif kind == "node":
             nodes.append(_parse_node(body, line, path, substitute))
+        elif kind == "executable":
+            programs.append(_parse_program(body, line, path, substitute))
         else:
             raise GraphError(f"{path}:{line}: unsupported action {kind!r}" + did_you_mean(kind, ACTIONS))
     for name in given:
@@ -480,4 +568,9 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
         seen[spec.label] = spec.line
     if not nodes:
         raise GraphError(f"{path}: the graph has no node")
-    return Graph(path=path, nodes=tuple(nodes), arguments=dict(variables))
+    for program in programs:
+        if program.label in seen:
+            raise GraphError(f"{path}:{program.line}: a second program named {program.name!r} "
+                             f"(first at line {seen[program.label]})")
+        seen[program.label] = program.line
+    return Graph(path=path, nodes=tuple(nodes), arguments=dict(variables), programs=tuple(programs))

@@ -284,12 +284,13 @@ def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
     Raises
     ------
     GraphError
-        A node the runner cannot step, a graph without exactly one plant and one assembler, or a bad
-        parameter (named with the node).
+        A node the runner cannot step, an ``executable`` action, a graph without exactly one plant and one
+        assembler, or a bad parameter (named with the node).
     """
     from hawt_controllers.controller_manager_node import PARAMETERS as MANAGER_PARAMETERS
     from hawt_controllers.mbc_node import PARAMETERS as ASSEMBLER_PARAMETERS
 
+    graph.refuse_programs("in one process (hawt run, campaigns)")
     found: Dict[str, List[Tuple[NodeSpec, Optional[type]]]] = {}
     for spec in graph.nodes:
         kind, core = _node_kind(graph, spec)

@@ -27,7 +27,7 @@ from ament_index_python.packages import PackageNotFoundError, get_package_prefix
 from rclpy.task import Future
 
 from hawt_core.stop_signals import LAUNCHER_PID, stop_signals
-from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, did_you_mean
+from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, ProgramSpec, did_you_mean
 from hawt_tools.node_parameters import typed_override
 from hawt_node.node_main import first_done, run_nodes
 
@@ -181,7 +181,7 @@ def describe_exit(code: int) -> str:
 
 @dataclass
 class _Process:
-    spec: NodeSpec
+    spec: "NodeSpec | ProgramSpec"
     command: List[str]
     popen: Optional[subprocess.Popen] = None
     pump: Optional[threading.Thread] = None
@@ -223,7 +223,8 @@ class ProcessGraph:
         env = {**os.environ, "PYTHONUNBUFFERED": "1", LAUNCHER_PID: str(os.getpid()), **self.environment,
                **dict(process.spec.env)}
         process.popen = subprocess.Popen(process.command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                         stdin=subprocess.DEVNULL, env=env, start_new_session=True)
+                                         stdin=subprocess.DEVNULL, env=env, start_new_session=True,
+                                         cwd=getattr(process.spec, "cwd", "") or None)
         process.pump = threading.Thread(target=self._pump, args=(process,), daemon=True)
         process.pump.start()
         process.finished = False
@@ -235,6 +236,10 @@ class ProcessGraph:
         if self._stop_reason is None:
             self._stop_reason, self._stop_event = (code, reason), event
 
+    def _namespaces_of(self, spec: "NodeSpec | ProgramSpec") -> List[str]:
+        """Where an event about ``spec`` goes: a node's namespace; for a program, every namespace of the graph."""
+        return [spec.full_namespace] if isinstance(spec, NodeSpec) else [s.full_namespace for s in self.graph.nodes]
+
     def _on_exit(self, process: _Process, now: float) -> None:
         spec, code = process.spec, process.popen.returncode
         process.finished = True
@@ -244,14 +249,15 @@ class ProcessGraph:
             line = f"{spec.label} ended ({describe_exit(code)}); respawning in {spec.respawn_delay:g} s " \
                    f"(respawn {process.retries})"
             self._say("hawt launch", line)
-            _report_event(self.events, [spec.full_namespace], logging.WARNING, "node_respawn", line)
+            _report_event(self.events, self._namespaces_of(spec), logging.WARNING, "node_respawn", line)
         elif code == 0:
             self._say("hawt launch", f"{spec.label} finished")
             if spec.shutdown_on_exit:
                 self.request_stop(0, f"{spec.label} finished (on_exit: shutdown)")
         else:
-            reason = f"node {spec.label} died unexpectedly ({describe_exit(code)})"
-            _report_event(self.events, [spec.full_namespace], logging.ERROR, "node_died",
+            reason = f"{'node ' if isinstance(spec, NodeSpec) else ''}{spec.label} died unexpectedly " \
+                     f"({describe_exit(code)})"
+            _report_event(self.events, self._namespaces_of(spec), logging.ERROR, "node_died",
                           f"{reason}; stopping the graph")
             self.request_stop(1, reason)
 
@@ -270,6 +276,7 @@ class ProcessGraph:
                 _Process(spec, [str(exe), *spec.arguments,
                                 *ros_arguments(spec, self.overrides, Path(parameter_dir), self.global_parameters)])
                 for spec, exe in zip(self.graph.nodes, self._executables)]
+            processes += [_Process(program, list(program.command)) for program in self.graph.programs]
             try:
                 for process in processes:
                     self._start(process)
@@ -354,6 +361,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
     Stops when a node with ``on_exit: shutdown`` is done, after ``duration`` wall
     seconds, or on SIGINT/SIGTERM; the last two are reported to ``events`` (as ProcessGraph does).
     """
+    graph.refuse_programs("--composed")
     classes = [node_class(graph, spec) for spec in graph.nodes]
     for spec in graph.nodes:
         executable_path(graph, spec)

@@ -1,4 +1,5 @@
 """Graph and parameter files are checked before anything starts; each error names file, line and key."""
+import shutil
 from pathlib import Path
 
 import pytest
@@ -81,18 +82,35 @@ def test_launch_arguments_override_defaults(folder):
     (GOOD.replace('- arg: {name: gain, default: "2.5"}', "- arg: {name: gain}"), r"graph.yaml:2: launch argument 'gain' has no default and was not given \(pass gain:=VALUE\)"),
     (GOOD.replace("    pkg: hawt_tools\n", "", 1), r"graph.yaml:3: node is missing 'pkg'"),
     (GOOD.replace("exec: relay", "exec: /bin/sh"), r"graph.yaml:5: exec '/bin/sh' is not a package or executable name "
-                                                  r"\(no path, no '..'\): a graph file runs the executables its packages "
-                                                  r"install, nothing else"),
+                                                  r"\(no path, no '..'\): a node runs an executable its package "
+                                                  r"installs; another program needs an 'executable' action"),
     (GOOD.replace("exec: relay", "exec: ../../../../usr/bin/touch"), r"graph.yaml:5: exec '../../../../usr/bin/touch' "
                                                                    r"is not a package or executable name"),
     (GOOD.replace("pkg: hawt_tools\n", "pkg: ../hawt_tools\n", 1), r"graph.yaml:4: pkg '../hawt_tools' is not a "
                                                                    r"package or executable name"),
+    (GOOD + "- executable: {cmd: 'sh -c id', shell: true}\n", r"graph.yaml:17: shell: true is not supported"),
+    (GOOD + "- executable: {cmd: no_such_program_here --x}\n", r"graph.yaml:17: cmd: no program "
+                                                                r"'no_such_program_here' \(not an executable file"),
+    (GOOD + "- executable: {cmd: 'touch \"x'}\n", r"graph.yaml:17: cmd: No closing quotation"),
+    (GOOD + "- executable: {cmd: 'true', cwd: /no/such/folder}\n", r"graph.yaml:17: cwd '/no/such/folder' is not a"),
+    (GOOD + "- executable: {command: 'true'}\n", r"graph.yaml:17: unknown key 'command' in executable "
+                                                r"\(did you mean 'cmd'\?\)"),
 ])
 def test_a_broken_graph_is_refused_naming_file_line_and_key(folder, text, message):
     """Each typo or wrong value gives a one-line GraphError with the position and, where it can, a suggestion."""
     with pytest.raises(GraphError, match=message) as error:
         load_graph(_write(folder, text))
     assert "\n" not in str(error.value)
+
+
+def test_an_executable_action_runs_a_program_by_its_words_without_a_shell(folder):
+    """cmd is split as a shell would split it, its program found on PATH now; no shell interprets it."""
+    graph = load_graph(_write(folder, GOOD + "- executable: {cmd: \"touch '$(var gain) x' ;\", name: marker, "
+                                             "on_exit: shutdown}\n"))
+    (program,) = graph.programs
+    assert program.command == (shutil.which("touch"), "2.5 x", ";")
+    assert (program.name, program.label, program.shutdown_on_exit) == ("marker", "program marker", True)
+    assert [node.label for node in graph.nodes] == ["/wt1/relay", "/sink"]
 
 
 def test_an_undeclared_launch_argument_is_refused(folder):

@@ -180,6 +180,24 @@ def test_a_graph_naming_a_missing_executable_is_refused(hawt_cli, tmp_path):
                                   "(did you mean 'relay'?)\n")
 
 
+def test_an_executable_action_runs_its_program_under_hawt_launch_only(hawt_cli, tmp_path):
+    """A program that is no package's node runs only by an explicit 'executable' action, in its own process beside
+    the nodes; the engines that run nodes in one process refuse the graph before anything starts."""
+    graph = _graph(tmp_path)
+    graph.write_text(graph.read_text() + "- executable: {cmd: 'touch $(var record_file).marker', name: marker}\n")
+    record = tmp_path / "received.json"
+    result = _launch(hawt_cli, graph, record, "-p", "sink.expect:=50")
+    assert result.returncode == 0, result.stderr
+    assert Path(f"{record}.marker").exists() and "[hawt launch] program marker finished" in result.stdout
+    refusal = f"{graph}:33: the 'executable' action 'marker' runs only under hawt launch (separate processes), not"
+    composed = _launch(hawt_cli, graph, tmp_path / "composed.json", "--composed")
+    in_process = subprocess.run([*hawt_cli, "run", str(graph), f"record_file:={tmp_path / 'run.json'}"],
+                                capture_output=True, text=True, timeout=60)
+    assert (composed.returncode, composed.stderr) == (2, f"hawt launch: {refusal} --composed\n")
+    assert (in_process.returncode, in_process.stderr) == (2, f"hawt run: {refusal} in one process (hawt run, "
+                                                             "campaigns)\n")
+
+
 def test_parameters_from_a_file_wildcards_and_overrides_reach_the_node(hawt_cli, tmp_path):
     """'/**' sets the label, the node entry sets gain 3, and -p relay.gain:=4.0 wins over both."""
     (tmp_path / "relay.yaml").write_text("/**:\n  ros__parameters:\n    label: wildcard\n"

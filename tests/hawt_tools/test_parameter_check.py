@@ -16,7 +16,7 @@ def nothing_starts(monkeypatch):
 
     monkeypatch.setattr(launcher.ProcessGraph, "run", refuse)
     monkeypatch.setattr(launcher, "run_composed", refuse)
-    monkeypatch.setattr("hawt_tools.cli._start_recorder", refuse)
+    monkeypatch.setattr("hawt_tools.recording.start_recorder", refuse)
 
 
 def _ipc() -> str:
