@@ -9,7 +9,7 @@ from std_msgs.msg import Int32, String
 
 from hawt_core.topics import EVENTS
 from hawt_node.events import EventPublisher
-from hawt_node.qos import CONTROL_LOOP_HISTORY, EVENTS as EVENTS_QOS
+from hawt_node.qos import CONTROL_LOOP, CONTROL_LOOP_HISTORY, EVENTS as EVENTS_QOS
 from hawt_node.writer_matching import MatchedWriterGate, can_match, unmatched_writers
 from ros_probe import ProbeNode
 
@@ -75,7 +75,7 @@ def test_a_reader_that_never_matches_holds_the_messages_only_up_to_the_limit_and
 
 
 def test_a_reader_counts_only_if_dds_can_match_it_by_reliability_and_durability():
-    reliable_volatile = CONTROL_LOOP_HISTORY
+    reliable_volatile = CONTROL_LOOP
     best_effort = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
     transient_local = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
     assert can_match(reliable_volatile, reliable_volatile)
@@ -83,6 +83,7 @@ def test_a_reader_counts_only_if_dds_can_match_it_by_reliability_and_durability(
     assert not can_match(best_effort, reliable_volatile)
     assert not can_match(reliable_volatile, transient_local)
     assert can_match(transient_local, reliable_volatile)
+    assert can_match(CONTROL_LOOP_HISTORY, transient_local), "a respawned recorder gets the loop's history"
 
 
 def test_a_recorded_node_holds_its_messages_until_the_recorder_subscribes_to_its_topic():
