@@ -7,7 +7,7 @@ lifetime table is ``hawt_tools.campaign.lifetime_table``'s.
 """
 import math
 from pathlib import Path
-from typing import Any, List, Mapping, Sequence
+from typing import Any, Dict, List, Mapping, Sequence, Tuple
 
 import numpy as np
 
@@ -32,13 +32,30 @@ def _by_speed(rows: Sequence[Mapping[str, Any]], controller: str, column: str):
     return np.array(speeds), values
 
 
+def _incomplete(lifetime: Sequence[Mapping[str, Any]]) -> Dict[Tuple[str, str], List[str]]:
+    """The controllers of each incomplete campaign in the entries, by its (``cases``, ``missing``); entries read back
+    from a ``lifetime.csv`` written before campaigns said so have neither."""
+    found: Dict[Tuple[str, str], List[str]] = {}
+    for entry in lifetime:
+        cases = entry.get("cases")
+        if isinstance(cases, str) and cases.startswith("incomplete"):
+            names = found.setdefault((cases, str(entry.get("missing"))), [])
+            if entry["controller"] not in names:
+                names.append(entry["controller"])
+    return found
+
+
 def lifetime_text(lifetime: Sequence[Mapping[str, Any]]) -> str:
-    """The lifetime DEL of the main channels and the AEP per controller, changes against the first, as text."""
+    """The lifetime DEL of the main channels and the AEP per controller, changes against the first, as text; first a
+    line ``incomplete: N of M cases (missing: …)`` per incomplete campaign (naming its controllers when the entries
+    hold more than its own, as ``hawt compare`` of campaign folders does)."""
     controllers = list(dict.fromkeys(entry["controller"] for entry in lifetime))
     value = {(e["controller"], e["quantity"]): e["value"] for e in lifetime}
     quantities = [(f"lifetime DEL {c}", f"{name} DEL [MN*m]", 1e-6) for c, name in MAIN_CHANNELS.items()]
     quantities.append(("AEP [J]", "AEP [GWh]", 1 / 3.6e12))
-    lines = [f"{'':38s}" + "".join(f"{name:>24s}" for name in controllers)]
+    lines = [("" if names == controllers else f"{', '.join(names)}: ") + f"{cases} (missing: {missing})"
+             for (cases, missing), names in _incomplete(lifetime).items()]
+    lines.append(f"{'':38s}" + "".join(f"{name:>24s}" for name in controllers))
     for quantity, label, factor in quantities:
         base = value.get((controllers[0], quantity), math.nan)
         cells = []
@@ -113,7 +130,9 @@ def _figure_pitch(rows, path: Path) -> Path:
 
 def write_campaign_report(title: str, rows: Sequence[Mapping[str, Any]], lifetime: Sequence[Mapping[str, Any]],
                           directory: Path, tables: Mapping[str, Path]) -> Path:
-    """Write ``report.html`` and its PNGs into ``directory``; return the page."""
+    """Write ``report.html`` and its PNGs into ``directory``; return the page. The title of an incomplete campaign
+    ends with ``incomplete: N of M cases``, and the missing cases head the text."""
+    title = " — ".join([title, *dict.fromkeys(cases for cases, _ in _incomplete(lifetime))])
     images = [_figure_del_against_speed(rows, directory / "DEL_against_wind_speed.png"),
               _figure_lifetime(lifetime, directory / "lifetime_DEL_change.png"),
               _figure_pitch(rows, directory / "pitch_activity.png")]

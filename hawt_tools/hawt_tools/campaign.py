@@ -35,8 +35,11 @@ from hawt_analysis.summary import load_channels, summarize
 from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides
 from hawt_tools.graph_file import Graph, GraphError, load_graph
 
-__all__ = ["Case", "CampaignRun", "code_version", "plan_cases", "prepare_wind", "run_case", "run_campaign",
-           "lifetime_table", "write_tables", "read_lifetime"]
+__all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "check_scheduler", "code_version", "plan_cases",
+           "prepare_wind", "run_case", "run_campaign", "lifetime_table", "write_tables", "read_lifetime"]
+
+SCHEDULER_TIMEOUT = 10.0
+"""Seconds ``--scheduler`` has to answer (TCP connection, Dask handshake and identity); the client's timeout too."""
 
 _PACKAGES = ("hawt_core", "hawt_plant", "hawt_controllers", "hawt_analysis", "hawt_tools", "hawt_bag", "hawt_node")
 
@@ -214,6 +217,51 @@ def _duration_text(seconds: float) -> str:
     return f"{minutes // 60}:{minutes % 60:02d}:{seconds:02d}"
 
 
+def check_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT) -> None:
+    """Refuse ``address`` (CampaignError, one line) unless a Dask scheduler answers there within ``timeout`` [s].
+
+    First a plain TCP connection (refused, unknown host, no answer), then Dask's handshake and an ``identity``
+    request under one deadline: distributed bounds only the TCP connection by its timeout, so a listener that
+    accepts and never answers (or an HTTP server waiting for a request line) held ``Client`` forever, and one
+    that answers something else had its bytes read as frame lengths (a 3.07 EiB allocation).
+    """
+    import asyncio
+    import socket
+
+    from distributed.comm import connect
+    from distributed.comm.addressing import get_address_host_port
+    from distributed.security import Security
+
+    deadline = time.monotonic() + timeout
+    try:
+        socket.create_connection(get_address_host_port(address), timeout).close()
+    except TimeoutError:
+        raise CampaignError(f"--scheduler {address}: no connection within {timeout:g} s") from None
+    except OSError as error:
+        raise CampaignError(f"--scheduler {address}: cannot connect ({error.strerror or error})") from None
+
+    async def identity():
+        comm = await connect(address, timeout=timeout, **Security().get_connection_args("client"))
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        answer = asyncio.run(asyncio.wait_for(identity(), max(0.0, deadline - time.monotonic())))
+    except TimeoutError:
+        problem = f"within {timeout:g} s (the port accepts connections but says nothing)"
+    except Exception as error:  # whatever distributed's decoder makes of another protocol's bytes
+        problem = f"(the port answers in another protocol: Dask's decoder raised {type(error).__name__})"
+    else:
+        kind = answer.get("type") if isinstance(answer, dict) else None
+        if kind == "Scheduler":
+            return
+        problem = f"(a Dask {kind} answered)" if kind else "(the port answered something else)"
+    raise CampaignError(f"--scheduler {address}: no Dask scheduler answered {problem}")
+
+
 def _client(workers: Optional[int], scheduler: Optional[str]):
     """A Dask client: of ``scheduler`` if given, else of a local cluster of ``workers`` processes."""
     import logging
@@ -222,7 +270,7 @@ def _client(workers: Optional[int], scheduler: Optional[str]):
 
     if scheduler:
         try:
-            return Client(scheduler, timeout=30), None
+            return Client(scheduler, timeout=SCHEDULER_TIMEOUT), None
         except (OSError, TimeoutError) as error:
             raise CampaignError(f"--scheduler {scheduler}: cannot connect ({error})") from None
     cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
@@ -234,11 +282,14 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
                  bags: bool = False, report: Callable[[str], None] = print) -> CampaignRun:
     """Run every case not yet stored under ``output`` (module notes) and return all the rows of the campaign.
 
+    A ``scheduler`` that is no Dask scheduler is refused first (`check_scheduler`), before any work or output.
     ``report`` gets one line per finished or failed case (progress, elapsed time, estimate of what is left).
     A KeyboardInterrupt stops the campaign; what finished is kept (``interrupted`` is set).
     """
     from distributed import as_completed
 
+    if scheduler:
+        check_scheduler(scheduler)
     cases = plan_cases(campaign)
     output = Path(output)
     stored = {case.key: output / "cases" / f"{case.key}.json" for case in cases}
@@ -293,12 +344,38 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
     return CampaignRun(rows, failed, len(cases) - len(todo), interrupted)
 
 
+def _missing_cases(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> str:
+    """The campaign's cases without a row, per controller: ``"ipc at 12 m/s (seed 3), 20 m/s"``, a bin named by its
+    speed alone when all its seeds are missing; empty when none is."""
+    done = {(row["controller"], row["wind_speed"], row["seed"]) for row in rows}
+    parts = []
+    for config in campaign.controllers:
+        bins = []
+        for speed in campaign.speeds:
+            seeds = [str(seed) for seed in campaign.seeds if (config.name, speed, seed) not in done]
+            if len(seeds) == len(campaign.seeds):
+                bins.append(f"{speed:g} m/s")
+            elif seeds:
+                bins.append(f"{speed:g} m/s (seed{'s' if len(seeds) > 1 else ''} {', '.join(seeds)})")
+        if bins:
+            parts.append(f"{config.name} at {', '.join(bins)}")
+    return "; ".join(parts)
+
+
 def lifetime_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[Dict[str, Any]]:
     """Per controller and load channel: the lifetime DEL over the campaign's bins and site (hawt_analysis.lifetime),
-    and per controller the AEP [J]. A controller missing a whole bin gets none (NaN)."""
+    and per controller the AEP [J]. A controller missing a whole bin gets none (NaN).
+
+    Every entry also says what it is computed from: ``cases`` is ``"all M cases"``, or ``"incomplete: N of M
+    cases"`` after a Ctrl-C or a failure, and ``missing`` names the campaign's cases without a row
+    (`_missing_cases`). An incomplete campaign's numbers come from the cases it has and change once it is resumed.
+    """
     from hawt_analysis.lifetime import annual_energy, bin_probabilities, lifetime_del
 
     probabilities = bin_probabilities(campaign.speeds, campaign.site)
+    total = len(campaign.controllers) * len(campaign.speeds) * len(campaign.seeds)
+    missing = _missing_cases(campaign, rows)
+    cases = f"incomplete: {len(rows)} of {total} cases" if missing else f"all {total} cases"
     table = []
     for config in campaign.controllers:
         mine = [row for row in rows if row["controller"] == config.name]
@@ -314,9 +391,11 @@ def lifetime_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[D
 
         for channel, m in mine[0]["wohler"].items():
             value = lifetime_del(per_bin(f"del.{channel}"), probabilities, m) if complete else math.nan
-            table.append({"controller": config.name, "quantity": f"lifetime DEL {channel}", "m": m, "value": value})
+            table.append({"controller": config.name, "quantity": f"lifetime DEL {channel}", "m": m, "value": value,
+                          "cases": cases, "missing": missing})
         energy = annual_energy(np.nanmean(per_bin("power.mean"), axis=1), probabilities) if complete else math.nan
-        table.append({"controller": config.name, "quantity": "AEP [J]", "m": math.nan, "value": energy})
+        table.append({"controller": config.name, "quantity": "AEP [J]", "m": math.nan, "value": energy,
+                      "cases": cases, "missing": missing})
     return table
 
 

@@ -1,7 +1,10 @@
 """`hawt campaign` on real Dask workers: every case once, resumable, the same on a cluster as locally, a killed
-worker or a Ctrl-C loses nothing, and a case equals the lockstep ROS graph's run bit for bit."""
+worker or a Ctrl-C loses nothing (and what it wrote says incomplete until resumed), a case equals the lockstep ROS
+graph's run bit for bit, and a --scheduler where no Dask scheduler answers is refused within the timeout."""
+import http.server
 import json
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -12,7 +15,9 @@ from typing import List
 import pandas
 import pytest
 
+from hawt_analysis.campaign_report import lifetime_text
 from hawt_bag.step_comparison import step_differences
+from hawt_tools.campaign import SCHEDULER_TIMEOUT, read_lifetime, write_tables
 from hawt_tools.campaign_file import case_overrides, load_campaign
 
 CAMPAIGN = """\
@@ -151,11 +156,46 @@ def test_a_campaign_interrupted_with_ctrl_c_keeps_what_finished_and_resumes(hawt
     assert command.finish() == 130, "".join(command.lines[-30:])
     finished = len(list((output / "cases").glob("*.json")))
     assert 1 <= finished < CASES and "run the same command again to resume" in "".join(command.lines)
+    incomplete = f"incomplete: {finished} of {CASES} cases"
+    assert f"{incomplete} (missing: " in "".join(command.lines)
+    assert set(pandas.read_csv(output / "lifetime.csv")["cases"]) == {incomplete}
+    assert f"<h1>hawt campaign: longer.yaml — {incomplete}</h1>" in (output / "report.html").read_text()
     rerun = subprocess.run([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1"],
                            capture_output=True, text=True, timeout=600)
     assert rerun.returncode == 0, rerun.stdout[-2000:] + rerun.stderr[-2000:]
     assert f"{finished} already done" in rerun.stdout
     assert len(list((output / "cases").glob("*.json"))) == CASES
+    assert set(pandas.read_csv(output / "lifetime.csv")["cases"]) == {f"all {CASES} cases"}
+    assert "incomplete" not in rerun.stdout and "incomplete" not in (output / "report.html").read_text()
+
+
+def _row(controller: str, speed: float, seed: int) -> dict:
+    """A case's row with the numbers the lifetime table reads."""
+    return {"controller": controller, "wind_speed": speed, "seed": seed, "del.root_moment_oop_1": 5e6 + seed,
+            "power.mean": 4e6, "wohler": {"root_moment_oop_1": 10.0}}
+
+
+def test_the_lifetime_table_of_part_of_a_campaign_says_incomplete_and_names_the_missing_cases(tmp_path):
+    """In every row of lifetime.csv, as a pandas reader sees it, and heading its text (the command's summary, the
+    report, `hawt compare`); a bin named by its speed alone has lost all its seeds."""
+    path = tmp_path / "seeds.yaml"
+    path.write_text(CAMPAIGN.replace("seeds: [1]", "seeds: 2"))
+    campaign = load_campaign(path)
+    rows = [_row("baseline", speed, seed) for speed in (12.0, 16.0, 20.0) for seed in (1, 2)]
+    rows += [_row("ipc_1p", 12.0, 1), _row("ipc_1p", 12.0, 2), _row("ipc_1p", 16.0, 1)]
+    write_tables(campaign, rows, tmp_path / "partial")
+    lifetime = pandas.read_csv(tmp_path / "partial" / "lifetime.csv")
+    assert set(lifetime["cases"]) == {"incomplete: 9 of 12 cases"}
+    assert set(lifetime["missing"]) == {"ipc_1p at 16 m/s (seed 2), 20 m/s"}
+    assert lifetime_text(read_lifetime(tmp_path / "partial")).splitlines()[0] == \
+        "incomplete: 9 of 12 cases (missing: ipc_1p at 16 m/s (seed 2), 20 m/s)"
+    rows += [_row("ipc_1p", 16.0, 2), _row("ipc_1p", 20.0, 1), _row("ipc_1p", 20.0, 2)]
+    write_tables(campaign, rows, tmp_path / "complete")
+    assert set(pandas.read_csv(tmp_path / "complete" / "lifetime.csv")["cases"]) == {"all 12 cases"}
+    assert "incomplete" not in lifetime_text(read_lifetime(tmp_path / "complete"))
+    both = read_lifetime(tmp_path / "partial", "partial/") + read_lifetime(tmp_path / "complete", "complete/")
+    assert lifetime_text(both).splitlines()[0] == ("partial/baseline, partial/ipc_1p: incomplete: 9 of 12 cases "
+                                                   "(missing: ipc_1p at 16 m/s (seed 2), 20 m/s)")
 
 
 @pytest.mark.ros
@@ -202,3 +242,81 @@ def test_a_campaign_that_could_not_deliver_is_refused_before_any_case_runs(hawt_
                             timeout=120)
     assert result.returncode == 2 and result.stderr.startswith(f"hawt campaign: {message}"), result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and existing.read_text() == "kept\n"
+
+
+def _listener(greeting: bytes):
+    """A loopback port that accepts connections and sends each ``greeting`` (nothing: it says nothing), its
+    tcp:// address; closed on exit."""
+    server = socket.create_server(("127.0.0.1", 0))
+    accepted = []
+
+    def accept() -> None:
+        while True:
+            try:
+                connection, _ = server.accept()
+            except OSError:  # shut down
+                return
+            connection.sendall(greeting)
+            accepted.append(connection)
+
+    threading.Thread(target=accept, daemon=True).start()
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    server.shutdown(socket.SHUT_RDWR)
+    server.close()
+    for connection in accepted:
+        connection.close()
+
+
+@pytest.fixture
+def silent_port():
+    yield from _listener(b"")
+
+
+@pytest.fixture
+def other_protocol_port():
+    """Answers at once, as some web servers do (distributed read these bytes as frame lengths: 3.07 EiB)."""
+    yield from _listener(b"HTTP/1.0 400 Bad request\r\nContent-Length: 0\r\n\r\n")
+
+
+@pytest.fixture
+def http_port():
+    """Python's HTTP server, which waits for a request line that Dask's handshake never sends."""
+    class Quiet(http.server.BaseHTTPRequestHandler):
+        def log_message(self, *arguments) -> None:
+            pass
+
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    yield f"tcp://127.0.0.1:{server.server_address[1]}"
+    server.shutdown()
+    server.server_close()
+
+
+@pytest.fixture
+def closed_port():
+    """A loopback port bound and not listening: a connection is refused (and no other process can take it)."""
+    with socket.socket() as bound:
+        bound.bind(("127.0.0.1", 0))
+        yield f"tcp://127.0.0.1:{bound.getsockname()[1]}"
+
+
+NO_ANSWER = f"no Dask scheduler answered within {SCHEDULER_TIMEOUT:g} s (the port accepts connections but says nothing)"
+
+
+@pytest.mark.parametrize("port, message", [
+    ("silent_port", NO_ANSWER),
+    ("http_port", NO_ANSWER),
+    ("other_protocol_port", "no Dask scheduler answered (the port answers in another protocol: "),
+    ("closed_port", "cannot connect (Connection refused)"),
+], ids=["accepts and never answers", "HTTP server", "answers in another protocol", "nothing listening"])
+def test_a_scheduler_address_where_no_dask_scheduler_answers_is_refused_before_any_work(
+        hawt_cli, campaign_file, tmp_path, request, port, message):
+    """One line, exit 2, nothing printed or written, within the connection timeout (the subprocess's 120 s only
+    guards against the hang this once was)."""
+    address = request.getfixturevalue(port)
+    output = tmp_path / "out"
+    result = subprocess.run([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--scheduler", address],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2 and result.stderr.startswith(f"hawt campaign: --scheduler {address}: {message}"), \
+        result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1 and result.stdout == "" and not output.exists()
