@@ -117,6 +117,7 @@ def plan_cases(campaign: Campaign) -> List[Case]:
         where = f"{campaign.path}:{config.line}: controllers.{config.name}"
         try:
             graph = _graph(config)
+            graph.refuse_programs("in one process (hawt run, campaigns)")
             for speed in campaign.speeds:
                 check_graph_parameters(graph, _overrides(graph, config, campaign, speed, campaign.seeds[0]), {})
             files = _files_digest(graph)
