@@ -43,7 +43,8 @@ def _change(value) -> str:
 
 
 def analysis_text(summary: Mapping) -> str:
-    """The ``hawt analyze`` table: operating point, DELs, 1P–3P harmonics, pitch activity, events."""
+    """The ``hawt analyze`` table: operating point, DELs, 1P–3P harmonics, pitch activity and the commands the plant
+    refused, events."""
     bag = summary.get("bag", {})
     lines = [f"hawt analyze: {bag.get('file', '')} (namespace {bag.get('namespace', '/')}), "
              f"steps {bag.get('first_step', '?')}..{bag.get('last_step', '?')}",
@@ -72,6 +73,11 @@ def analysis_text(summary: Mapping) -> str:
     if command and command.get("flag_steps"):
         lines.append("command flags      " + ", ".join(f"{name} {count} steps"
                                                        for name, count in command["flag_steps"].items()))
+    refused = summary.get("refused_commands")
+    if refused:
+        lines.append("refused commands   " + "; ".join(
+            f"{r['messages']} from {r['publisher']} (steps {r['first_step']}..{r['last_step']})" for r in refused)
+            + ", not in the pitch command above")
     lines += _segment_lines(summary.get("segments") or [], summary.get("n_blades") or 3)
     for name, by_axis in (summary.get("wind_estimate") or {}).items():
         lines.append(f"wind estimate of {name} against the plant's blade-effective wind (means removed): " + "; ".join(

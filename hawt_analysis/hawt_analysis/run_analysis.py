@@ -1,10 +1,12 @@
 """The numbers of ``hawt analyze`` and ``hawt compare`` for bags: `hawt_analysis` on the recorded topics.
 
 `analyze_bag` reads one turbine's run (`plant_run.load_plant_run`) and returns the
-dict of `hawt_analysis.summary.summarize` (DESIGN §8) with six more keys:
+dict of `hawt_analysis.summary.summarize` (DESIGN §8) with seven more keys:
 ``bag`` (file, namespace, messages per topic), ``pitch_command`` (activity of the
-commanded pitch and the steps each PitchCommand flag was set; None without that
-topic), ``events`` (the ``control/events`` timeline), ``segments`` (harmonic
+commanded pitch the plant obeyed and the steps each PitchCommand flag was set; None
+without that topic), ``refused_commands`` (per publisher whose pitch commands the plant
+refused, an intruder: ``publisher``, ``messages``, ``first_step``, ``last_step``; empty
+without), ``events`` (the ``control/events`` timeline), ``segments`` (harmonic
 amplitudes between the steps of controller switches; empty without switches),
 ``wind_estimate`` (per controller that publishes one and per axis, its estimate against
 the plant's true blade-effective wind, `hawt_analysis.wind_estimation`; empty without) and
@@ -91,6 +93,7 @@ def analyze_bag(path: os.PathLike, namespace: Optional[str] = None, options: Ana
     summary["bag"] = {"file": str(path), "namespace": run.namespace or "/", "messages": run.counts,
                       "first_step": int(run.steps[0]), "last_step": int(run.steps[-1])}
     summary["pitch_command"] = _command_summary(run, options)
+    summary["refused_commands"] = run.refused_commands
     summary["events"] = run.events
     summary["segments"] = _switch_segments(run, options)
     summary["wind_estimate"] = {name: {axis: quality.summary() for axis, quality in by_axis.items()}

@@ -5,7 +5,13 @@ Topics (DESIGN §5), relative to the turbine's namespace (``/wt1/plant/blade_loa
 ``control/events`` are read when present. Rows are matched by ``step`` (one row per
 plant step, DESIGN §3); ``time`` is the blade loads' ``header.stamp`` [s]. If the plant
 topics miss steps, the longest run of steps both hold is taken, with a warning.
+
+The pitch command is what the plant applied: a publisher the plant refused (named in its
+``intruder`` events, hawt_plant.plant_node) has its own channel in a bag recorded by hawt
+(`reader.PUBLISHER`), and its messages are counted apart (``refused_commands``), never taken
+as a step's command. A bag that does not name the publishers holds them mixed, with a warning.
 """
+import re
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
@@ -93,7 +99,8 @@ class PlantRun:
     steps : numpy.ndarray of int, shape (n,)
     pitch_command : dict or None
         ``time`` [s], ``step``, ``pitch`` (n, B) [rad], ``collective`` [rad], ``individual``
-        (n, B) [rad], ``generator_torque`` [N·m], ``flags``; None if the topic is absent.
+        (n, B) [rad], ``generator_torque`` [N·m], ``flags`` of the commands not refused; None if
+        the topic is absent or holds none.
     flag_names : dict
         Bit value → name of the PitchCommand ``FLAG_*`` constants.
     events : list of dict
@@ -105,6 +112,9 @@ class PlantRun:
         Topic → messages read.
     warnings : tuple of str
         One line each, e.g. the plant topics' gaps and the steps analysed instead.
+    refused_commands : list of dict
+        Per publisher whose pitch commands the plant refused, in the order of its first: ``publisher``,
+        ``messages`` (in the bag), ``first_step``, ``last_step``; empty without an intruder.
     """
 
     namespace: str
@@ -116,6 +126,7 @@ class PlantRun:
     counts: dict
     warnings: tuple[str, ...] = ()
     wind_estimates: dict = field(default_factory=dict)
+    refused_commands: list = field(default_factory=list)
 
 
 def _by_step(steps: np.ndarray) -> np.ndarray:
@@ -179,13 +190,13 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     channels.update({name: loads.fields[name][load_rows] for name in _LOAD_FIELDS})
     channels.update({name: state.fields[name][state_rows] for name in _STATE_FIELDS if name in state.fields})
     counts = {loads_topic: len(loads), state_topic: len(state)}
-    command, flag_names, malformed = _pitch_command(reader, topic_in(namespace, PITCH_COMMAND), counts, progress,
-                                                    channels["pitch"].shape[1])
-    warnings += malformed
     events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts, steps, time)
+    command, flag_names, refused, command_warnings = _pitch_command(
+        reader, topic_in(namespace, PITCH_COMMAND), counts, progress, channels["pitch"].shape[1], _refused(events))
+    warnings += command_warnings
     estimates = _wind_estimates(reader, namespace, steps, counts, progress)
     return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings,
-                    estimates)
+                    estimates, refused)
 
 
 def _wind_estimates(reader: BagReader, namespace: str, steps: np.ndarray, counts: dict, progress) -> dict:
@@ -205,12 +216,55 @@ def _wind_estimates(reader: BagReader, namespace: str, steps: np.ndarray, counts
     return found
 
 
-def _pitch_command(reader: BagReader, topic: str, counts: dict, progress,
-                   blades: int) -> tuple[Optional[dict], dict, tuple[str, ...]]:
-    """The commands by step, the flag names of the message type, and a warning naming the malformed messages (a
-    pitch or individual of another length than ``blades``), which are counted and skipped."""
+_INTRUDER = re.compile(rf"^{re.escape(PITCH_COMMAND)} step -?\d+ from (?P<sender>.+?) refused: ")
+"""The detail of the plant's ``intruder`` event, naming the sender as hawt_node.command_senders ``Sample.who`` does:
+its node's fully qualified name, or ``… (publisher gid <hex>)`` for one the graph does not name."""
+
+
+def _refused(events: list) -> tuple[str, ...]:
+    """The senders whose pitch commands the plant refused, as its ``intruder`` events name them."""
+    found = (_INTRUDER.match(event["detail"]) for event in events if event["kind"] == "intruder")
+    return tuple(dict.fromkeys(match["sender"] for match in found if match))
+
+
+def _is_refused(publisher: str, senders: tuple[str, ...]) -> bool:
+    """Whether a channel's ``publisher`` (a node name, or ``gid <hex>``) is one of the refused ``senders``."""
+    return bool(publisher) and any(publisher == sender or sender.endswith(f"(publisher {publisher})")
+                                   for sender in senders)
+
+
+def _applied(columns: TopicColumns, senders: tuple[str, ...]) -> tuple[dict, list, tuple[str, ...]]:
+    """The pitch commands' fields (``time`` added) without the messages of the refused ``senders``; per refused
+    publisher, in the order of its first message, its name, messages, first and last step; and a warning if a refused
+    sender has no channel in the bag."""
+    publishers = set(columns.publisher.tolist())
+    refused = np.isin(columns.publisher, [name for name in publishers if _is_refused(name, senders)])
+    unmatched = [sender for sender in senders if not any(_is_refused(name, (sender,)) for name in publishers)]
+    warnings = ()
+    if unmatched and "" in publishers:
+        warnings = (f"{columns.topic}: the plant refused the commands of {', '.join(unmatched)}, but the bag does not "
+                    "tell them from the applied ones (it does not name the publisher of each message): the commanded "
+                    "pitch is analysed from all of them",)
+    elif unmatched:
+        applied = sorted(publishers - set(columns.publisher[refused].tolist()))
+        warnings = (f"{columns.topic}: the plant refused the commands of {', '.join(unmatched)}, but the bag holds "
+                    "none by that name (the recorder did not receive them, or knew their publisher by its GID only): "
+                    f"the commanded pitch is that of {', '.join(applied)}",)
+    steps, names = columns.fields["step"][refused], columns.publisher[refused]
+    refused_commands = [{"publisher": name, "messages": int(np.count_nonzero(names == name)),
+                         "first_step": int(steps[names == name].min()), "last_step": int(steps[names == name].max())}
+                        for name in dict.fromkeys(names.tolist())]
+    fields = {name: values[~refused] for name, values in {**columns.fields, "time": columns.stamp()}.items()}
+    return fields, refused_commands, warnings
+
+
+def _pitch_command(reader: BagReader, topic: str, counts: dict, progress, blades: int,
+                   senders: tuple[str, ...]) -> tuple[Optional[dict], dict, list, tuple[str, ...]]:
+    """The applied commands by step, the flag names of the message type, the refused commands (`_applied`: those of
+    the refused ``senders``) and warnings: one naming the malformed messages (a pitch or individual of another length
+    than ``blades``), which are counted and skipped, and `_applied`'s."""
     if topic not in reader.topic_names():
-        return None, {}, ()
+        return None, {}, [], ()
     progress(f"reading {topic}")
     columns = read_topic_columns(reader, topic, ("header.stamp", "step", "pitch", "collective", "individual",
                                                  "generator_torque", "flags"))
@@ -219,24 +273,27 @@ def _pitch_command(reader: BagReader, topic: str, counts: dict, progress,
     definition = parse_schema(schema.data.decode(), schema.name)[short_type_name(schema.name)]
     flag_names = {int(value): name for name, value in definition.constants.items() if name.startswith("FLAG_")}
     if not len(columns):
-        return None, flag_names, ()
-    fields, warnings = {**columns.fields, "time": columns.stamp()}, ()
+        return None, flag_names, [], ()
+    fields, refused_commands, warnings = _applied(columns, senders)
+    if not len(fields["step"]):
+        return None, flag_names, refused_commands, warnings
     sizes = [np.array([len(row) for row in fields[name]]) for name in ("pitch", "individual")]
     wellformed = (sizes[0] == blades) & (sizes[1] == blades)
     if not wellformed.all():
         bad = np.flatnonzero(~wellformed)
-        warnings = (f"{topic}: {bad.size} malformed message(s) skipped (pitch and individual must hold {blades} "
-                    f"values; the first at step {int(fields['step'][bad[0]])} holds {int(sizes[0][bad[0]])} and "
-                    f"{int(sizes[1][bad[0]])})",)
+        warnings += (f"{topic}: {bad.size} malformed message(s) skipped (pitch and individual must hold {blades} "
+                     f"values; the first at step {int(fields['step'][bad[0]])} holds {int(sizes[0][bad[0]])} and "
+                     f"{int(sizes[1][bad[0]])})",)
         fields = {name: values[wellformed] for name, values in fields.items()}
-        fields.update({name: np.stack(fields[name]).astype(np.float64) if len(fields[name]) else
-                       np.empty((0, blades)) for name in ("pitch", "individual")})
         if not len(fields["step"]):
-            return None, flag_names, warnings
+            return None, flag_names, refused_commands, warnings
+    # rows of one length once the malformed or refused ones are out
+    fields.update({name: np.stack(fields[name]).astype(np.float64) for name in ("pitch", "individual")
+                   if fields[name].dtype == object})
     rows = _by_step(fields["step"])
     command = {name: fields[name][rows] for name in ("step", "pitch", "collective", "individual",
                                                      "generator_torque", "flags", "time")}
-    return command, flag_names, warnings
+    return command, flag_names, refused_commands, warnings
 
 
 def _events(reader: BagReader, topic: str, counts: dict, steps: np.ndarray, times: np.ndarray) -> list:

@@ -18,7 +18,12 @@ from mcap.summary import Summary
 from .errors import BagError, UnfinishedBagError
 from .qos_profiles import QosOffer, parse_offered_qos
 
-__all__ = ["BagInfo", "BagMessage", "BagReader", "TopicInfo"]
+__all__ = ["PUBLISHER", "BagInfo", "BagMessage", "BagReader", "TopicInfo"]
+
+PUBLISHER = "publisher"
+"""Channel metadata key: who published the channel's messages (the recorder writes one channel per topic and
+publishing node, named by its fully qualified name, or ``gid <hex>`` if the graph did not name it). Bags written
+otherwise (from arrays, or recorded before hawt recorded publishers) have one channel per topic without it."""
 
 _MAGIC = b"\x89MCAP0\r\n"
 _FAULTS = (McapError, struct.error, EOFError, ValueError, KeyError, OSError, MemoryError)
@@ -27,7 +32,11 @@ _FAULTS = (McapError, struct.error, EOFError, ValueError, KeyError, OSError, Mem
 
 @dataclass(frozen=True)
 class TopicInfo:
-    """One topic (channel) of a bag."""
+    """One topic of a bag, all its channels together.
+
+    ``publishers`` holds ``(publisher, count)`` of each channel that names its publisher (`PUBLISHER`), and
+    ``offers`` the QoS offered by the publishers of every channel.
+    """
 
     topic: str
     type: str
@@ -35,6 +44,7 @@ class TopicInfo:
     offers: tuple[QosOffer, ...]
     type_hash: str
     encoding: str
+    publishers: tuple[tuple[str, int], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -82,8 +92,10 @@ class BagInfo:
         width = max((len(t.topic) for t in self.topics), default=0)
         for topic in self.topics:
             qos = ", ".join(sorted({f"{q.reliability}/{q.durability}" for q in topic.offers})) or "unknown"
+            publishers = ", ".join(f"{name} ({count})" for name, count in topic.publishers)
             lines.append(f"  Topic: {topic.topic:<{width}} | Type: {topic.type} | Count: {topic.count} | "
-                         f"Serialization Format: {topic.encoding} | QoS: {qos}")
+                         f"Serialization Format: {topic.encoding} | QoS: {qos}"
+                         + (f" | Publishers: {publishers}" if publishers else ""))
         return "\n".join(lines)
 
 
@@ -97,7 +109,8 @@ def _human_size(size: int) -> str:
 
 @dataclass(frozen=True)
 class BagMessage:
-    """One message: topic, type ``pkg/msg/Type``, times [ns], per-channel sequence and CDR bytes."""
+    """One message: topic, type ``pkg/msg/Type``, times [ns], per-channel sequence, CDR bytes and its channel's
+    publisher ("" if the channel does not name one)."""
 
     topic: str
     type: str
@@ -105,6 +118,7 @@ class BagMessage:
     publish_time: int
     sequence: int
     data: bytes
+    publisher: str = ""
 
 
 class BagReader:
@@ -201,12 +215,15 @@ class BagReader:
         stats = self._summary.statistics
         counts = stats.channel_message_counts if stats else {}
         topics = []
-        for channel in sorted(self._summary.channels.values(), key=lambda c: c.topic):
-            schema = self._summary.schemas.get(channel.schema_id)
-            offers = parse_offered_qos(channel.metadata.get("offered_qos_profiles", ""))
-            topics.append(TopicInfo(channel.topic, schema.name if schema else "", counts.get(channel.id, 0),
-                                    tuple(offers), channel.metadata.get("topic_type_hash", ""),
-                                    channel.message_encoding))
+        for name in self.topic_names():
+            channels = [c for c in self._summary.channels.values() if c.topic == name]
+            schema = self._summary.schemas.get(channels[0].schema_id)
+            offers = [o for c in channels for o in parse_offered_qos(c.metadata.get("offered_qos_profiles", ""))]
+            publishers = tuple((c.metadata[PUBLISHER], counts.get(c.id, 0)) for c in channels
+                               if PUBLISHER in c.metadata)
+            topics.append(TopicInfo(name, schema.name if schema else "", sum(counts.get(c.id, 0) for c in channels),
+                                    tuple(offers), channels[0].metadata.get("topic_type_hash", ""),
+                                    channels[0].message_encoding, publishers))
         compression = sorted({index.compression or "none" for index in self._summary.chunk_indexes})
         return BagInfo(self.path, self.path.stat().st_size, self._header.profile, self._header.library,
                        stats.message_start_time if stats else 0, stats.message_end_time if stats else 0,
@@ -229,7 +246,8 @@ class BagReader:
             for schema, channel, message in self._reader.iter_messages(
                     topics=selected, starting_at=start, ending_before=end, log_time_order=True):
                 yield BagMessage(channel.topic, schema.name if schema else "", message.log_time,
-                                 message.publish_time, message.sequence, message.data)
+                                 message.publish_time, message.sequence, message.data,
+                                 channel.metadata.get(PUBLISHER, ""))
         except _FAULTS as error:
             raise BagError(f"{self.path}: damaged data ({_one_line(error)})") from None
 

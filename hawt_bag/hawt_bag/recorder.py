@@ -11,6 +11,18 @@ bag read in log-time order had the commands of steps 1936-1949 after 1953 (a bus
 switching graph). ``publish_time`` is the message's ``header.stamp`` when its type starts with a
 ``std_msgs/Header`` (DESIGN §7), else the log time.
 
+Who sent each message: a topic has one channel per publishing node, its fully qualified name
+in the channel's ``publisher`` metadata (`reader.PUBLISHER`), so a bag of a run with an
+intruder on ``control/pitch_command`` tells its commands from the loop assembler's. The node
+is found from the message's publisher GID through the graph (hawt_node.command_senders
+``publisher_names``), asked for each GID not seen before on the topic. A node's announcement
+can trail its publisher's discovery (a node that publishes as soon as it is matched: seen in
+this project's tests), so the messages of a publisher the graph does not name yet wait in
+memory, asked again every ``poll_period``, for ``NAME_WAIT`` at most (and at the end of the
+recording); then its channel is named ``gid <hex>``, the GID as an ``intruder`` event gives
+an unnamed sender's, with a warning. A topic's channel is opened with its first message: a
+topic none of whose messages arrived has no channel in the bag.
+
 Progress: about every ``poll_period`` the recorder publishes ``/recorder/progress``
 (hawt_msgs/RecorderProgress): per recorded topic, the publishers its subscription is matched
 with, the stamp of the latest message written and the count. A run waiting for the recorder
@@ -34,9 +46,10 @@ import math
 import re
 import sys
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, List, Optional, Sequence
+from typing import Callable, Iterator, List, Optional, Sequence
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -48,6 +61,7 @@ from rclpy.topic_endpoint_info import TopicEndpointInfo
 from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_core.topics import RECORDER_NODE, RECORDER_PROGRESS
 from hawt_msgs.msg import RecorderProgress
+from hawt_node.command_senders import publisher_names
 
 from .errors import BagError
 from .cdr_columns import header_stamp_ns
@@ -57,11 +71,14 @@ from .qos_profiles import QosOffer
 from .verification import verify_bag
 from .writer import BagWriter
 
-__all__ = ["Recorder", "RecorderOptions", "TopicDiscovery", "adapted_qos", "add_record_arguments", "main",
-           "options_from", "record", "take_backlog", "visible"]
+__all__ = ["NAME_WAIT", "Recorder", "RecorderOptions", "TopicDiscovery", "adapted_qos", "add_record_arguments",
+           "main", "options_from", "record", "take_backlog", "visible"]
 
 _QUIET = 0.1
 """[s] A topic that delivers nothing for this long after the stop has delivered what was queued."""
+NAME_WAIT = 2.0
+"""[s] Wall time a publisher's first messages wait for the graph to name its node; then its channel is named by its
+GID."""
 _PROGRESS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.VOLATILE)
 
@@ -175,10 +192,14 @@ class Recorder(Node):
         super().__init__(options.node_name, **node_kwargs)
         self.options = options
         self.writer = writer
-        self.counts: dict[str, int] = {}
+        self.counts: dict[str, int] = {}  # messages written per topic
+        self.taken: dict[str, int] = {}  # messages taken per topic: written, or waiting for their publisher's name
         self.stamps: dict[str, float] = {}
-        self.log_times: dict[str, int] = {}  # the latest log time written per topic [ns, system clock]
+        self.log_times: dict[str, int] = {}  # the latest log time taken per topic [ns, system clock]
         self.failure: Optional[str] = None
+        self._types: dict[str, tuple[str, bool]] = {}  # topic: its type, and whether it starts with a header
+        self._channels: dict[tuple[str, bytes], int] = {}  # (topic, publisher GID): channel
+        self._waiting: dict[tuple[str, bytes], tuple[float, list]] = {}  # (topic, GID): since, messages
         self._pattern = re.compile(options.regex) if options.regex else None
         self._wanted = {"/" + t.strip("/") for t in options.topics}
         self._recorded = {}
@@ -187,6 +208,7 @@ class Recorder(Node):
         self.create_timer(options.poll_period, self.discovery.poll)
         self.create_timer(options.poll_period, self._publish_progress)
         self.create_timer(options.chunk_interval, self._close_chunk)
+        self.create_timer(options.poll_period, self.write_waiting)
         self.discovery.poll()
 
     def _selected(self, topic: str) -> bool:
@@ -198,32 +220,78 @@ class Recorder(Node):
 
     def _subscribe(self, topic: str, type_name: str, publishers) -> None:
         kind = message_class(type_name)
-        offers = [_offer(p.qos_profile) for p in publishers]
         qos = adapted_qos(publishers, self.options.depth)
-        channel = self.writer.add_topic(topic, type_name, offers)
-        stamped = has_header(type_name)
-        self.counts[topic] = 0
+        self.writer.add_schema(type_name)  # a type without its .msg files is refused here, not at its first message
+        self._types[topic] = (type_name, has_header(type_name))
+        self.counts[topic] = self.taken[topic] = 0
         self.log_times[topic] = 0
 
-        def write(data: bytes, info) -> None:
+        def take(data: bytes, info) -> None:
             received = max(info["received_timestamp"], self.log_times.get(topic, 0))  # delivery order kept
             self.log_times[topic] = received
-            publish = received
-            if stamped and len(data) >= 12:
-                publish = header_stamp_ns(data)
-            try:
-                self.writer.write(channel, received, data, publish)
-            except OSError as error:
-                self._fail(f"writing {self.writer.path} failed ({error.strerror})")
+            self.taken[topic] += 1
+            gid = bytes(info["publisher_gid"]["data"]) if info.get("publisher_gid") else b""
+            key = (topic, gid)
+            if key not in self._channels and key not in self._waiting:
+                self._open(key)
+            if key in self._channels:
+                self._write(topic, self._channels[key], received, data)
+            elif key in self._waiting:
+                self._waiting[key][1].append((received, data))
+
+        self._recorded[topic] = self.create_subscription(kind, topic, take, qos, raw=True)
+        self.get_logger().info(f"recording {topic} [{type_name}] "
+                               f"({'reliable' if qos.reliability == ReliabilityPolicy.RELIABLE else 'best effort'}, "
+                               f"{len(publishers)} publisher(s))")
+
+    def _open(self, key: tuple[str, bytes], final: bool = False) -> None:
+        """Open the channel of the publisher ``key`` (topic, GID): its node's (a node's new publisher, after a
+        respawn, writes on in its node's channel), and write what waited for it. While the graph does not name the
+        node, the publisher's messages wait, at most ``NAME_WAIT`` or until ``final``; then the channel is named by
+        the GID."""
+        topic, gid = key
+        publisher = publisher_names(self, topic).get(gid) if gid else None
+        if gid and publisher is None:
+            since = self._waiting.setdefault(key, (time.monotonic(), []))[0]
+            if not final and time.monotonic() - since < NAME_WAIT:
                 return
+            publisher = f"gid {gid.hex()}"
+            self.get_logger().warning(f"recording {topic} from a publisher the graph does not name: its channel is "
+                                      f"named by the publisher's {publisher}")
+        channel = self.writer.channels.get((topic, publisher))
+        if channel is None:
+            offers = [_offer(p.qos_profile) for p in self.get_publishers_info_by_topic(topic)
+                      if bytes(p.endpoint_gid) == gid]
+            with self._writing():
+                channel = self.writer.add_topic(topic, self._types[topic][0], offers, publisher=publisher)
+        if channel is None:
+            return
+        self._channels[key] = channel
+        for received, data in self._waiting.pop(key, (0.0, []))[1]:
+            self._write(topic, channel, received, data)
+
+    def write_waiting(self, final: bool = False) -> None:
+        """Write the messages whose publisher the graph now names (``final``: all, those of an unnamed one in a
+        channel named by its GID); called on a timer, and once at the end of the recording."""
+        for key in list(self._waiting):
+            self._open(key, final)
+
+    def _write(self, topic: str, channel: int, received: int, data: bytes) -> None:
+        stamped = self._types[topic][1]
+        publish = header_stamp_ns(data) if stamped and len(data) >= 12 else received
+        with self._writing():
+            self.writer.write(channel, received, data, publish)
             self.counts[topic] += 1
             if stamped:
                 self.stamps[topic] = publish * 1e-9
 
-        self._recorded[topic] = self.create_subscription(kind, topic, write, qos, raw=True)
-        self.get_logger().info(f"recording {topic} [{type_name}] "
-                               f"({'reliable' if qos.reliability == ReliabilityPolicy.RELIABLE else 'best effort'}, "
-                               f"{len(publishers)} publisher(s))")
+    @contextmanager
+    def _writing(self) -> Iterator[None]:
+        """A write error (full disk) ends the recording: `failure` says why."""
+        try:
+            yield
+        except OSError as error:
+            self._fail(f"writing {self.writer.path} failed ({error.strerror})")
 
     def _publish_progress(self) -> None:
         topics = sorted(self._recorded)
@@ -232,10 +300,8 @@ class Recorder(Node):
             stamps=[self.stamps.get(t, math.nan) for t in topics], counts=[self.counts[t] for t in topics]))
 
     def _close_chunk(self) -> None:
-        try:
+        with self._writing():
             self.writer.flush()
-        except OSError as error:
-            self._fail(f"writing {self.writer.path} failed ({error.strerror})")
 
     def _fail(self, reason: str) -> None:
         if self.failure is None:
@@ -259,9 +325,9 @@ def take_backlog(executor: SingleThreadedExecutor, recorder: Recorder, stopped_a
         executor.spin_once(timeout_sec=0.01)
         turn += 1
         now = time.monotonic()
-        turns = len(recorder.counts) + timers + 1
+        turns = len(recorder.taken) + timers + 1
         done = True
-        for topic, count in recorder.counts.items():
+        for topic, count in recorder.taken.items():
             if topic not in last or last[topic][0] != count:
                 last[topic] = (count, turn, now)
             if recorder.log_times[topic] < stopped_at and (turn - last[topic][1] < turns or
@@ -325,6 +391,7 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
                 executor.spin_once(timeout_sec=0.05)
             stopped = len(stop)
             take_backlog(executor, recorder, time.time_ns(), lambda: len(stop) > stopped)
+            recorder.write_waiting(final=True)
             counts, failure = recorder.counts, recorder.failure
             executor.shutdown()
             recorder.destroy_node()

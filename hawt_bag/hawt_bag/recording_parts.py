@@ -6,7 +6,8 @@ subscribes transient-local where every publisher offers it (`recorder.adapted_qo
 receives the last samples each publisher keeps (hawt_node.qos: 2000 per control-loop topic), which
 overlap the end of the part before. `join_parts` writes every part's messages into one new bag in
 order, part after part, leaving out a message whose topic and bytes an earlier part already holds
-(a step's message carries its step and stamp, so equal bytes are the same message). A part whose
+(a step's message carries its step and stamp, so equal bytes are the same message). The joined bag
+has one channel per topic and publisher (`reader.PUBLISHER`), as each part has. A part whose
 writer was killed is first read as `hawt bag recover` reads it: its complete chunks.
 """
 import hashlib
@@ -14,13 +15,13 @@ import os
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import Optional, Sequence
 
 from mcap.reader import make_reader
 from mcap.writer import Writer
 
 from .errors import BagError
-from .reader import BagReader, UnfinishedBagError
+from .reader import PUBLISHER, BagReader, UnfinishedBagError
 from .recover import recover_bag
 
 __all__ = ["JoinedParts", "join_parts", "part_path"]
@@ -77,7 +78,7 @@ def join_parts(parts: Sequence[os.PathLike], output: os.PathLike) -> JoinedParts
         raise BagError(f"{output}: exists; refusing to overwrite it") from None
     held: dict[str, set[bytes]] = {}
     taken, repeated = [], []
-    channels: dict[str, int] = {}
+    channels: dict[tuple[str, Optional[str]], int] = {}  # (topic, publisher): channel of the joined bag
     schemas: dict[tuple[str, bytes], int] = {}
     try:
         with target, tempfile.TemporaryDirectory(prefix="hawt_join_") as folder:
@@ -93,13 +94,14 @@ def join_parts(parts: Sequence[os.PathLike], output: os.PathLike) -> JoinedParts
                             counts[1] += 1
                             continue
                         seen.setdefault(channel.topic, set()).add(digest)
-                        if channel.topic not in channels:
+                        joined = (channel.topic, channel.metadata.get(PUBLISHER))
+                        if joined not in channels:
                             key = (schema.name, schema.data) if schema is not None else ("", b"")
                             if schema is not None and key not in schemas:
                                 schemas[key] = writer.register_schema(schema.name, schema.encoding, schema.data)
-                            channels[channel.topic] = writer.register_channel(
+                            channels[joined] = writer.register_channel(
                                 channel.topic, channel.message_encoding, schemas.get(key, 0), channel.metadata)
-                        writer.add_message(channels[channel.topic], message.log_time, message.data,
+                        writer.add_message(channels[joined], message.log_time, message.data,
                                            message.publish_time, message.sequence)
                         counts[0] += 1
                 for topic, digests in seen.items():

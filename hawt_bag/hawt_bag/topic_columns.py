@@ -6,6 +6,9 @@ each chunk holding the topic is read and decompressed once (once for all of them
 its message index, their headers and CDR bytes gathered with numpy,
 and the fields decoded by `cdr_columns` — no Python work per message. Files without
 indexes are read message by message through the mcap reader.
+
+A topic recorded from several publishers has a channel for each (`reader.PUBLISHER`); its
+columns hold every channel's messages, and ``publisher`` says whose each row is.
 """
 import struct
 from dataclasses import dataclass
@@ -19,7 +22,7 @@ from mcap.records import ChunkIndex, Schema
 from .cdr_columns import decode_columns
 from .errors import BagError
 from .msg_definition import parse_schema, short_type_name
-from .reader import BagReader
+from .reader import PUBLISHER, BagReader
 
 __all__ = ["TopicColumns", "read_topic_columns", "read_topics_columns"]
 
@@ -39,8 +42,11 @@ class TopicColumns:
     log_time, publish_time : numpy.ndarray of int64, shape (n,)
         [ns].
     sequence : numpy.ndarray of uint32, shape (n,)
+        Per channel: each publisher's messages are counted apart.
     fields : Mapping[str, numpy.ndarray]
         Field path → values, one row per message (see `cdr_columns.decode_columns`).
+    publisher : numpy.ndarray of str, shape (n,)
+        The publisher of each message's channel ("" where the channel names none).
     """
 
     topic: str
@@ -49,6 +55,7 @@ class TopicColumns:
     publish_time: np.ndarray
     sequence: np.ndarray
     fields: Mapping[str, np.ndarray]
+    publisher: np.ndarray
 
     def __len__(self) -> int:
         return int(self.log_time.size)
@@ -98,12 +105,20 @@ def _u64(records: np.ndarray, positions: np.ndarray) -> np.ndarray:
     return records[positions[:, None] + np.arange(8)].view("<u8")[:, 0]
 
 
+def _publishers(reader: BagReader, channel: np.ndarray) -> np.ndarray:
+    """The publisher of each row from its channel id ("" where the channel names none)."""
+    ids, inverse = np.unique(channel, return_inverse=True)
+    names = [reader.summary.channels[int(i)].metadata.get(PUBLISHER, "") for i in ids]
+    return np.asarray(names, dtype=str)[inverse]
+
+
 def _indexed(reader: BagReader, channel_ids: Mapping[str, set[int]]) -> dict:
-    """Topic → (buffer, starts, lengths, log, publish, sequence) in file order via chunk and message indexes.
+    """Topic → (buffer, starts, lengths, log, publish, sequence, publisher) in file order via chunk and message
+    indexes.
 
     Each chunk holding any of the topics is read and decompressed once.
     """
-    parts = {topic: ([], [], [], [], [], []) for topic in channel_ids}
+    parts = {topic: ([], [], [], [], [], [], []) for topic in channel_ids}
     base = dict.fromkeys(channel_ids, 0)
     for index in sorted(reader.summary.chunk_indexes, key=lambda c: c.chunk_start_offset):
         wanted = {topic: [i for i in index.message_index_offsets if i in ids] for topic, ids in channel_ids.items()}
@@ -112,10 +127,11 @@ def _indexed(reader: BagReader, channel_ids: Mapping[str, set[int]]) -> dict:
             continue
         records = _chunk_records(reader.file, index)
         for topic, ids in wanted.items():
-            buffers, starts, lengths, logs, publishes, sequences = parts[topic]
+            buffers, starts, lengths, logs, publishes, sequences, channels = parts[topic]
             offsets = np.sort(np.concatenate([_message_offsets(reader.file, index.message_index_offsets[i])
                                               for i in ids]))
             record_length = _u64(records, offsets + 1)
+            channels.append(records[offsets[:, None] + 9 + np.arange(2)].view("<u2")[:, 0])
             sequences.append(records[offsets[:, None] + 11 + np.arange(4)].view("<u4")[:, 0])
             logs.append(_u64(records, offsets + 15))
             publishes.append(_u64(records, offsets + 23))
@@ -126,8 +142,12 @@ def _indexed(reader: BagReader, channel_ids: Mapping[str, set[int]]) -> dict:
             starts.append(packed + base[topic])
             lengths.append(size)
             base[topic] += int(size.sum())
-    return {topic: tuple(np.concatenate(column) for column in columns) if columns[0] else None
-            for topic, columns in parts.items()}
+    loaded = dict.fromkeys(parts)
+    for topic, columns in parts.items():
+        if columns[0]:
+            *arrays, channels = (np.concatenate(column) for column in columns)
+            loaded[topic] = (*arrays, _publishers(reader, channels))
+    return loaded
 
 
 def _scanned(reader: BagReader, topic: str):
@@ -139,7 +159,7 @@ def _scanned(reader: BagReader, topic: str):
     buffer = np.frombuffer(b"".join(m.data for m in messages), dtype=np.uint8)
     return (buffer, np.cumsum(size) - size, size, np.array([m.log_time for m in messages], dtype=np.uint64),
             np.array([m.publish_time for m in messages], dtype=np.uint64),
-            np.array([m.sequence for m in messages], dtype=np.uint32))
+            np.array([m.sequence for m in messages], dtype=np.uint32), np.array([m.publisher for m in messages]))
 
 
 def read_topic_columns(reader: BagReader, topic: str, fields: Optional[Iterable[str]] = None) -> TopicColumns:
@@ -205,12 +225,12 @@ def _columns(reader: BagReader, topic: str, schema: Schema, loaded: Optional[tup
     definitions = parse_schema(schema.data.decode(), schema.name)
     if loaded is None:
         empty = np.zeros(0, dtype=np.int64)
-        return TopicColumns(topic, schema.name, empty, empty, empty.astype(np.uint32), {})
-    buffer, starts, lengths, log, publish, sequence = loaded
+        return TopicColumns(topic, schema.name, empty, empty, empty.astype(np.uint32), {}, empty.astype(str))
+    buffer, starts, lengths, log, publish, sequence, publisher = loaded
     order = np.argsort(log, kind="stable")
     try:
         columns = decode_columns(definitions, root, buffer, starts[order], lengths[order], fields)
     except BagError as error:
         raise BagError(f"{reader.path}: {topic}: {error}") from None
     return TopicColumns(topic, schema.name, log[order].astype(np.int64), publish[order].astype(np.int64),
-                        sequence[order], columns)
+                        sequence[order], columns, publisher[order])

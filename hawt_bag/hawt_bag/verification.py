@@ -11,7 +11,9 @@ The plant topics and the pitch command (`CONTIGUOUS`) must hold every step from 
 first to their last. Other stepped topics may have windows (an IPC controller publishes
 only while active): their runs of steps are reported, their holes are not an error. A
 step recorded twice is *resent* if both messages are equal field for field (a lockstep
-plant resends a step nobody answered yet), an error otherwise. The file must be finished,
+plant resends a step nobody answered yet), an error otherwise; a bag that records who
+published each message (`reader.PUBLISHER`) names the publishers of those steps (a second
+publisher on the topic, such as an intruder the plant refused). The file must be finished,
 with a summary section holding statistics.
 """
 import os
@@ -49,10 +51,15 @@ def _ranges_text(ranges: tuple[tuple[int, int], ...]) -> str:
 
 @dataclass(frozen=True)
 class TopicCheck:
-    """One stepped topic: its steps, and whether it must hold every step from its first to its last."""
+    """One stepped topic: its steps, whether it must hold every step from its first to its last, and the publishers
+    of its messages at the steps held twice with different content (none if the bag does not name them)."""
 
     coverage: StepCoverage
     contiguous: bool
+    conflict_publishers: tuple[str, ...] = ()
+
+    def _sent_by(self) -> str:
+        return f" (sent by {', '.join(self.conflict_publishers)})" if self.conflict_publishers else ""
 
     @property
     def problems(self) -> tuple[str, ...]:
@@ -64,7 +71,7 @@ class TopicCheck:
         if conflicts:
             found.append(f"DUPLICATE — {self.coverage.topic} holds {len(conflicts)} step"
                          f"{'s' if len(conflicts) > 1 else ''} twice with different content, the first step "
-                         f"{conflicts[0]}")
+                         f"{conflicts[0]}{self._sent_by()}")
         return tuple(found)
 
     def text(self) -> str:
@@ -80,7 +87,8 @@ class TopicCheck:
         if coverage.resent:
             line += f", {coverage.resent} resent"
         if coverage.conflicts:
-            line += f", DUPLICATE with different content: steps {_listed([str(s) for s in coverage.conflicts])}"
+            line += (f", DUPLICATE with different content: steps {_listed([str(s) for s in coverage.conflicts])}"
+                     + self._sent_by())
         return line
 
     def as_dict(self) -> dict:
@@ -90,7 +98,7 @@ class TopicCheck:
                 "last_step": coverage.last, "contiguous": self.contiguous, "ranges": [list(r) for r in coverage.ranges],
                 "gaps": [{"first_missing": first, "last_missing": last} for first, last in coverage.gaps],
                 "missing": coverage.missing, "resent": coverage.resent, "conflicts": list(coverage.conflicts),
-                "problems": list(self.problems)}
+                "conflict_publishers": list(self.conflict_publishers), "problems": list(self.problems)}
 
 
 @dataclass(frozen=True)
@@ -197,10 +205,13 @@ def verify_bag(path: os.PathLike) -> Verification:
         coverages = {topic: step_coverage(topic, columns.fields.get("step", np.zeros(0, np.int64)))
                      for topic, columns in read_topics_columns(reader, names, ("step",)).items()}
         repeated = [topic for topic, coverage in coverages.items() if coverage.resent]
+        senders = {}
         for topic, columns in read_topics_columns(reader, repeated).items():
             coverages[topic] = step_coverage(topic, columns.fields["step"], _differs(columns))
-        topics = tuple(TopicCheck(coverages[topic], any(topic.endswith(f"/{relative}") for relative in CONTIGUOUS))
-                       for topic in names)
+            conflicting = np.isin(columns.fields["step"], coverages[topic].conflicts)
+            senders[topic] = tuple(name for name in np.unique(columns.publisher[conflicting]).tolist() if name)
+        topics = tuple(TopicCheck(coverages[topic], any(topic.endswith(f"/{relative}") for relative in CONTIGUOUS),
+                                  senders.get(topic, ())) for topic in names)
         summary = () if reader.has_summary else (
             f"NO SUMMARY — {path} has no summary section with statistics; 'hawt bag recover {path}' writes a "
             "complete copy",)

@@ -1,9 +1,11 @@
 """Write a ROS 2 MCAP bag that ``ros2 bag info/play``, Foxglove and mcap_ros2 accept (DESIGN §7).
 
 Profile ``ros2``; one schema per type, ``ros2msg`` text with every dependency;
-one channel per topic with message encoding ``cdr`` and metadata
-``offered_qos_profiles`` and ``topic_type_hash``; chunked, zstd-compressed, message
-indexes and a summary with statistics (the `mcap` library's defaults).
+one channel per topic and publisher with message encoding ``cdr`` and metadata
+``offered_qos_profiles``, ``topic_type_hash`` and, when the publisher is known,
+``publisher`` (the recorder's: the publishing node's fully qualified name); chunked,
+zstd-compressed, message indexes and a summary with statistics (the `mcap` library's
+defaults).
 
 Crash safety: the file is written without a user-space buffer, so every finished
 chunk is in the operating system's hands at once; a process killed later loses only
@@ -21,11 +23,17 @@ from .errors import BagError
 from .interface_files import schema_text, type_hash
 from .msg_definition import short_type_name
 from .qos_profiles import QosOffer, offered_qos_yaml
+from .reader import PUBLISHER
 
 __all__ = ["LIBRARY", "BagWriter"]
 
 LIBRARY = "hawt_bag 0.1.0"
 """The MCAP header's ``library`` field."""
+
+
+def _full_name(type_name: str) -> str:
+    """``pkg/Type`` or ``pkg/msg/Type`` -> ``pkg/msg/Type``."""
+    return short_type_name(type_name).replace("/", "/msg/")
 
 
 class _UnbufferedFile:
@@ -85,7 +93,7 @@ class BagWriter:
         self._writer = Writer(self._file, chunk_size=chunk_size, compression=kinds[compression])
         self._writer.start(profile=Profile.ROS2, library=LIBRARY)
         self._schemas: dict[str, int] = {}
-        self._channels: dict[str, int] = {}
+        self._channels: dict[tuple[str, Optional[str]], int] = {}
         self._counts: dict[int, int] = {}
         self._finished = False
 
@@ -101,13 +109,15 @@ class BagWriter:
         self.finish()
 
     @property
-    def topics(self) -> Mapping[str, int]:
-        """Channel id of each topic added so far."""
+    def channels(self) -> Mapping[tuple[str, Optional[str]], int]:
+        """Channel id of each (topic, publisher) added so far (publisher None: added without one)."""
         return dict(self._channels)
 
     def add_topic(self, topic: str, type_name: str, offers: Optional[list[QosOffer]] = None,
-                  definition: Optional[str] = None) -> int:
-        """Register a topic (its type's schema once) and return its channel id.
+                  definition: Optional[str] = None, publisher: Optional[str] = None) -> int:
+        """Register a topic's channel (its type's schema once) and return its channel id.
+
+        A topic with several publishers may have a channel for each (``publisher``).
 
         Parameters
         ----------
@@ -119,27 +129,45 @@ class BagWriter:
             The publishers' offered QoS (stored as ``offered_qos_profiles``; ``[]`` if None).
         definition : str, optional
             The ``ros2msg`` schema text; by default built from the installed ``.msg`` files.
+        publisher : str, optional
+            Who publishes the channel's messages (stored as `reader.PUBLISHER`): the recorder gives the
+            publishing node's fully qualified name, or ``gid <hex>`` for a publisher the graph does
+            not name. None: no such metadata (one channel for the whole topic).
 
         Raises
         ------
         BagError
-            If the topic is already registered with another type, or the type's
+            If the topic is already registered for that publisher, or the type's
             ``.msg`` files are not found.
         """
-        if topic in self._channels:
-            raise BagError(f"{topic}: topic already added to {self.path}")
-        full_name = f"{short_type_name(type_name).replace('/', '/msg/')}"
+        if (topic, publisher) in self._channels:
+            raise BagError(f"{topic}: topic already added to {self.path}"
+                           + (f" for publisher {publisher}" if publisher is not None else ""))
+        schema_id = self.add_schema(type_name, definition)
+        metadata = {"offered_qos_profiles": offered_qos_yaml(offers or []),
+                    "topic_type_hash": type_hash(_full_name(type_name))}
+        if publisher is not None:
+            metadata[PUBLISHER] = publisher
+        channel_id = self._writer.register_channel(topic, MessageEncoding.CDR, schema_id, metadata)
+        self._channels[(topic, publisher)] = channel_id
+        self._counts[channel_id] = 0
+        return channel_id
+
+    def add_schema(self, type_name: str, definition: Optional[str] = None) -> int:
+        """Register a type's schema (once) and return its id; `add_topic` does it for its topic's type.
+
+        Raises
+        ------
+        BagError
+            If ``definition`` is None and the type's ``.msg`` files are not found.
+        """
+        full_name = _full_name(type_name)
         schema_id = self._schemas.get(full_name)
         if schema_id is None:
             text = definition if definition is not None else schema_text(full_name)
             schema_id = self._writer.register_schema(full_name, SchemaEncoding.ROS2, text.encode())
             self._schemas[full_name] = schema_id
-        metadata = {"offered_qos_profiles": offered_qos_yaml(offers or []),
-                    "topic_type_hash": type_hash(full_name)}
-        channel_id = self._writer.register_channel(topic, MessageEncoding.CDR, schema_id, metadata)
-        self._channels[topic] = channel_id
-        self._counts[channel_id] = 0
-        return channel_id
+        return schema_id
 
     def write(self, channel_id: int, log_time: int, data: bytes, publish_time: Optional[int] = None,
               sequence: Optional[int] = None) -> None:

@@ -188,7 +188,7 @@ def test_a_malformed_command_is_counted_reported_and_skipped_not_the_whole_comma
     bag = tmp_path / "malformed.mcap"
     with BagWriter(bag) as writer:
         write_topics(writer, topics)
-        writer.write(writer.topics[command.topic], int(command.log_time[500]) + 1, payload)
+        writer.write(writer.channels[(command.topic, None)], int(command.log_time[500]) + 1, payload)
     analysis = analyze_bag(bag)
     assert analysis.summary["pitch_command"]["steps"] == channels["time"].size
     assert analysis.summary["warnings"] == ["/control/pitch_command: 1 malformed message(s) skipped (pitch and "

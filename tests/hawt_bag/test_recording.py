@@ -22,6 +22,7 @@ from hawt_bag.topic_columns import read_topic_columns
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ros_helpers import HERE, wait_for_file  # noqa: E402
+from ros_probe import ProbeNode  # noqa: E402
 
 pytestmark = pytest.mark.ros
 
@@ -164,6 +165,40 @@ def test_a_stopped_recorder_first_takes_everything_queued_for_it(processes, prob
     with BagReader(bag) as reader:
         for topic in topics:
             assert np.array_equal(read_topic_columns(reader, topic).fields["step"], np.arange(count)), topic
+
+
+def test_a_topic_of_two_publishing_nodes_is_recorded_in_a_channel_each_and_reads_whole(processes, probe, tmp_path):
+    """Two nodes publish on one topic, 50 messages each (even steps and odd steps): the bag has a channel for each,
+    named by the node's fully qualified name, and read_topic_columns reads the topic whole, each message with its
+    publisher."""
+    count, topic = 50, "/two/loads"
+    bag = tmp_path / "two.mcap"
+    recorder = processes.hawt("record", "-o", str(bag), "--topics", topic)
+    wait_for_file(bag, recorder)
+    second = ProbeNode("second_sender", background=True)
+    try:
+        reliable = QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE)
+        publishers = [node.create_publisher(hawt_msgs.msg.BladeLoads, topic, reliable)
+                      for node in (probe.node, second.node)]
+        probe.wait_until(lambda: all(p.get_subscription_count() == 1 for p in publishers),
+                         "the recorder's subscription", alive=recorder)
+        for step in range(count):
+            for parity, publisher in enumerate(publishers):
+                publisher.publish(hawt_msgs.msg.BladeLoads(step=2 * step + parity))
+        for publisher in publishers:
+            assert publisher.wait_for_all_acked(Duration(seconds=60)), publisher.topic_name
+        code, _, err = processes.stop(recorder)  # while both nodes are in the graph
+    finally:
+        second.close()
+    assert code == 0, err
+    with BagReader(bag) as reader:
+        named = sorted(c.metadata["publisher"] for c in reader.summary.channels.values() if c.topic == topic)
+        columns = read_topic_columns(reader, topic, ("step",))
+    assert named == ["/bag_test_probe", "/second_sender"]
+    steps = columns.fields["step"]
+    assert np.array_equal(np.sort(steps), np.arange(2 * count))
+    assert np.array_equal(steps[columns.publisher == "/bag_test_probe"], np.arange(0, 2 * count, 2))
+    assert np.array_equal(steps[columns.publisher == "/second_sender"], np.arange(1, 2 * count, 2))
 
 
 def test_launch_record_starts_the_recorder_first_and_stops_it_last(hawt_cli, tmp_path):

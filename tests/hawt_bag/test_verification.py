@@ -193,7 +193,8 @@ def test_verify_json_is_one_object_with_the_same_facts(tmp_path, topics, capsys)
     assert state == {"topic": "/wt1/plant/state", "count": 999, "first_step": 0, "last_step": 1000,
                      "contiguous": True, "ranges": [[0, 9], [12, 1000]],
                      "gaps": [{"first_missing": 10, "last_missing": 11}], "missing": 2, "resent": 0,
-                     "conflicts": [], "problems": [report["verdict"].removeprefix("verify: ")]}
+                     "conflicts": [], "conflict_publishers": [],
+                     "problems": [report["verdict"].removeprefix("verify: ")]}
 
 
 @pytest.mark.parametrize("content, message", [(None, "no such file"), (b"launch: []\n", "not an MCAP file")])
