@@ -22,6 +22,7 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_val
 from hawt_core.plant_description import PlantDescription
 
 from .controller import Contribution, Controller, HarmonicContribution, mean_pitch
+from .limits import NO_NARROWING
 from .ipc import HarmonicIpc, HarmonicIpcConfig
 from .mbc import check_configuration, mbc_forward_sample
 
@@ -41,6 +42,11 @@ def config_from(values: Mapping[str, Any]) -> HarmonicIpcConfig:
         fields["schedule_factors"] = tuple(fields["schedule_factors"])
     return HarmonicIpcConfig(**fields)
 
+
+MAX_FILTER_FREQUENCY = 250.0
+"""Highest filter frequency a parameter may set [rad/s]: the Nyquist frequency of an 80 Hz loop."""
+MAX_FILTER_DAMPING = 10.0
+"""Highest filter damping ratio a parameter may set: ten times critical."""
 
 MAX_GAIN = 1e-5
 """Largest IPC gain a parameter may set [rad/(N*m*s), rad/(N*m)]: the NREL 5 MW's designed k_i is about 1.2e-8 (a
@@ -65,17 +71,21 @@ class HarmonicIpcController(Controller):
                       minimum=-2 * math.pi, maximum=2 * math.pi),
         ParameterSpec("lowpass_order", _DEFAULT.lowpass_order, "order of the low-pass on the loads (0 = none)",
                       minimum=0, maximum=2),
-        ParameterSpec("lowpass_corner_frequency", _DEFAULT.lowpass_corner_frequency, "low-pass corner", "rad/s",
-                      minimum=0.0),
+        ParameterSpec("lowpass_corner_frequency", _DEFAULT.lowpass_corner_frequency, "low-pass corner (below the "
+                      "Nyquist frequency of an 80 Hz loop)", "rad/s", minimum=0.0, maximum=MAX_FILTER_FREQUENCY),
         ParameterSpec("lowpass_damping", _DEFAULT.lowpass_damping, "damping of the second-order low-pass",
-                      minimum=0.0),
+                      minimum=0.0, maximum=MAX_FILTER_DAMPING),
         ParameterSpec("notch_frequency", _DEFAULT.notch_frequency, "notch frequency (0 = no notch)", "rad/s",
-                      minimum=0.0),
-        ParameterSpec("notch_beta_num", _DEFAULT.notch_beta_num, "notch numerator damping", minimum=0.0),
-        ParameterSpec("notch_beta_den", _DEFAULT.notch_beta_den, "notch denominator damping", minimum=0.0),
+                      minimum=0.0, maximum=MAX_FILTER_FREQUENCY),
+        ParameterSpec("notch_beta_num", _DEFAULT.notch_beta_num, "notch numerator damping", minimum=0.0,
+                      maximum=MAX_FILTER_DAMPING),
+        ParameterSpec("notch_beta_den", _DEFAULT.notch_beta_den, "notch denominator damping", minimum=0.0,
+                      maximum=MAX_FILTER_DAMPING),
         ParameterSpec("soft_start_begin", _DEFAULT.soft_start_begin,
-                      "collective pitch where the gain ramp starts (both 0: no soft start)", "rad"),
-        ParameterSpec("soft_start_end", _DEFAULT.soft_start_end, "collective pitch where the gain ramp ends", "rad"),
+                      "collective pitch where the gain ramp starts (both 0: no soft start)", "rad",
+                      minimum=NO_NARROWING.min_angle, maximum=NO_NARROWING.max_angle),
+        ParameterSpec("soft_start_end", _DEFAULT.soft_start_end, "collective pitch where the gain ramp ends", "rad",
+                      minimum=NO_NARROWING.min_angle, maximum=NO_NARROWING.max_angle),
         ParameterSpec("schedule_breakpoints", [0.0], "collective pitches of the gain schedule (one value: none)",
                       "rad"),
         ParameterSpec("schedule_factors", [1.0], "gain factors at the breakpoints"),

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 from ._validation import finite_floats, require_finite, require_positive, require_time_step
 from .exceptions import ConfigurationError, InputError
 
-__all__ = ["LimitFlag", "LimitedPitch", "PitchLimits", "limit_pitch"]
+__all__ = ["LimitFlag", "LimitedPitch", "NO_NARROWING", "PitchLimits", "limit_pitch"]
 
 
 class LimitFlag(enum.IntFlag):
@@ -77,6 +77,11 @@ class PitchLimits:
             if wider:
                 beyond[name] = f"{getattr(self, name):g} beyond the turbine's {getattr(turbine, name):g}"
         return beyond
+
+
+NO_NARROWING = PitchLimits(-0.5, 1.6, 1.0)
+"""The widest pitch range any parameter may name [rad, rad/s]: the loop assembler's limit parameters default to it
+(the turbine's own limits apply), and a pitch a controller's parameter names (a gain schedule's) lies within it."""
 
 
 _FLAGS = tuple(LimitFlag(bits) for bits in range(4))  # by ANGLE_SATURATED | RATE_SATURATED bits

@@ -54,11 +54,13 @@ class LqgIpcController(Controller):
         ParameterSpec("linear_models", "", "the plant's linear models (.npz of hawt linearize; empty: the "
                       "NREL 5 MW's)", read_only=True),
         ParameterSpec("measurement_noise", _DEFAULT.measurement_noise, "Q_v of the moments", "(MN*m)^2",
-                      minimum=1e-9),
+                      minimum=1e-9, maximum=1e6 * _DEFAULT.measurement_noise),
         ParameterSpec("wind_walk", _DEFAULT.wind_walk, "intensity of the wind's random walk (Q_w per step: this "
-                      "times dt)", "(m/s)^2/s", minimum=1e-9),
-        ParameterSpec("input_weight", _DEFAULT.input_weight, "R of the LQR", "deg^2", minimum=1e-9),
-        ParameterSpec("inversion_walk", _DEFAULT.inversion_walk, "Q_eta of the SDMI inverse", minimum=1e-9),
+                      "times dt)", "(m/s)^2/s", minimum=1e-9, maximum=1e6 * _DEFAULT.wind_walk),
+        ParameterSpec("input_weight", _DEFAULT.input_weight, "R of the LQR", "deg^2", minimum=1e-9,
+                      maximum=1e6 * _DEFAULT.input_weight),
+        ParameterSpec("inversion_walk", _DEFAULT.inversion_walk, "Q_eta of the SDMI inverse", minimum=1e-9,
+                      maximum=1e6 * _DEFAULT.inversion_walk),
         ParameterSpec("ramp_time", 2.0, "time to ramp the output in or out, and to blend from the outgoing "
                       "controller's output when replacing it", "s", minimum=0.0, maximum=600.0),
     )

@@ -61,7 +61,7 @@ class MainBearingIpcController(Controller):
         ParameterSpec("integral_gain", 0.1, "k_i: crossover of the loop", "1/s", minimum=0.0, maximum=10.0),
         ParameterSpec("proportional_gain", 0.0, "k_p", minimum=0.0, maximum=10.0),
         ParameterSpec("plant_gain", _PLANT_GAIN, "|G|: hub-y 1P moment per rad of 1P pitch", "N*m/rad",
-                      minimum=1.0),
+                      minimum=1.0, maximum=1e4 * _PLANT_GAIN),
         ParameterSpec("plant_phase", _PLANT_PHASE, "arg G", "rad", minimum=-math.pi, maximum=math.pi),
         ParameterSpec("max_amplitude", math.radians(3.0), "largest |P|", "rad", minimum=0.0, maximum=0.5),
         ParameterSpec("ramp_time", 2.0, "time to ramp the output in or out", "s", minimum=0.0, maximum=600.0),

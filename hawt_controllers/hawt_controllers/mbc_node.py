@@ -47,7 +47,7 @@ from rclpy.node import Node
 
 from hawt_controllers.contribution_messages import from_message, message_type
 from hawt_controllers.exceptions import ConfigurationError
-from hawt_controllers.limits import PitchLimits
+from hawt_controllers.limits import NO_NARROWING, PitchLimits
 from hawt_controllers.loop_assembly import LoopAssembler, assembly_problem, extrapolated_azimuth, fade_factor
 from hawt_controllers.mbc import check_configuration, mbc_forward
 from hawt_controllers.switch_listener import AWAIT_SCHEDULE, SwitchListener
@@ -67,8 +67,6 @@ from hawt_node.writer_matching import WAIT_FOR_RECORDER, MatchedWriterGate
 
 __all__ = ["MbcNode", "PARAMETERS", "main"]
 
-NO_NARROWING = PitchLimits(-0.5, 1.6, 1.0)
-"""The pitch limit parameters' defaults, the ends of their ranges: the turbine's own limits apply."""
 
 PARAMETERS = (
     ParameterSpec("harmonics", [0], "harmonics n whose forward transform is published on control/mbc/h{n} "

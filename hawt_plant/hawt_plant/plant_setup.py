@@ -26,6 +26,8 @@ __all__ = ["PARAMETERS", "TURBINE", "aerodynamic_options", "aerodynamics_line", 
 
 TURBINE = "turbine"
 """The value of an aerodynamic option's parameter that takes the turbine definition's option."""
+MAX_DURATION = 1e6
+"""Longest simulated time a parameter may name [s]: eleven days, far beyond any load case."""
 
 
 def _aerodynamic_option(name: str, description: str) -> ParameterSpec:
@@ -40,7 +42,7 @@ PARAMETERS = (
     ParameterSpec("dt", 0.01, "plant step (100 Hz by default)", "s", minimum=1e-3, maximum=0.1, read_only=True),
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",
-                  minimum=0.0, read_only=True),
+                  minimum=0.0, maximum=MAX_DURATION, read_only=True),
     ParameterSpec("wind_type", "steady", "inflow model", choices=WIND_KINDS, read_only=True),
     ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s", minimum=3.0, maximum=30.0,
                   read_only=True),
@@ -54,7 +56,7 @@ PARAMETERS = (
     ParameterSpec("step_speed", 14.0, "wind_type step: hub speed after the step", "m/s", minimum=0.0,
                   maximum=40.0, read_only=True),
     ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
-                  read_only=True),
+                  maximum=MAX_DURATION, read_only=True),
     _aerodynamic_option("tower_shadow", "tower shadow on the blade elements: potential flow (and, behind the "
                         "tower of a downwind rotor, Powles' wake)"),
     _aerodynamic_option("tower_drag", "aerodynamic drag on the tower (AeroDyn TwrAero)"),
@@ -86,7 +88,8 @@ PARAMETERS = (
     ParameterSpec("recorder_required", False, "lockstep: a held plant waits for its recorder however long it "
                   "takes, never going on without it (hawt launch --record sets it and respawns a recorder that "
                   "dies; --record-optional does not)", read_only=True),
-    ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1),
+    ParameterSpec("report_period", 10.0, "simulated time between progress lines", "s", minimum=0.1,
+                  maximum=MAX_DURATION),
     ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
                   "unanswered, resends included; must exceed resend_period) after which the safety system trips "
                   "and feathers", "s", minimum=0.01, maximum=600.0, read_only=True),

@@ -1,11 +1,15 @@
 """Parameters checked before anything starts (issue 12 item 1): one line naming file, node and parameter, exit 2."""
+from pathlib import Path
+
 import pytest
 
 from hawt_tools import launcher
 from hawt_tools.cli import find_graph, main
 from hawt_tools.graph_file import load_graph
 from hawt_tools.launcher import launcher_parameters, package_prefix, parse_overrides
-from hawt_tools.parameter_check import check_graph_parameters
+from hawt_tools.parameter_check import check_graph_parameters, parameter_table
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(autouse=True)
@@ -191,3 +195,17 @@ def test_an_aerodynamic_option_takes_turbine_true_or_false_and_is_dynamically_ty
     for name in AERODYNAMIC_OPTIONS:
         assert rows[name].default == "turbine" and descriptor(rows[name]).dynamic_typing, name
         assert descriptor(rows[name]).additional_constraints == "one of: turbine, true, false"
+
+
+def test_every_number_a_shipped_graph_takes_has_its_range():
+    """Every numeric parameter of every node of the shipped graphs has a minimum and a maximum, which a live set
+    is checked against as the start is: no gain, weight, frequency or time is unbounded."""
+    unbounded = set()
+    for path in sorted((ROOT / "hawt_controllers" / "launch").glob("*.yaml")):
+        graph = load_graph(path, {}, package_prefix)
+        for spec in graph.nodes:
+            for row in parameter_table(graph, spec)[1] or ():
+                if isinstance(row.default, (int, float)) and not isinstance(row.default, bool) and \
+                        (row.minimum is None or row.maximum is None):
+                    unbounded.add(f"{spec.package}/{spec.executable}: {row.name}")
+    assert not unbounded, sorted(unbounded)
