@@ -23,6 +23,13 @@ recording); then its channel is named ``gid <hex>``, the GID as an ``intruder`` 
 an unnamed sender's, with a warning. A topic's channel is opened with its first message: a
 topic none of whose messages arrived has no channel in the bag.
 
+A publisher that joins a topic later with a QoS its subscription cannot match (a volatile one,
+an intruder, on a topic whose publishers all offered transient local when it was subscribed; a
+best-effort one on a reliable subscription) is not lost: the topic gets a second subscription,
+adapted to all its publishers, from which only the messages of the publishers the first cannot
+match are taken (by GID, through the graph's offers; a GID the graph does not list yet waits for
+it, at most ``NAME_WAIT``, then is taken). rosbag2 keeps the first subscription only.
+
 Progress: about every ``poll_period`` the recorder publishes ``/recorder/progress``
 (hawt_msgs/RecorderProgress): per recorded topic, the publishers its subscription is matched
 with, the stamp of the latest message written and the count. A run waiting for the recorder
@@ -62,6 +69,7 @@ from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_core.topics import RECORDER_NODE, RECORDER_PROGRESS
 from hawt_msgs.msg import RecorderProgress
 from hawt_node.command_senders import publisher_names
+from hawt_node.writer_matching import can_match
 
 from .errors import BagError
 from .cdr_columns import header_stamp_ns
@@ -126,6 +134,11 @@ def _offer(profile) -> QosOffer:
                                profile.deadline.nanoseconds, profile.lifespan.nanoseconds, profile.liveliness,
                                profile.liveliness_lease_duration.nanoseconds,
                                profile.avoid_ros_namespace_conventions)
+
+
+def _gid(info) -> bytes:
+    """The publisher GID of a message's info (empty if the middleware gives none)."""
+    return bytes(info["publisher_gid"]["data"]) if info.get("publisher_gid") else b""
 
 
 def visible(topic: str) -> bool:
@@ -200,6 +213,9 @@ class Recorder(Node):
         self._types: dict[str, tuple[str, bool]] = {}  # topic: its type, and whether it starts with a header
         self._channels: dict[tuple[str, bytes], int] = {}  # (topic, publisher GID): channel
         self._waiting: dict[tuple[str, bytes], tuple[float, list]] = {}  # (topic, GID): since, messages
+        self._second = {}  # topic: its second subscription, for publishers the first cannot match
+        self._missed: dict[str, dict[bytes, bool]] = {}  # topic: {GID: the first subscription cannot match it}
+        self._unsorted: dict[str, list] = {}  # topic: second-subscription messages of GIDs the graph does not list
         self._pattern = re.compile(options.regex) if options.regex else None
         self._wanted = {"/" + t.strip("/") for t in options.topics}
         self._recorded = {}
@@ -209,6 +225,7 @@ class Recorder(Node):
         self.create_timer(options.poll_period, self._publish_progress)
         self.create_timer(options.chunk_interval, self._close_chunk)
         self.create_timer(options.poll_period, self.write_waiting)
+        self.create_timer(options.poll_period, self.watch_offers)
         self.discovery.poll()
 
     def _selected(self, topic: str) -> bool:
@@ -226,23 +243,59 @@ class Recorder(Node):
         self.counts[topic] = self.taken[topic] = 0
         self.log_times[topic] = 0
 
-        def take(data: bytes, info) -> None:
-            received = max(info["received_timestamp"], self.log_times.get(topic, 0))  # delivery order kept
-            self.log_times[topic] = received
-            self.taken[topic] += 1
-            gid = bytes(info["publisher_gid"]["data"]) if info.get("publisher_gid") else b""
-            key = (topic, gid)
-            if key not in self._channels and key not in self._waiting:
-                self._open(key)
-            if key in self._channels:
-                self._write(topic, self._channels[key], received, data)
-            elif key in self._waiting:
-                self._waiting[key][1].append((received, data))
-
-        self._recorded[topic] = self.create_subscription(kind, topic, take, qos, raw=True)
+        self._recorded[topic] = self.create_subscription(kind, topic, lambda data, info: self._take(topic, data, info),
+                                                         qos, raw=True)
         self.get_logger().info(f"recording {topic} [{type_name}] "
                                f"({'reliable' if qos.reliability == ReliabilityPolicy.RELIABLE else 'best effort'}, "
                                f"{len(publishers)} publisher(s))")
+
+    def _take(self, topic: str, data: bytes, info) -> None:
+        """A message of ``topic``: into its publisher's channel, or waiting for its publisher's name."""
+        received = max(info["received_timestamp"], self.log_times.get(topic, 0))  # delivery order kept
+        self.log_times[topic] = received
+        self.taken[topic] += 1
+        key = (topic, _gid(info))
+        if key not in self._channels and key not in self._waiting:
+            self._open(key)
+        if key in self._channels:
+            self._write(topic, self._channels[key], received, data)
+        elif key in self._waiting:
+            self._waiting[key][1].append((received, data))
+
+    def watch_offers(self, final: bool = False) -> None:
+        """Give a topic a second subscription once a publisher its subscription cannot match appears (module notes),
+        and take what waited there for the graph to list its publisher (``final``: all of it)."""
+        for topic, subscription in list(self._recorded.items()):
+            if topic in self._second:
+                continue
+            publishers = self.get_publishers_info_by_topic(topic)
+            if all(can_match(p.qos_profile, subscription.qos_profile) for p in publishers):
+                continue
+            qos = adapted_qos(publishers, self.options.depth)
+            self._second[topic] = self.create_subscription(
+                message_class(self._types[topic][0]), topic, lambda data, info, t=topic: self._take_second(t, data, info),
+                qos, raw=True)
+            self.get_logger().info(f"recording {topic} from its publishers of other QoS through a second subscription "
+                                   f"({qos.durability.name.lower()}, {qos.reliability.name.lower()})")
+        for topic, waiting in list(self._unsorted.items()):
+            self._unsorted[topic] = []
+            for data, info, since in waiting:
+                self._take_second(topic, data, info, -math.inf if final else since)
+
+    def _take_second(self, topic: str, data: bytes, info, since: Optional[float] = None) -> None:
+        """A message of the second subscription: taken only from a publisher the first cannot match (the others'
+        come through the first); one from a publisher the graph does not list yet waits, at most ``NAME_WAIT``."""
+        gid = _gid(info)
+        missed = self._missed.setdefault(topic, {})
+        if gid not in missed:
+            first = self._recorded[topic].qos_profile
+            missed.update({bytes(p.endpoint_gid): not can_match(p.qos_profile, first)
+                           for p in self.get_publishers_info_by_topic(topic)})
+        since = time.monotonic() if since is None else since
+        if gid not in missed and time.monotonic() - since < NAME_WAIT:
+            self._unsorted.setdefault(topic, []).append((data, info, since))
+        elif missed.get(gid, True):
+            self._take(topic, data, info)
 
     def _open(self, key: tuple[str, bytes], final: bool = False) -> None:
         """Open the channel of the publisher ``key`` (topic, GID): its node's (a node's new publisher, after a
@@ -391,6 +444,7 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
                 executor.spin_once(timeout_sec=0.05)
             stopped = len(stop)
             take_backlog(executor, recorder, time.time_ns(), lambda: len(stop) > stopped)
+            recorder.watch_offers(final=True)
             recorder.write_waiting(final=True)
             counts, failure = recorder.counts, recorder.failure
             executor.shutdown()

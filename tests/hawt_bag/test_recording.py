@@ -12,7 +12,7 @@ from mcap.stream_reader import StreamReader, breakup_chunk
 from mcap.records import Chunk, Message
 from mcap_ros2.decoder import DecoderFactory
 from rclpy.duration import Duration
-from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 
 from hawt_bag.errors import BagError
@@ -199,6 +199,40 @@ def test_a_topic_of_two_publishing_nodes_is_recorded_in_a_channel_each_and_reads
     assert np.array_equal(np.sort(steps), np.arange(2 * count))
     assert np.array_equal(steps[columns.publisher == "/bag_test_probe"], np.arange(0, 2 * count, 2))
     assert np.array_equal(steps[columns.publisher == "/second_sender"], np.arange(1, 2 * count, 2))
+
+
+def test_a_publisher_the_subscription_cannot_match_is_recorded_through_a_second_one_each_message_once(
+        processes, probe, tmp_path):
+    """The topic's first publisher offers transient local, so the recorder subscribes transient local; a volatile
+    publisher (an intruder, a probe) that joins later cannot match that subscription. Its messages come through a
+    second subscription, which matches both publishers: every message of both is in the bag, and once."""
+    count, topic = 50, "/late/loads"
+    bag = tmp_path / "late.mcap"
+    recorder = processes.hawt("record", "-o", str(bag), "--topics", topic)
+    wait_for_file(bag, recorder)
+    second = ProbeNode("volatile_sender", background=True)
+    try:
+        latched = QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        first = probe.node.create_publisher(hawt_msgs.msg.BladeLoads, topic, latched)
+        probe.wait_until(lambda: first.get_subscription_count() == 1, "the recorder's subscription", alive=recorder)
+        late = second.node.create_publisher(hawt_msgs.msg.BladeLoads, topic,
+                                            QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE))
+        probe.wait_until(lambda: late.get_subscription_count() == 1 and first.get_subscription_count() == 2,
+                         "the recorder's second subscription", alive=recorder)
+        for step in range(count):
+            first.publish(hawt_msgs.msg.BladeLoads(step=2 * step))
+            late.publish(hawt_msgs.msg.BladeLoads(step=2 * step + 1))
+        for publisher in (first, late):
+            assert publisher.wait_for_all_acked(Duration(seconds=60)), publisher.topic_name
+        code, _, err = processes.stop(recorder)
+    finally:
+        second.close()
+    assert code == 0, err
+    with BagReader(bag) as reader:
+        columns = read_topic_columns(reader, topic, ("step",))
+    assert np.array_equal(np.sort(columns.fields["step"]), np.arange(2 * count))
+    assert np.array_equal(columns.fields["step"][columns.publisher == "/volatile_sender"], np.arange(1, 2 * count, 2))
 
 
 def test_launch_record_starts_the_recorder_first_and_stops_it_last(hawt_cli, tmp_path):

@@ -8,7 +8,6 @@ from std_msgs.msg import Header
 from hawt_analysis.run_analysis import analyze_bag
 from hawt_bag.reader import BagReader
 from hawt_faults.fault_runs import DT
-from hawt_node.qos import CONTROL_LOOP_HISTORY
 
 pytestmark = pytest.mark.ros
 
@@ -34,12 +33,9 @@ def test_analyze_counts_an_intruders_commands_apart_from_the_applied_ones(launch
     alone.finish()
     namespace = "refused"
     intruder = probe(namespace)
-    # The intruder offers what mbc offers: a recorder that discovers mbc's publisher first subscribes transient-local,
-    # and then never receives a volatile publisher's messages (the middleware's "incompatible QoS" warning).
+    # The intruder offers volatile, mbc transient local: the recorder takes the intruder's commands through a second
+    # subscription (hawt_bag.recorder's module notes)
     topic = f"/{namespace}/control/pitch_command"
-    intruder.node.destroy_publisher(intruder.publishers["control/pitch_command"])
-    intruder.publishers["control/pitch_command"] = intruder.node.create_publisher(PitchCommand, topic,
-                                                                                  CONTROL_LOOP_HISTORY)
     run = launch("baseline", namespace, *arguments)
     intruder.wait_until_recorded(run.launcher, margin=0)
     intruder.wait_for_step(100, run.launcher)
