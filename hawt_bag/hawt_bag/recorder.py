@@ -266,8 +266,8 @@ class Recorder(Node):
         """Give a topic a second subscription once a publisher its subscription cannot match appears (module notes),
         and take what waited there for the graph to list its publisher (``final``: all of it)."""
         for topic, subscription in list(self._recorded.items()):
-            if topic in self._second:
-                continue
+            if topic in self._second or subscription.get_publisher_count() >= self.count_publishers(topic):
+                continue  # matched with every publisher the graph lists: the graph's offers need no look
             publishers = self.get_publishers_info_by_topic(topic)
             if all(can_match(p.qos_profile, subscription.qos_profile) for p in publishers):
                 continue
