@@ -18,7 +18,9 @@ set (the library's per-blade demands, records 42-44, less their mean: the collec
   makes the last call (status -1); so does the end of the process.
 - The library file is checked before anything starts (``check_values``, which every engine's parameter
   check runs: hawt_controllers.discon_library.check_library): an ELF shared object of this machine that
-  exports ``DISCON``, else one line naming ``library``, the file and what is wrong.
+  exports ``DISCON``, else one line naming ``library``, the file and what is wrong. So is the input file:
+  readable, and for a ROSCO input the settings hawt sets and the rotor performance file (``PerfFileName``)
+  there, else one line naming ``infile``.
 - While inactive the library is not called; the (unpublished) output is the measured pitch and torque.
 - A library that fails (``aviFAIL`` < 0) raises :class:`~hawt_controllers.controller.ControllerFailure`
   with its message: the ROS node reports it and stops answering (the plant's safety system takes over);
@@ -70,14 +72,7 @@ class DisconController(Controller):
         self.library_path, infile = self.files(self.values)
         self._folder = tempfile.TemporaryDirectory(prefix="hawt-discon-input-")
         if is_rosco_input(infile):
-            v = self.values
-            settings = {"LoggingLevel": "0", "IPC_ControlMode": str(v["ipc_mode"]),
-                        "IPC_KI": " ".join(f"{k:.9g}" for k in v["ipc_integral_gain"]),
-                        "IPC_aziOffset": " ".join(f"{a:.9g}" for a in v["ipc_azimuth_offset"])}
-            try:
-                infile = write_private_input(infile, Path(self._folder.name) / infile.name, settings)
-            except (KeyError, OSError) as error:
-                raise ParameterError(f"infile: {error.args[0]}") from None
+            infile = self._private_input(self.values, infile, Path(self._folder.name))
         elif any(self.values[name] != default for name, default in _IPC_DEFAULTS.items()):
             raise ParameterError(f"ipc_mode, ipc_integral_gain, ipc_azimuth_offset: {infile} is not a ROSCO input "
                                  "file (no PerfFileName setting); set the library's IPC in its own file")
@@ -100,7 +95,9 @@ class DisconController(Controller):
     @classmethod
     def check_values(cls, values: Mapping[str, Any]) -> None:
         """The library passes check_library (an ELF shared object of this machine exporting ``DISCON``), the input
-        file is readable; ROSCO's IPC needs ``individual_pitch``; two gains and offsets."""
+        file is readable, and a ROSCO input gives the private copy (:meth:`_private_input`: the settings hawt sets are
+        in it and the rotor performance file its estimator reads is there, else ROSCO would end the process); ROSCO's
+        IPC needs ``individual_pitch``; two gains and offsets."""
         library, infile = cls.files(values)
         try:
             check_library(library)
@@ -110,11 +107,27 @@ class DisconController(Controller):
             infile.open("rb").close()
         except OSError as error:
             raise ParameterError(f"infile: {infile}: {error.strerror}") from None
+        if is_rosco_input(infile):  # the private copy the controller writes, here before anything starts
+            with tempfile.TemporaryDirectory(prefix="hawt-discon-check-") as folder:
+                cls._private_input(values, infile, Path(folder))
         for name in ("ipc_integral_gain", "ipc_azimuth_offset"):
             if len(values[name]) != 2:
                 raise ParameterError(f"{name}: expected 2 values (1P, 2P), found {len(values[name])}")
         if values["ipc_mode"] > 0 and not values["individual_pitch"]:
             raise ParameterError("ipc_mode: ROSCO's IPC commands each blade; set individual_pitch true")
+
+    @staticmethod
+    def _private_input(values: Mapping[str, Any], infile: Path, folder: Path) -> Path:
+        """The ROSCO input ``infile`` written into ``folder`` with its paths absolute, ``LoggingLevel`` 0 and the IPC
+        parameters (rosco_input.write_private_input); a setting it lacks or a missing performance file is a
+        ParameterError naming ``infile``."""
+        settings = {"LoggingLevel": "0", "IPC_ControlMode": str(values["ipc_mode"]),
+                    "IPC_KI": " ".join(f"{k:.9g}" for k in values["ipc_integral_gain"]),
+                    "IPC_aziOffset": " ".join(f"{a:.9g}" for a in values["ipc_azimuth_offset"])}
+        try:
+            return write_private_input(infile, folder / infile.name, settings)
+        except (KeyError, OSError) as error:
+            raise ParameterError(f"infile: {error.args[0]}") from None
 
     @classmethod
     def claimed(cls, values: Mapping[str, Any]) -> Tuple[str, ...]:

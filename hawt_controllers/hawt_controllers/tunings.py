@@ -11,7 +11,7 @@ kind            file in the folder  written by
 ``ipc``         ``ipc.yaml``        ``python -m hawt_controllers.ipc_design --turbine DIR``
 ``ipc_retuned`` ``ipc_retuned.yaml`` the same
 ``linear``      ``linear.npz``      ``hawt linearize turbine_file:=DIR --output DIR/linear.npz``
-``discon``      ``DISCON.IN``       the deck's ROSCO input, copied there with its Cp surface
+``discon``      ``DISCON.IN``       ``hawt turbine import``: the deck's ROSCO input, with its Cp/Ct/Cq file
 =============== =================== ==========================================================
 
 Graph files ask for them with ``$(turbine-tuning TURBINE KIND)``.
@@ -42,7 +42,8 @@ PACKAGED = {
 _WRITERS = {"cpc": "hawt design cpc --turbine {t}", "ipc": "python -m hawt_controllers.ipc_design --turbine {t}",
             "ipc_retuned": "python -m hawt_controllers.ipc_design --turbine {t}",
             "linear": "hawt linearize turbine_file:={t} --output {f}",
-            "discon": "copy the deck's DISCON.IN (and the Cp_Ct_Cq file it names) to {f}"}
+            "discon": "hawt turbine import DECK.fst -o {t} (it copies the deck's DISCON.IN and the Cp/Ct/Cq file "
+                      "it names)"}
 
 
 class TuningError(ValueError):

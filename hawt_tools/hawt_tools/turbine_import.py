@@ -46,12 +46,14 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
   does differently (another UA or DBEMT model, the Bak correction, drag in the induction, no tip loss, ...) is an
   approximation or not modelled, listed with the others.
 
-Decks the import refuses, with the file and key named (:class:`DeckError`): a missing file; CompElast other than
-1 (BeamDyn blades or SimpleElastoDyn: the plant's blade is ElastoDyn's), CompAero other than 2 (no AeroDyn blade),
-CompServo other than 1 or a ServoDyn controller that is not ROSCO (PCMode and VSContrl 5 with a ROSCO DLL_InFile:
-the limits and rated values come from it), MHK turbines; blades that differ (ED PreCone, BldFile or AD ADBlFile
-per blade), AD AFTabMod other than 1 (polars over Reynolds number or a control setting), a polar without lift or
-drag columns or not over -180..180 deg. A value out of range is refused before anything is written: the values
+Decks the import refuses, with the file and key named (:class:`DeckError`): a missing file, including those the
+DISCON.IN names (PerfFileName, and OL_Filename unless "unused": ``hawt turbine import`` copies them beside the
+turbine's DISCON.IN); CompElast other than 1 (BeamDyn blades or SimpleElastoDyn: the plant's blade is ElastoDyn's),
+CompAero other than 2 (no AeroDyn blade), CompServo other than 1 or a ServoDyn controller that is not ROSCO (PCMode
+and VSContrl 5 with a ROSCO DLL_InFile: the limits and rated values come from it, so an imported turbine always has
+its DISCON.IN), MHK turbines; blades that differ (ED PreCone, BldFile or AD ADBlFile per blade), AD AFTabMod other
+than 1 (polars over Reynolds number or a control setting), a polar without lift or drag columns or not over
+-180..180 deg. A value out of range is refused before anything is written: the values
 the import computes with where they are read (:data:`_FLOORS`, TipRad > HubRad), every other one by the
 definition's own checks, run on it before :func:`write_turbine` writes it (one line naming the deck's file and
 key, the value and the range allowed; e.g. ``..._ElastoDyn.dat: GBRatio: expected a value > 0, found 0``).
@@ -72,7 +74,7 @@ from typing import Any, Callable, Dict, List, Mapping, Sequence, Tuple
 import numpy as np
 from openfast_io.FAST_reader import InputReader_OpenFAST
 
-from hawt_controllers.rosco_input import read_settings
+from hawt_controllers.rosco_input import RELATIVE_PATH_SETTINGS, read_settings
 from hawt_plant.turbine import TurbineDefinitionError, load_turbine
 
 __all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "AerodynamicMapping", "DeckError", "ImportedAirfoil",
@@ -403,7 +405,12 @@ def _read_servodyn(deck: _Deck, main: Mapping[str, Any], files: Dict[str, str]) 
                             f"from the ROSCO controller's DISCON.IN ({key} = 5)")
     discon_path = deck.existing(files["sd"], "DLL_InFile", "", sd["DLL_InFile"])
     files["discon"] = deck.name(discon_path)
-    return sd, _Discon(discon_path, files["discon"])
+    discon = _Discon(discon_path, files["discon"])
+    for key in RELATIVE_PATH_SETTINGS:  # the files hawt turbine import copies beside the turbine's DISCON.IN
+        value = discon.settings.get(key, "").strip('"')
+        if value and value != "unused":
+            deck.existing(files["discon"], key, discon_path.parent, value)
+    return sd, discon
 
 
 def _environment(main: Mapping[str, Any], ad: Mapping[str, Any], files: Mapping[str, str]) -> Dict[str, Sourced]:

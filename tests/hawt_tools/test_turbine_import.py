@@ -16,10 +16,14 @@ import numpy as np
 import pytest
 import yaml
 
+from hawt_bag.plant_run import load_plant_run
+from hawt_bag.reader import BagReader
+from hawt_controllers.tunings import TuningError, tuning_file
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
-from hawt_plant.turbine import load_turbine, nrel_5mw, nrel_5mw_two_bladed_downwind
+from hawt_plant.turbine import load_turbine, nrel_5mw, nrel_5mw_two_bladed_downwind, turbine_from
 from hawt_plant.turbine_summary import turbine_summary
+from hawt_tools.cli import main
 from hawt_tools.turbine_import import RIGID_TORSION_FREQUENCY, node_widths, import_deck, write_turbine
 
 NREL_5MW = "NREL-5MW/NREL-5MW.fst"
@@ -397,6 +401,38 @@ def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(h
     assert "  dynamic_inflow on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat Wake_Mod = 1 (BEMT), DBEMT_Mod = 2" in text
 
 
+def test_an_imported_turbine_carries_its_rosco_input_and_runs_rosco_wherever_its_folder_is(rosco_case, tmp_path):
+    """``hawt turbine import`` copies the deck's DISCON.IN (ServoDyn DLL_InFile) and the Cp/Ct/Cq file it names into
+    the folder, PerfFileName rewritten to the file's name and every other line byte for byte the deck's. The folder,
+    its cpc designed (the rosco graph holds cpc to swap to) and moved elsewhere, runs ``hawt run rosco
+    turbine:=MOVED``: in steady 18 m/s ROSCO holds the IEA 15 MW at its rated speed and power."""
+    folder = tmp_path / "iea15"
+    assert main(["turbine", "import", str(rosco_case(IEA_15MW)), "-o", str(folder)]) == 0
+    deck = rosco_case(IEA_15MW).with_name("IEA-15-240-RWT-Monopile_DISCON.IN").read_bytes().splitlines(True)
+    copy = (folder / "DISCON.IN").read_bytes().splitlines(True)
+    changed = [line for line, original in zip(copy, deck) if line != original]
+    assert len(copy) == len(deck) and len(changed) == 1
+    assert changed[0].split()[:3] == [b'"Cp_Ct_Cq.IEA15MW.txt"', b"!", b"PerfFileName"]
+    assert (folder / "Cp_Ct_Cq.IEA15MW.txt").read_bytes() == \
+        rosco_case("IEA-15-240-RWT/IEA-15-240-RWT/Cp_Ct_Cq.IEA15MW.txt").read_bytes()
+    assert main(["design", "cpc", "--turbine", str(folder)]) == 0
+    moved = shutil.move(folder, tmp_path / "elsewhere")
+    bag = tmp_path / "rosco.mcap"
+    assert main(["run", "rosco", f"turbine:={moved}", "duration:=5", "--record", str(bag)]) == 0
+    with BagReader(bag) as reader:
+        channels = load_plant_run(reader).channels
+    rated = turbine_from(str(moved)).description(0.01)
+    assert channels["time"][-1] == pytest.approx(5.0, abs=0.011)
+    assert channels["rotor_speed"] == pytest.approx(rated.rated_rotor_speed, rel=0.005)
+    assert channels["electrical_power"] == pytest.approx(rated.rated_power, rel=0.005)
+
+
+def test_a_turbine_folder_without_its_discon_input_names_the_import_that_writes_it(tmp_path):
+    with pytest.raises(TuningError, match=rf"no discon tuning {tmp_path}/DISCON.IN; write it with: hawt turbine "
+                                          rf"import DECK.fst -o {tmp_path} \(it copies the deck's DISCON.IN"):
+        tuning_file(str(tmp_path), "discon")
+
+
 def _copy_5mw(tmp_path: Path, case) -> Path:
     return shutil.copytree(case("NREL-5MW"), tmp_path / "NREL-5MW") / "NREL-5MW.fst"
 
@@ -425,14 +461,23 @@ def _with_reynolds_polars(tmp_path: Path, case) -> Path:
     return fst
 
 
-def _with_elastodyn(key: str, value: str):
-    """A deck maker: the NREL 5 MW with ElastoDyn's ``key`` set to ``value``."""
+def _with_setting(file: str, key: str, value: str):
+    """A deck maker: the NREL 5 MW with ``key`` of its ``file`` set to ``value``."""
     def make(tmp_path: Path, case) -> Path:
         fst = _copy_5mw(tmp_path, case)
-        _set(fst.parent / "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat", key, value)
+        _set(fst.parent / file, key, value)
         return fst
 
     return make
+
+
+ELASTODYN = "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat"
+
+
+def _without_the_cp_file(tmp_path: Path, case) -> Path:
+    fst = _copy_5mw(tmp_path, case)
+    (fst.parent / "Cp_Ct_Cq.NREL5MW.txt").unlink()
+    return fst
 
 
 def _with_a_negative_blade_mass_density(tmp_path: Path, case) -> Path:
@@ -455,16 +500,19 @@ def _with_a_negative_blade_mass_density(tmp_path: Path, case) -> Path:
     (_with_aerodisk, "NREL-5MW.fst: CompAero: 1 (AeroDisk) is not supported"),
     (_with_reynolds_polars, "NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: AFTabMod: 2 is not supported"),
     (lambda tmp_path, case: case(BAR_10), "BAR_10.fst: CompElast: 2 (BeamDyn blades) is not supported"),
-    (_with_elastodyn("GBRatio", "0"), "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat: GBRatio: expected a value > 0, "
-                                      "found 0\n"),
-    (_with_elastodyn("GBRatio", "-97"), "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat: GBRatio: expected a value > 0, "
-                                        "found -97\n"),
-    (_with_elastodyn("TowerHt", "0"), "NRELOffshrBsline5MW_Onshore_ElastoDyn.dat TowerHt - TowerBsHt: expected a "
-                                      "value > 0.0, found 0 (tower.height of the turbine definition)\n"),
+    (_with_setting(ELASTODYN, "GBRatio", "0"), f"{ELASTODYN}: GBRatio: expected a value > 0, found 0\n"),
+    (_with_setting(ELASTODYN, "GBRatio", "-97"), f"{ELASTODYN}: GBRatio: expected a value > 0, found -97\n"),
+    (_with_setting(ELASTODYN, "TowerHt", "0"), f"{ELASTODYN} TowerHt - TowerBsHt: expected a value > 0.0, found 0 "
+                                                 "(tower.height of the turbine definition)\n"),
     (_with_a_negative_blade_mass_density, "NRELOffshrBsline5MW_Blade.dat: BMassDen: expected values > 0, found "
                                           "-773.363 (value 3 of 49)\n"),
+    (_without_the_cp_file, "DISCON.IN: PerfFileName: Cp_Ct_Cq.NREL5MW.txt: no such file\n"),
+    (_with_setting("NRELOffshrBsline5MW_Onshore_ServoDyn.dat", "PCMode", "0"),
+     "NRELOffshrBsline5MW_Onshore_ServoDyn.dat: PCMode: 0 is not supported: the limits and rated values come from the "
+     "ROSCO controller's DISCON.IN (PCMode = 5)\n"),
 ], ids=["missing tower file", "missing airfoil", "AeroDisk", "polars over Reynolds number", "BeamDyn blades",
-        "no gearbox ratio", "a negative gearbox ratio", "no tower", "a negative blade mass density"])
+        "no gearbox ratio", "a negative gearbox ratio", "no tower", "a negative blade mass density",
+        "the DISCON.IN's Cp file missing", "no ROSCO controller"])
 def test_a_bad_deck_is_refused_with_one_line_naming_the_file_and_key(hawt_cli, rosco_case, tmp_path, make_deck,
                                                                      message):
     """A missing file, an option the plant cannot honour, a value out of its range: exit 2, one line on stderr
