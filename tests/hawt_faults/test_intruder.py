@@ -115,7 +115,7 @@ def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(la
     the pitch command never comes near the intruder's (no step's individual pitch above 10 deg, the torque never 0)
     and nothing trips."""
     namespace = f"contribution_{mode[0]}{topic[-2:].replace('/', '')}"
-    arguments = ("wind_type:=turbulent", "seed:=3", f"mode:={mode}", "duration:=" + ("30" if mode == "lockstep" else
+    arguments = ("wind_type:=turbulent", "seed:=3", f"mode:={mode}", "duration:=" + ("10" if mode == "lockstep" else
                                                                                      "12"))
     alone = launch("ipc", f"{namespace}_alone", *arguments) if mode == "lockstep" else None
     if alone is not None:
