@@ -1,8 +1,10 @@
 """What a person reads of ``hawt analyze`` / ``hawt compare``: text tables and a report folder.
 
-Tables show display units (MN·m, °, °/s, rpm, MW); the JSON beside them stays SI.
+Tables show display units (MN·m, °, °/s, rpm, MW); the JSON beside them stays SI. Text tables are fixed-width
+columns two spaces apart (`text_table`). A change against the first run is a percentage only where the reference is
+at least a tenth of the value (`change_text`), else the change in the row's unit.
 A report folder holds ``index.html`` (the table, the blade-root moment's harmonics as an
-HTML table, then the figures of `hawt_analysis.plots`), the PNGs and ``summary.json`` /
+HTML table, then the figures of `hawt_analysis.plots`, each under its heading), the PNGs and ``summary.json`` /
 ``comparison.json``.
 """
 import html
@@ -10,7 +12,8 @@ import json
 import math
 import os
 from pathlib import Path
-from typing import Mapping, Sequence
+from types import MappingProxyType
+from typing import List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -18,15 +21,23 @@ from hawt_bag.errors import BagError
 
 from .comparison import change_percent, compare_summaries
 
-__all__ = ["analysis_text", "comparison_text", "harmonic_table", "headline_text", "write_analysis_report",
-           "write_comparison_report", "write_html_page"]
+__all__ = ["NEAR_ZERO", "PITCH_METRICS", "analysis_text", "change_text", "changes_table", "comparison_text",
+           "harmonic_table", "headline_text", "text_table", "write_analysis_report", "write_comparison_report",
+           "write_html_page"]
 
 _MN = 1e-6
 _DEG = 180.0 / math.pi
 _RPM = 60.0 / (2.0 * math.pi)
-_PITCH_METRICS = {"travel_rad": (_DEG, "°", "travel"), "max_rate_rad_s": (_DEG, "°/s", "max rate"),
-                  "max_acceleration_rad_s2": (_DEG, "°/s²", "max acceleration"),
-                  "duty_cycle": (100.0, "%", "duty cycle")}
+PITCH_METRICS = MappingProxyType({
+    "travel_rad": (_DEG, "°", "travel, sum of all blades"),
+    "max_rate_rad_s": (_DEG, "°/s", "largest rate of any blade"),
+    "max_acceleration_rad_s2": (_DEG, "°/s²", "largest acceleration of any blade"),
+    "duty_cycle": (100.0, "%", "duty cycle, mean of the blades")})
+"""The pitch activity `compare_summaries` compares → (factor from SI to the display unit, display unit, name)."""
+NEAR_ZERO = 0.1
+"""A reference under this fraction of the value it is compared with is near zero: the change is then given in the
+row's unit, not as a percentage. Such a percentage (above +900 %) mostly says how small the reference is: an IPC's 1P
+pitch against a baseline that has next to none read +10549 %, where +2.97° says what changed."""
 _LEVELS = {10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR"}
 
 
@@ -38,8 +49,35 @@ def _fmt(value, factor: float = 1.0, digits: int = 4) -> str:
     return "-" if value is None else f"{factor * value:.{digits}g}"
 
 
-def _change(value) -> str:
-    return "" if value is None else f" ({value:+.1f}%)"
+def change_text(reference: Optional[float], value: Optional[float], factor: float, unit: str) -> str:
+    """``value``'s change against ``reference`` as a person reads it: a percentage (``-42.0 %``), or, where the
+    reference is near zero (`NEAR_ZERO`), the difference in ``unit`` after ``factor`` (``+2.969 °``; in percentage
+    points, ``pp``, for a quantity in %); empty if either is missing."""
+    if reference is None or value is None or not (math.isfinite(reference) and math.isfinite(value)):
+        return ""
+    if abs(reference) >= NEAR_ZERO * abs(value) and reference != 0.0:
+        return f"{change_percent([reference, value])[1]:+.1f} %"
+    return f"{factor * (value - reference):+.4g} {'pp' if unit == '%' else unit}"
+
+
+def changes_table(corner: str, labels: Sequence[str],
+                  rows: Sequence[Tuple[str, Sequence[Optional[float]], float, str]]) -> List[str]:
+    """Quantities of several runs side by side as `text_table` lines: a column per run headed by its label, after
+    each run but the first its change against the first (`change_text`). ``rows``: (name, SI value per run, factor
+    to the display unit, display unit); ``corner`` heads the names."""
+    header = [corner, labels[0], *(cell for label in labels[1:] for cell in (label, "change"))]
+    return text_table([header, *([f"{name} [{unit}]", _fmt(values[0], factor),
+                                  *(cell for value in values[1:]
+                                    for cell in (_fmt(value, factor), change_text(values[0], value, factor, unit)))]
+                                 for name, values, factor, unit in rows)])
+
+
+def text_table(rows: Sequence[Sequence[str]]) -> List[str]:
+    """``rows`` of cells (the first row the header) as lines of fixed-width columns, two spaces apart, each as wide
+    as its widest cell: the first column left-aligned, the others right-aligned."""
+    widths = [max(len(row[j]) for row in rows) for j in range(len(rows[0]))]
+    return ["  ".join(cell.ljust(width) if j == 0 else cell.rjust(width)
+                      for j, (cell, width) in enumerate(zip(row, widths))).rstrip() for row in rows]
 
 
 def analysis_text(summary: Mapping) -> str:
@@ -54,21 +92,21 @@ def analysis_text(summary: Mapping) -> str:
              f"{_RPM * summary['rotor_speed']['std']:.3g} rpm std"]
     if summary.get("power"):
         lines.append(f"electrical power {_MN * summary['power']['mean']:.4g} MW mean")
-    lines += ["", "damage-equivalent loads (1 Hz) and harmonic amplitudes (azimuth-domain fit):",
-              f"{'channel':<24}{'m':>4}{'DEL':>12}{'1P':>11}{'2P':>11}{'3P':>11}  unit"]
+    table = [["channel", "m", "DEL", "1P", "2P", "3P", "unit"]]
     for name in dict.fromkeys([*summary["del"], *summary["harmonics"]]):
         factor, unit = _unit(name)
         entry = summary["del"].get(name)
         amplitudes = dict(zip(summary["harmonics"].get(name, {}).get("n", []),
                               summary["harmonics"].get(name, {}).get("amplitude", [])))
-        lines.append(f"{name:<24}{_fmt(entry and entry['m']):>4}{_fmt(entry and entry['value'], factor):>12}"
-                     + "".join(f"{_fmt(amplitudes.get(n), factor):>11}" for n in (1, 2, 3)) + f"  {unit}")
-    lines.append("")
+        table.append([name, _fmt(entry and entry["m"]), _fmt(entry and entry["value"], factor),
+                      *(_fmt(amplitudes.get(n), factor) for n in (1, 2, 3)), unit])
+    lines += ["", "damage-equivalent loads (1 Hz) and harmonic amplitudes (azimuth-domain fit):", *text_table(table),
+              ""]
     for label, pitch in (("pitch (measured)", summary.get("pitch")), ("pitch (command)", summary.get("pitch_command"))):
         if pitch:
-            lines.append(f"{label:<18} travel {_DEG * pitch['travel_rad']['total']:.4g}° (all blades), "
-                         f"max rate {_DEG * pitch['max_rate_rad_s']['max']:.3g}°/s, "
-                         f"duty cycle {100 * pitch['duty_cycle']['mean']:.3g} %")
+            lines.append(f"{label:<18} travel {_DEG * pitch['travel_rad']['total']:.4g}° (sum of all blades), "
+                         f"max rate {_DEG * pitch['max_rate_rad_s']['max']:.3g}°/s (any blade), "
+                         f"duty cycle {100 * pitch['duty_cycle']['mean']:.3g} % (mean of the blades)")
     command = summary.get("pitch_command")
     if command and command.get("flag_steps"):
         lines.append("command flags      " + ", ".join(f"{name} {count} steps"
@@ -117,32 +155,18 @@ def comparison_text(comparison: Mapping) -> str:
     """The ``hawt compare`` table: each run's DELs, harmonics 1P–3P, pitch, rotor speed and power, with the change
     against the first run."""
     labels = comparison["labels"]
-    width = max(20, *(len(label) + 2 for label in labels))
-    lines = [f"hawt compare: {len(labels)} runs, changes against {comparison['reference']}",
-             f"{'quantity':<34}" + "".join(f"{label:>{width}}" for label in labels)]
-
-    def row(name: str, values: Sequence, changes: Sequence, factor: float) -> str:
-        return f"{name:<34}" + "".join(f"{_fmt(v, factor) + (_change(c) if k else ''):>{width}}"
-                                       for k, (v, c) in enumerate(zip(values, changes)))
-
-    for name, entry in comparison["del"].items():
-        factor, unit = _unit(name)
-        lines.append(row(f"DEL {name} [{unit}]", entry["value"], entry["change_percent"], factor))
-    for name, entry in comparison["harmonics"].items():
-        factor, unit = _unit(name)
-        for j, n in enumerate(entry["n"][:3]):
-            lines.append(row(f"{n}P {name} [{unit}]", [a[j] for a in entry["amplitude"]],
-                             [c[j] for c in entry["change_percent"]], factor))
-    if comparison.get("pitch"):
-        for metric, entry in comparison["pitch"].items():
-            factor, unit, name = _PITCH_METRICS[metric]
-            lines.append(row(f"pitch {name} [{unit}]", entry["value"], entry["change_percent"], factor))
-    for statistic, entry in comparison["rotor_speed"].items():
-        lines.append(row(f"rotor speed {statistic} [rpm]", entry["value"], entry["change_percent"], _RPM))
+    rows = [(f"DEL {name}", entry["value"], *_unit(name)) for name, entry in comparison["del"].items()]
+    rows += [(f"{n}P {name}", [a[j] for a in entry["amplitude"]], *_unit(name))
+             for name, entry in comparison["harmonics"].items() for j, n in enumerate(entry["n"][:3])]
+    rows += [(f"pitch {PITCH_METRICS[metric][2]}", entry["value"], *PITCH_METRICS[metric][:2])
+             for metric, entry in (comparison.get("pitch") or {}).items()]
+    rows += [(f"rotor speed {statistic}", entry["value"], _RPM, "rpm")
+             for statistic, entry in comparison["rotor_speed"].items()]
     if comparison.get("power"):
-        entry = comparison["power"]["mean"]
-        lines.append(row("electrical power mean [MW]", entry["value"], entry["change_percent"], _MN))
-    return "\n".join(lines)
+        rows.append(("electrical power mean", comparison["power"]["mean"]["value"], _MN, "MW"))
+    return "\n".join([f"hawt compare: {len(labels)} runs, changes against {comparison['reference']} (in %, or in the "
+                      f"row's unit where the reference is under {NEAR_ZERO:g}× the run's value)",
+                      *changes_table("quantity", labels, rows)])
 
 
 def headline_text(comparison: Mapping) -> str:
@@ -163,7 +187,8 @@ def headline_text(comparison: Mapping) -> str:
             ("hub tilt / yaw DEL", f"{change(['hub_tilt_moment'])} / {change(['hub_yaw_moment'])}"),
             ("tower-base fore-aft / side-side DEL",
              f"{change(['tower_base_fa_moment'])} / {change(['tower_base_ss_moment'])}"),
-            ("pitch travel (all blades)", f"{math.degrees(travel[0]):.0f} -> {math.degrees(travel[second]):.0f} deg"),
+            ("pitch travel (sum of all blades)",
+             f"{math.degrees(travel[0]):.0f} -> {math.degrees(travel[second]):.0f} deg"),
             ("rotor speed held (mean)", f"{speed['value'][0] * 30 / math.pi:.2f} -> "
                                         f"{speed['value'][second] * 30 / math.pi:.2f} rpm")]
     if power:
@@ -175,10 +200,10 @@ def headline_text(comparison: Mapping) -> str:
 
 
 def harmonic_table(comparison: Mapping) -> str:
-    """The harmonic amplitudes of the blade-root out-of-plane moment as an HTML table under its heading [kN·m]: one
-    row per harmonic nP, one column per run of ``comparison`` (`compare_summaries`; a comparison of one summary has
-    one column), each cell the mean of the blades' amplitudes and, after the first run, its change against the
-    first; empty without that channel."""
+    """The harmonic amplitudes of the blade-root out-of-plane moment as an HTML table under its heading [MN·m, as the
+    text tables]: one row per harmonic nP, one column per run of ``comparison`` (`compare_summaries`; a comparison of
+    one summary has one column), each cell the mean of the blades' amplitudes and, after the first run, its change
+    against the first (`change_text`); empty without that channel."""
     blades = {name: entry for name, entry in comparison["harmonics"].items() if name.startswith("root_moment_oop_")}
     if not blades:
         return ""
@@ -186,11 +211,11 @@ def harmonic_table(comparison: Mapping) -> str:
     head = "".join(f"<th>{html.escape(label)}</th>" for label in comparison["labels"])
     rows = []
     for n, per_run in zip(next(iter(blades.values()))["n"], amplitude.T.tolist()):
-        cells = "".join(f"<td>{_fmt(value, 1e-3)}{_change(change) if k else ''}</td>"
-                        for k, (value, change) in enumerate(zip(per_run, change_percent(per_run))))
+        cells = "".join(f"<td>{_fmt(value, _MN)}" + (f" ({change_text(per_run[0], value, _MN, 'MN·m')})" if k else "")
+                        + "</td>" for k, value in enumerate(per_run))
         rows.append(f"<tr><th>{n}P</th>{cells}</tr>")
     return (f"<h2>harmonics of the blade-root out-of-plane moment</h2>\n<table>\n<caption>amplitude of the periodic "
-            f"part, mean of the {len(blades)} blades [kN·m]</caption>\n<tr><th>harmonic</th>{head}</tr>\n"
+            f"part, mean of the {len(blades)} blades [MN·m]</caption>\n<tr><th>harmonic</th>{head}</tr>\n"
             + "\n".join(rows) + "\n</table>")
 
 
@@ -199,11 +224,13 @@ _STYLE = ("table{border-collapse:collapse;margin:1em 0}caption{text-align:left;f
 
 
 def write_html_page(path: Path, title: str, text: str, images: Sequence[Path], data_files: Sequence[str],
-                    tables: Sequence[str] = ()) -> Path:
+                    tables: Sequence[str] = (), headings: Mapping[str, str] = MappingProxyType({})) -> Path:
     """One report page: the title, ``text`` as preformatted text, links to the data files beside it, the HTML
-    ``tables`` and the images (PNGs in the same folder, each headed by its file name); returns ``path``."""
-    figures = "\n".join(f'<h2>{html.escape(p.stem.replace("_", " "))}</h2>\n<img src="{html.escape(p.name)}" '
-                        f'alt="{html.escape(p.stem)}" style="max-width:100%">' for p in images)
+    ``tables`` and the images (PNGs in the same folder), each under its heading in ``headings`` (by file name, e.g.
+    `hawt_analysis.plots.FIGURE_HEADINGS`), else its file name's words; returns ``path``."""
+    figures = "\n".join(f'<h2>{html.escape(headings.get(p.name, p.stem.replace("_", " ")))}</h2>\n'
+                        f'<img src="{html.escape(p.name)}" alt="{html.escape(p.stem)}" style="max-width:100%">'
+                        for p in images)
     links = ", ".join(f'<a href="{html.escape(name)}">{html.escape(name)}</a>' for name in data_files)
     page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>"
             f"<style>{_STYLE}</style></head>\n<body>\n<h1>{html.escape(title)}</h1>\n<pre>{html.escape(text)}</pre>\n"
@@ -224,31 +251,34 @@ def _folder(directory: os.PathLike) -> Path:
 def write_analysis_report(analysis, directory: os.PathLike) -> Path:
     """Write ``index.html`` (with the harmonic table), the PNGs of `hawt_analysis.plots.write_report` and
     ``summary.json``; return the index."""
-    from .plots import _save, write_report
+    from .plots import FIGURE_HEADINGS, _save, write_report
     from .run_analysis import wind_estimate_qualities
     from .wind_estimation import AXES, plot_wind_estimate
 
     directory = _folder(directory)
     images = write_report(analysis.run.channels, analysis.summary, directory)
+    headings = dict(FIGURE_HEADINGS)
     run = analysis.run
     for name, quality in wind_estimate_qualities(run).items():
         rows = run.wind_estimates[name]["rows"]
+        heading = f"{name}: multi-blade wind estimate against the plant's truth"
         figure = plot_wind_estimate(run.channels["time"][rows],
                                     {axis: run.channels[f"effective_wind_{axis}"][rows] for axis in AXES},
                                     {axis: run.wind_estimates[name][f"wind_{axis}"] for axis in AXES}, quality,
-                                    f"{name}: multi-blade wind estimate against the plant's truth")
+                                    heading)
         images.append(_save(figure, directory / f"wind_estimate_{name}.png"))
+        headings[images[-1].name] = heading
     (directory / "summary.json").write_text(json.dumps(analysis.summary, indent=1))
     return write_html_page(directory / "index.html", f"hawt analyze: {analysis.path.name}",
                            analysis_text(analysis.summary), images, ["summary.json"],
-                           [harmonic_table(compare_summaries([analysis.summary], [analysis.path.name]))])
+                           [harmonic_table(compare_summaries([analysis.summary], [analysis.path.name]))], headings)
 
 
 def write_comparison_report(comparison: Mapping, directory: os.PathLike, analyses: Sequence = ()) -> Path:
     """Write ``index.html`` (with the harmonic table), ``del.png``, ``comparison.png`` and ``comparison.json`` and,
     given the runs' analyses (in the comparison's order), their time series and spectra overlaid; return the
     index."""
-    from .plots import write_comparison_report as plot
+    from .plots import FIGURE_HEADINGS, write_comparison_report as plot
 
     directory = _folder(directory)
     labels = comparison["labels"]
@@ -256,4 +286,5 @@ def write_comparison_report(comparison: Mapping, directory: os.PathLike, analyse
                   {label: a.run.events for label, a in zip(labels, analyses)})
     (directory / "comparison.json").write_text(json.dumps(comparison, indent=1))
     return write_html_page(directory / "index.html", f"hawt compare: {', '.join(comparison['labels'])}",
-                           comparison_text(comparison), images, ["comparison.json"], [harmonic_table(comparison)])
+                           comparison_text(comparison), images, ["comparison.json"], [harmonic_table(comparison)],
+                           FIGURE_HEADINGS)

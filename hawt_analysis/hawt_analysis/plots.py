@@ -4,7 +4,9 @@ Only drawing lives here; the numbers come from `summary` and `comparison`.
 Each ``plot_*`` function returns a ``matplotlib.figure.Figure``, built without
 pyplot, so nothing changes matplotlib's global backend; `write_report` and
 `write_comparison_report` render them by Agg into PNG files. Axes show display units
-(MN·m, °, rpm, MW) with the unit in the label; the JSON stays SI.
+(MN·m, °, rpm, MW) with the unit in the label; the JSON stays SI. Legends of line plots sit right
+of their panel, outside it, so that they cover no trace; a report page heads each figure with
+its `FIGURE_HEADINGS`.
 """
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -14,12 +16,14 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from .analysis_report import PITCH_METRICS
 from .comparison import compare_summaries
 from .record import PER_BLADE_CHANNELS, Record, make_record
 from .spectra import power_spectrum, rotor_harmonic_frequencies
 from .summary import FATIGUE_CHANNELS, AnalysisOptions
 
 __all__ = [
+    "FIGURE_HEADINGS",
     "plot_compared_spectra",
     "plot_compared_time_series",
     "plot_comparison",
@@ -49,6 +53,17 @@ _DISPLAY = MappingProxyType(
 )
 """Field → (factor from SI to display unit, quantity, display unit)."""
 
+FIGURE_HEADINGS = MappingProxyType({
+    "time_series.png": "rotor speed, power, pitch and loads over time",
+    "spectra.png": "power spectral densities of the loads and the pitch, rotor harmonics marked",
+    "del.png": "damage-equivalent loads (1 Hz)",
+    "main_bearing_fig8.png": "hub 1P, IPC 1P and main-bearing 2P over time (Zalkind & Pao, Fig. 8)",
+    "comparison.png": "changes against the first run: damage-equivalent loads and pitch activity",
+    "compared_time_series.png": "the runs over time: rotor speed, pitch, blade 1 root, hub and tower loads",
+    "compared_spectra.png": "the runs' power spectral densities: blade 1 root, hub and tower moments",
+})
+"""The heading of each figure `write_report` and `write_comparison_report` write, by file name."""
+
 
 def _fields(record: Record, names: tuple[str, ...]) -> list[tuple[str, np.ndarray]]:
     """(field, values of shape (n_samples, n_columns)) for the fields of ``names`` the record has."""
@@ -59,6 +74,12 @@ def _fields(record: Record, names: tuple[str, ...]) -> list[tuple[str, np.ndarra
         elif name in record.scalars:
             present.append((name, record.scalars[name][:, None]))
     return present
+
+
+def _legend_beside(ax) -> None:
+    """The legend of ``ax``'s lines right of it, outside the panel (so that it covers no trace); the figure's
+    constrained layout narrows the panels to make room."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize="small")
 
 
 def _save(figure: Figure, path: Path) -> Path:
@@ -72,8 +93,8 @@ def _save(figure: Figure, path: Path) -> Path:
 def plot_time_series(channels: Mapping[str, ArrayLike], events: Sequence[Mapping] = ()) -> Figure:
     """Time series of rotor speed, power, pitch and the load channels, one panel per field.
 
-    Per-blade fields draw one line per blade; the ``events`` (``time``, ``kind``) of MARKED_EVENTS are vertical
-    lines, labelled by kind.
+    Per-blade fields draw one line per blade, labelled beside the panel; the ``events`` (``time``, ``kind``) of
+    MARKED_EVENTS are vertical lines, labelled by kind.
     """
     record = make_record(channels)
     names = ("rotor_speed", "electrical_power", "pitch") + tuple(name for name, _ in FATIGUE_CHANNELS)
@@ -86,7 +107,7 @@ def plot_time_series(channels: Mapping[str, ArrayLike], events: Sequence[Mapping
             ax.plot(record.time, factor * values[:, column], lw=0.6, label=_line_label(name, column))
         ax.set_ylabel(f"{quantity} [{unit}]")
         if values.shape[1] > 1:
-            ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
+            _legend_beside(ax)
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     _mark_events(axes, events, "black")
@@ -133,7 +154,7 @@ def plot_spectra(channels: Mapping[str, ArrayLike], options: AnalysisOptions = A
             _plot_psd(ax, factor * values[:, column], record.sample_rate, options, upper, _line_label(name, column))
         ax.set_ylabel(f"PSD {quantity}\n[{unit}²/Hz]")
         if values.shape[1] > 1:
-            ax.legend(loc="upper right", fontsize="small", ncols=values.shape[1])
+            _legend_beside(ax)
         ax.grid(alpha=0.3, which="both")
     axes[-1].set_xlim(0.0, upper)
     axes[-1].set_xlabel("frequency [Hz]")
@@ -171,21 +192,29 @@ def plot_del_bars(comparison: Mapping) -> Figure:
     return figure
 
 
+def _pitch_label(metric: str, values: Sequence[float]) -> str:
+    """A pitch-activity bar's label: its name and display unit as the text tables give them, then each run's value
+    (``travel, sum of all blades [°]`` over ``23.02 → 246.5``)."""
+    factor, unit, name = PITCH_METRICS[metric]
+    return f"{name} [{unit}]\n" + " → ".join(f"{factor * value:.4g}" for value in values)
+
+
 def plot_comparison(comparison: Mapping) -> Figure:
     """Grouped bars of the change against the first run [%], the DELs on one axis and the pitch activity on
-    another (each axis scaled to its own changes)."""
+    another (each axis scaled to its own changes), each pitch quantity labelled with its unit and the runs' values."""
     runs = comparison["labels"][1:]
-    panels = [("DEL", comparison["del"])]
+    panels = [("DEL", comparison["del"], list(comparison["del"]))]
     if comparison["pitch"] is not None:
-        panels.append(("pitch activity", comparison["pitch"]))
-    sizes = [len(entries) for _, entries in panels]
+        panels.append(("pitch activity", comparison["pitch"],
+                       [_pitch_label(metric, entry["value"]) for metric, entry in comparison["pitch"].items()]))
+    sizes = [len(entries) for _, entries, _ in panels]
     figure = Figure(figsize=(9, 0.35 * sum(sizes) * max(len(runs), 1) + 1.3 * len(panels)), layout="constrained")
     axes = figure.subplots(len(panels), 1, squeeze=False, height_ratios=sizes)[:, 0]
-    for ax, (quantity, entries) in zip(axes, panels):
+    for ax, (quantity, entries, names) in zip(axes, panels):
         changes = [[np.nan if entry["change_percent"][k] is None else entry["change_percent"][k]
                     for entry in entries.values()] for k in range(1, len(runs) + 1)]
         ax.axvline(0.0, color="black", lw=0.8)
-        _grouped_bars(ax, list(entries), changes, runs, "%+.1f")
+        _grouped_bars(ax, names, changes, runs, "%+.1f")
         ax.set_xlabel(f"{quantity}: change against {comparison['reference']} [%]")
     if runs:
         axes[0].legend(fontsize="small")
@@ -258,7 +287,7 @@ def plot_compared_time_series(runs: Mapping[str, Mapping[str, ArrayLike]], event
         ax.set_ylabel(f"{quantity}{' 1' if name in PER_BLADE_CHANNELS else ''} [{unit}]")
         ax.grid(alpha=0.3)
     axes[COMPARED_FIELDS[-1]].set_xlabel("time [s]")
-    axes[COMPARED_FIELDS[0]].legend(loc="lower right", fontsize="small", ncols=len(runs))
+    _legend_beside(axes[COMPARED_FIELDS[0]])
     return figure
 
 
@@ -281,7 +310,7 @@ def plot_compared_spectra(runs: Mapping[str, Mapping[str, ArrayLike]],
         _, quantity, unit = _DISPLAY[name]
         ax.set_ylabel(f"PSD {quantity}{' 1' if name in PER_BLADE_CHANNELS else ''}\n[{unit}²/Hz]")
         ax.grid(alpha=0.3, which="both")
-    axes[names[0]].legend(loc="upper right", fontsize="small")
+    _legend_beside(axes[names[0]])
     axes[names[-1]].set_xlim(0.0, upper)
     axes[names[-1]].set_xlabel("frequency [Hz]")
     return figure

@@ -50,6 +50,7 @@ recording with exit code 1 and says how to recover.
 """
 import argparse
 import math
+import os
 import re
 import sys
 import time
@@ -80,7 +81,7 @@ from .verification import verify_bag
 from .writer import BagWriter
 
 __all__ = ["NAME_WAIT", "Recorder", "RecorderOptions", "TopicDiscovery", "adapted_qos", "add_record_arguments",
-           "main", "options_from", "record", "take_backlog", "visible"]
+           "main", "new_bag_path", "options_from", "record", "take_backlog", "visible"]
 
 _QUIET = 0.1
 """[s] A topic that delivers nothing for this long after the stop has delivered what was queued."""
@@ -404,16 +405,51 @@ def add_record_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--node-name", default=RECORDER_NODE, help="the recorder node's name")
 
 
+def new_bag_path(output: str, option: str) -> Path:
+    """``output`` as the path of a new bag, checked before anything records, the folders it goes into made if
+    missing (as ``mkdir -p``: ``bags/`` of the README's examples on a fresh clone, or any other).
+
+    Raises
+    ------
+    BagError
+        One line naming ``option``: ``output`` exists, a folder on its way is a file, or the deepest of its folders
+        that exists cannot be written into.
+    """
+    path = Path(output)
+    if path.exists() or path.is_symlink():
+        raise BagError(f"{output}: exists; refusing to overwrite a bag (choose another {option} name)")
+    folder = path.absolute().parent
+    existing = next(parent for parent in (folder, *folder.parents) if parent.exists())
+    if not existing.is_dir():
+        raise BagError(f"{option} {output}: {existing} is a file, not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise BagError(f"{option} {output}: cannot write into the folder {existing}")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise BagError(f"{option} {output}: cannot create the folder {folder} ({error.strerror})") from None
+    return path
+
+
 def options_from(args: argparse.Namespace) -> RecorderOptions:
-    """RecorderOptions from parsed `add_record_arguments` options (default output name by date)."""
-    output = args.output or time.strftime("bags/run_%Y%m%d_%H%M%S.mcap")
+    """RecorderOptions from parsed `add_record_arguments` options (default output name by date), each checked, the
+    output's folders made last (`new_bag_path`).
+
+    Raises
+    ------
+    BagError
+        One line naming the option that is out of range, or the output that cannot be a new bag.
+    """
     if args.regex:
         try:
             re.compile(args.regex)
         except re.error as error:
             raise BagError(f"--regex {args.regex!r}: {error}") from None
-    if args.chunk_interval <= 0:
+    if not 0 < args.chunk_interval < math.inf:
         raise BagError(f"--chunk-interval: expected a positive number of seconds, found {args.chunk_interval}")
+    if args.chunk_size < 1:
+        raise BagError(f"--chunk-size: expected a positive number of bytes, found {args.chunk_size}")
+    output = str(new_bag_path(args.output or time.strftime("bags/run_%Y%m%d_%H%M%S.mcap"), "-o"))
     return RecorderOptions(output, tuple(args.topics), args.regex, args.include_hidden_topics,
                            chunk_size=args.chunk_size, chunk_interval=args.chunk_interval, node_name=args.node_name)
 
@@ -426,9 +462,8 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
     Raises
     ------
     BagError
-        If the output exists or cannot be created.
+        If the output exists or cannot be created (its folder is made by `options_from`).
     """
-    Path(options.output).parent.mkdir(parents=True, exist_ok=True)
     writer = BagWriter(options.output, chunk_size=options.chunk_size)
     stop = []
     launcher_gone = parent_gone()

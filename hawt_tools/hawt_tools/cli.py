@@ -14,7 +14,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Dict, List, Optional
+from typing import Callable, Dict, List, NoReturn, Optional
 
 import yaml
 
@@ -77,6 +77,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     ``view`` executable's command line, :func:`_view_command`) it serves the graph to Foxglove while it runs. A
     recorder that dies is respawned and the plant waits for it (hawt_tools.recording), unless ``record_optional``.
     """
+    from hawt_bag.recorder import new_bag_path
     from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
     from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
     from hawt_tools.recording import SupervisedRecorder, stop_process
@@ -89,7 +90,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
     if priority:
         check_priority(priority)
-    recorder = SupervisedRecorder(Path(record), record_optional) if record else None
+    recorder = SupervisedRecorder(new_bag_path(record, "--record"), record_optional) if record else None
     events = viewer = None
     try:
         if view is not None:
@@ -121,18 +122,16 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    from hawt_bag.recorder import new_bag_path
     from hawt_tools.in_process import run_graph
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_graph_parameters
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
-    if args.record and Path(args.record).exists():
-        raise BagError(f"{args.record}: exists; refusing to overwrite a bag (choose another --record name)")
-    if args.duration is not None and not (args.duration > 0):
-        raise GraphError(f"--duration {args.duration}: expected a positive simulated time [s]")
     overrides = parse_overrides(graph, args.param)
     check_graph_parameters(graph, overrides)
-    run = run_graph(graph, overrides, args.record, args.duration, _progress)
+    record = new_bag_path(args.record, "--record") if args.record else None
+    run = run_graph(graph, overrides, record, args.duration, _progress)
     for event in run.events:
         if event["level"] >= 30:
             print(f"{event['kind']} at t={event['step'] * run.description.dt:.2f} s: {event['detail']}",
@@ -195,9 +194,10 @@ def _cmd_bag_verify(args: argparse.Namespace) -> int:
 
 
 def _cmd_bag_recover(args: argparse.Namespace) -> int:
+    from hawt_bag.recorder import new_bag_path
     from hawt_bag.recover import recover_bag
 
-    print(recover_bag(args.bag, args.output).text())
+    print(recover_bag(args.bag, new_bag_path(args.output, "-o") if args.output else None).text())
     return 0
 
 
@@ -240,10 +240,17 @@ def _warn(command: str, warnings: List[str]) -> None:
         print(f"hawt {command}: warning: {warning}", file=sys.stderr)
 
 
+def _report_folder(report: Optional[str]) -> None:
+    """``--report DIR`` checked before the analysis: not a file (its missing folders are made when it is written)."""
+    if report and Path(report).exists():
+        _output_path(report, "--report", folder=True)
+
+
 def _cmd_analyze(args: argparse.Namespace) -> int:
     from hawt_analysis.analysis_report import analysis_text, write_analysis_report
     from hawt_analysis.run_analysis import analyze_bag
 
+    _report_folder(args.report)
     analysis = analyze_bag(args.bag, args.namespace, progress=_progress)
     _warn("analyze", analysis.summary["warnings"])
     print(json.dumps(analysis.summary) if args.json else analysis_text(analysis.summary))
@@ -260,6 +267,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     folders = [Path(path).is_dir() for path in args.bags]
     if any(folders):
         return _compare_campaigns(args, all(folders))
+    _report_folder(args.report)
     analyses, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
     for analysis in analyses:
         _warn("compare", analysis.summary["warnings"])
@@ -700,8 +708,46 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _within(low: float, high: float = math.inf, above: bool = False, kind: type = float) -> Callable[[str], float]:
+    """argparse's ``type=`` of an option that takes a finite number of ``kind`` from ``low`` (or above it) to ``high``.
+
+    Declared with the option, the range holds in every command that has it, and argparse checks it while it reads the
+    command line, before any command starts; anything else is its one-line refusal (`_Parser`), exit 2.
+    """
+    lower = f"above {low:g}" if above else f"from {low:g}"
+    span = f"{lower} to {high:g}" if high < math.inf else lower if above else f"of {low:g} or more"
+    expected = f"expected a {'whole' if kind is int else 'finite'} number {span}"
+
+    def number(text: str) -> float:
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text}: {expected}") from None
+        if not (math.isfinite(value) and (value > low if above else value >= low) and value <= high):
+            raise argparse.ArgumentTypeError(f"{text}: {expected}")
+        return value
+
+    return number
+
+
+_POSITIVE = _within(0.0, above=True)
+"""Seconds, speed factors, timeouts: above 0 (and finite)."""
+_NOT_NEGATIVE = _within(0.0)
+_PORT = _within(0, 65535, kind=int)
+"""A TCP port as `hawt view` takes it (0: any free one, which the view prints)."""
+_PRIORITY = _within(1, 99, kind=int)
+"""A SCHED_FIFO priority."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with the module's one-line refusal of bad usage (exit 2), the usage left to ``--help``."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: {message}\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="hawt", description="ROS 2 toolkit for wind-turbine load alleviation: run node graphs of a "
                                  "simulated turbine and its pitch controllers.")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -712,13 +758,13 @@ def _parser() -> argparse.ArgumentParser:
                     "output prefixed with the node name, all stopped cleanly on Ctrl-C/SIGTERM.")
     launch.add_argument("graph", metavar="GRAPH", help="graph file, or the name of an installed graph")
     launch.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="launch arguments of the graph")
-    launch.add_argument("--duration", type=float, metavar="S",
+    launch.add_argument("--duration", type=_POSITIVE, metavar="S",
                         help="stop after S wall-clock seconds (default: run until a node with on_exit: "
                              "shutdown finishes, every node has finished, or Ctrl-C)")
     launch.add_argument("--mode", choices=("lockstep", "realtime"),
                         help="timing mode, given to every node as its 'mode' parameter")
     launch.add_argument("--composed", action="store_true", help="run all nodes in this process on one executor")
-    launch.add_argument("--priority", type=int, default=0, metavar="N",
+    launch.add_argument("--priority", type=_PRIORITY, default=0, metavar="N",
                         help="run the nodes under SCHED_FIFO at priority N (1-99), as a realtime loop should: "
                              "fewer late steps in --mode realtime (needs root or CAP_SYS_NICE; the recorder keeps "
                              "normal scheduling)")
@@ -733,7 +779,8 @@ def _parser() -> argparse.ArgumentParser:
                              "it after its recorder_timeout (the bag then misses steps)")
     launch.add_argument("--view", action="store_true",
                         help="serve the graph live to Foxglove while it runs (as 'hawt view', on --view-port)")
-    launch.add_argument("--view-port", type=int, default=8765, metavar="N", help="port of --view (default 8765)")
+    launch.add_argument("--view-port", type=_PORT, default=8765, metavar="N",
+                        help="port of --view (default 8765; 0: any free one)")
     launch.add_argument("--view-allow-parameter-sets", action="store_true",
                         help="let --view's clients set parameters (as 'hawt view --allow-parameter-sets')")
     launch.set_defaults(run=_cmd_launch)
@@ -747,7 +794,7 @@ def _parser() -> argparse.ArgumentParser:
                     "analyze and compare.")
     run.add_argument("graph", metavar="GRAPH", help="graph file, or the name of an installed graph")
     run.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="launch arguments of the graph")
-    run.add_argument("--duration", type=float, metavar="S",
+    run.add_argument("--duration", type=_POSITIVE, metavar="S",
                      help="simulated seconds to run (default: the plant's duration parameter)")
     run.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
                      help="override a parameter of one node (repeatable)")
@@ -779,12 +826,12 @@ def _parser() -> argparse.ArgumentParser:
                                              "'paused' and 'rate' of node hawt_player, topic "
                                              "/hawt_player/play_next (std_msgs/Empty) while paused.")
     replay.add_argument("bag", metavar="FILE.mcap")
-    replay.add_argument("-r", "--rate", type=float, default=1.0, metavar="R", help="speed factor (default 1)")
+    replay.add_argument("-r", "--rate", type=_POSITIVE, default=1.0, metavar="R", help="speed factor (default 1)")
     replay.add_argument("-l", "--loop", action="store_true", help="start again at the end")
-    replay.add_argument("--start", type=float, default=0.0, metavar="S",
+    replay.add_argument("--start", type=_NOT_NEGATIVE, default=0.0, metavar="S",
                         help="start S seconds after the bag's first message")
     replay.add_argument("--topics", nargs="+", default=[], metavar="T", help="publish only these topics")
-    replay.add_argument("--clock", type=float, nargs="?", const=40.0, default=0.0, metavar="HZ",
+    replay.add_argument("--clock", type=_NOT_NEGATIVE, nargs="?", const=40.0, default=0.0, metavar="HZ",
                         help="publish /clock at HZ (default 40 when given without a value); in step replay, "
                              "once per step")
     replay.add_argument("--remap", "-m", nargs="+", default=[], metavar="FROM:=TO", help="publish a topic under "
@@ -792,12 +839,12 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("-p", "--start-paused", action="store_true", help="start paused")
     replay.add_argument("--wait-for-subscribers", action="store_true",
                         help="start only once every topic has a subscriber")
-    replay.add_argument("--wait-timeout", type=float, default=10.0, metavar="S",
+    replay.add_argument("--wait-timeout", type=_POSITIVE, default=10.0, metavar="S",
                         help="how long to wait for subscribers and the trigger's publisher (default 10)")
     replay.add_argument("--step-trigger", metavar="TOPIC",
                         help="step replay: after publishing the messages of step k, wait for step k on TOPIC "
                              "(e.g. /wt1/control/pitch_command)")
-    replay.add_argument("--step-timeout", type=float, default=10.0, metavar="S",
+    replay.add_argument("--step-timeout", type=_POSITIVE, default=10.0, metavar="S",
                         help="step replay: how long to wait for each step's answer (default 10)")
     replay.set_defaults(run=_cmd_replay)
 
@@ -983,8 +1030,8 @@ def _parser() -> argparse.ArgumentParser:
     validate.add_argument("--openfast", metavar="PATH", help="OpenFAST executable (default: $HAWT_OPENFAST)")
     validate.add_argument("--case", action="append", default=[], metavar="NAME",
                           help="run this case (repeatable): steady-V or turbulent-V, V in m/s")
-    validate.add_argument("--duration", type=float, metavar="S", help="simulated seconds per case (default: 160 "
-                                                                      "steady, 600 turbulent)")
+    validate.add_argument("--duration", type=_POSITIVE, metavar="S", help="simulated seconds per case (default: "
+                                                                          "160 steady, 600 turbulent)")
     validate.add_argument("-o", "--output", metavar="DIR", help="report folder (default: validation-T)")
     validate.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
                           help="a parameter of hawt's validation graph (e.g. -p plant.skewed_wake:=false)")
@@ -1020,7 +1067,7 @@ def _parser() -> argparse.ArgumentParser:
                     "one process per node, in lockstep on the same IEC turbulent wind, records both to MCAP and "
                     "prints the headline of the load comparison (blade, hub and tower DEL changes, pitch activity, "
                     "speed and power held) and the report with every number.")
-    demo.add_argument("--duration", type=float, default=60.0, metavar="S", help="simulated seconds per run")
+    demo.add_argument("--duration", type=_POSITIVE, default=60.0, metavar="S", help="simulated seconds per run")
     demo.add_argument("--wind-speed", type=float, default=18.0, metavar="M_PER_S", help="mean hub wind speed")
     demo.add_argument("--seed", type=int, default=1, help="turbulence seed")
     demo.add_argument("--output", default="bags", metavar="DIR", help="folder for the run's bags and report")

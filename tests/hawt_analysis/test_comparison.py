@@ -1,5 +1,6 @@
 """Specification of hawt_analysis.comparison: runs compared with the first one."""
 import json
+import math
 
 import pytest
 
@@ -75,3 +76,53 @@ def test_the_headline_gives_the_second_run_against_the_first_blades_averaged():
     assert "-37.5 % (mean of the blades)" in lines[1]
     assert "+10.0 % / -10.0 %" in lines[2] and "+10.0 % / n/a" in lines[3]
     assert "23 -> 229 deg" in lines[4] and "12.32 -> 12.32 rpm" in lines[5] and "5.00 -> 5.00 MW" in lines[6]
+
+
+def _entry(*values: float) -> dict:
+    return {"value": list(values), "change_percent": [None] * len(values)}
+
+
+def test_the_compare_table_has_fixed_width_columns_and_a_percentage_only_against_a_reference_not_near_zero():
+    """Each column as wide as its widest cell, cells two spaces apart (once `7.729e-050.0009144`); a change is a
+    percentage where the reference is at least a tenth of the run's value, else the change in the row's unit (once
+    `+13668.3 %` for an IPC's 1P pitch against a baseline that has next to none); the pitch rows say how the blades
+    are combined."""
+    from hawt_analysis.analysis_report import comparison_text
+
+    deg = math.radians
+    comparison = {"labels": ["baseline.mcap", "ipc.mcap"], "reference": "baseline.mcap",
+                  "del": {"root_moment_oop_1": {**_entry(7.53e6, 4.365e6), "m": 10.0}},
+                  "harmonics": {"pitch_1": {"n": [1, 2, 3],
+                                            "amplitude": [[deg(0.02815), deg(7.729e-05), deg(0.01546)],
+                                                          [deg(2.997), deg(0.0009144), deg(0.06575)]]}},
+                  "pitch": {"travel_rad": _entry(deg(23.02), deg(246.5)),
+                            "max_rate_rad_s": _entry(deg(0.6342), deg(8.0)),
+                            "max_acceleration_rad_s2": _entry(deg(1.006), deg(32.68)),
+                            "duty_cycle": _entry(0.7453, 0.9504)},
+                  "rotor_speed": {"mean": _entry(1.29, 1.29)}, "power": None}
+    assert comparison_text(comparison).splitlines()[1:] == [
+        "quantity                                        baseline.mcap   ipc.mcap        change",
+        "DEL root_moment_oop_1 [MN·m]                             7.53      4.365       -42.0 %",
+        "1P pitch_1 [°]                                        0.02815      2.997      +2.969 °",
+        "2P pitch_1 [°]                                      7.729e-05  0.0009144  +0.0008371 °",
+        "3P pitch_1 [°]                                        0.01546    0.06575      +325.3 %",
+        "pitch travel, sum of all blades [°]                     23.02      246.5      +223.5 °",
+        "pitch largest rate of any blade [°/s]                  0.6342          8    +7.366 °/s",
+        "pitch largest acceleration of any blade [°/s²]          1.006      32.68   +31.67 °/s²",
+        "pitch duty cycle, mean of the blades [%]                74.53      95.04       +27.5 %",
+        "rotor speed mean [rpm]                                  12.32      12.32        +0.0 %"]
+
+
+@pytest.mark.parametrize("reference, value, factor, unit, text", [
+    (7.53e6, 4.365e6, 1e-6, "MN·m", "-42.0 %"),
+    (1.0, 10.0, 1.0, "°", "+900.0 %"),  # the reference a tenth of the value: still a percentage
+    (1.0, 10.01, 1.0, "°", "+9.01 °"),  # under a tenth: near zero
+    (0.0, 2.0, 1.0, "°", "+2 °"),
+    (0.05, 0.95, 100.0, "%", "+90 pp"),  # a quantity in %: its change in percentage points
+    (None, 1.0, 1.0, "°", ""),
+])
+def test_a_change_is_a_percentage_unless_the_reference_is_near_zero(reference, value, factor, unit, text):
+    """The threshold: a reference under NEAR_ZERO (a tenth) of the value."""
+    from hawt_analysis.analysis_report import change_text
+
+    assert change_text(reference, value, factor, unit) == text

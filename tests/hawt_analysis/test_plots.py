@@ -5,7 +5,7 @@ import pytest
 
 from hawt_analysis.comparison import compare_summaries
 from hawt_analysis.plots import (plot_compared_spectra, plot_compared_time_series, plot_comparison, plot_del_bars,
-                                 plot_time_series, write_comparison_report, write_report)
+                                 plot_spectra, plot_time_series, write_comparison_report, write_report)
 from hawt_analysis.spectra import rotor_harmonic_frequencies
 from hawt_analysis.summary import summarize
 from hawt_analysis.synthetic_run import synthetic_channels
@@ -94,13 +94,19 @@ def test_del_bars_of_one_run_have_one_bar_per_channel_and_no_legend(run):
 
 def test_changes_of_loads_and_of_pitch_activity_are_on_separate_axes(comparison):
     """DEL changes on one axis, pitch-activity changes on another, each scaled to its own bars: the +200 % pitch
-    travel does not set the scale of the -50 % hub tilt DEL."""
+    travel does not set the scale of the -50 % hub tilt DEL. Each pitch bar is labelled as the text table names it,
+    with its unit (degrees) and the runs' values in that unit."""
     loads, pitch = plot_comparison(comparison).axes
     assert np.allclose(_bar_widths(loads), [[entry["change_percent"][1] for entry in comparison["del"].values()]])
     assert np.allclose(_bar_widths(pitch), [[entry["change_percent"][1] for entry in comparison["pitch"].values()]])
     assert comparison["pitch"]["travel_rad"]["change_percent"][1] == pytest.approx(200.0, abs=1.0)
     assert max(abs(limit) for limit in loads.get_xlim()) < 100.0 < pitch.get_xlim()[1]
-    assert [label.get_text() for label in pitch.get_yticklabels()] == list(comparison["pitch"])
+    travel = np.degrees(comparison["pitch"]["travel_rad"]["value"])
+    assert [label.get_text().split("\n") for label in pitch.get_yticklabels()][0] == [
+        "travel, sum of all blades [°]", f"{travel[0]:.4g} → {travel[1]:.4g}"]
+    assert [label.get_text().split("\n")[0] for label in pitch.get_yticklabels()][1:] == [
+        "largest rate of any blade [°/s]", "largest acceleration of any blade [°/s²]",
+        "duty cycle, mean of the blades [%]"]
 
 
 EVENTS = [{"time": 10.0, "kind": "switch"}, {"time": 10.0, "kind": "switch"}, {"time": 10.0, "kind": "watchdog"},
@@ -139,3 +145,20 @@ def test_compared_spectra_mark_the_rotor_harmonics_and_scale_to_the_band_shown(r
         curves = [line for line in ax.lines if line.get_linestyle() == "-"]
         assert [line.get_label() for line in curves] == ["a", "b"]
         assert max(line.get_xdata().max() for line in curves) <= 1.25 * frequencies[-1] == ax.get_xlim()[1]
+
+
+@pytest.mark.parametrize("draw", [
+    lambda runs: plot_compared_time_series(runs, {}),
+    lambda runs: plot_time_series(runs["a"]),
+    lambda runs: plot_compared_spectra(runs),
+    lambda runs: plot_spectra(runs["a"]),
+], ids=["compared time series", "time series", "compared spectra", "spectra"])
+def test_a_legend_covers_no_trace(runs, draw):
+    """Every legend (the runs', the blades') sits outside every panel: the compared time series once had the runs'
+    legend over the end of the rotor-speed trace."""
+    figure = draw(runs)
+    figure.draw_without_rendering()  # lays the figure out
+    legends = [ax.get_legend() for ax in figure.axes if ax.get_legend() is not None]
+    assert legends
+    for legend in legends:
+        assert not any(legend.get_window_extent().overlaps(ax.get_window_extent()) for ax in figure.axes)

@@ -13,12 +13,13 @@ from hawt_analysis.synthetic_run import synthetic_channels
 
 
 class Page(HTMLParser):
-    """What a test reads of a page: the rows of its tables (cell texts), its caption, its images and links."""
+    """What a test reads of a page: the rows of its tables (cell texts), its captions, its headings, its images and
+    links."""
 
     def __init__(self, text: str):
         super().__init__()
-        self.rows, self.captions, self.images, self.links = [], [], [], []
-        self._cell = self._caption = None
+        self.rows, self.captions, self.headings, self.images, self.links = [], [], [], [], []
+        self._cell = self._caption = self._heading = None
         self.feed(text)
 
     def handle_starttag(self, tag, attrs):
@@ -29,6 +30,8 @@ class Page(HTMLParser):
             self._cell = ""
         elif tag == "caption":
             self._caption = ""
+        elif tag == "h2":
+            self._heading = ""
         elif tag == "img":
             self.images.append(attrs["src"])
         elif tag == "a":
@@ -41,12 +44,17 @@ class Page(HTMLParser):
         elif tag == "caption":
             self.captions.append(self._caption)
             self._caption = None
+        elif tag == "h2":
+            self.headings.append(self._heading)
+            self._heading = None
 
     def handle_data(self, data):
         if self._cell is not None:
             self._cell += data
         if self._caption is not None:
             self._caption += data
+        if self._heading is not None:
+            self._heading += data
 
 
 @pytest.fixture(scope="module")
@@ -62,30 +70,30 @@ def _analysis(label: str, channels: dict) -> SimpleNamespace:
                            summary=summarize(channels))
 
 
-def _blade_mean_kn_m(channels: dict) -> np.ndarray:
-    """1P-6P amplitudes of M_oop, mean of the three blades [kN·m], from the summary's harmonics."""
+def _blade_mean_mn_m(channels: dict) -> np.ndarray:
+    """1P-6P amplitudes of M_oop, mean of the three blades [MN·m], from the summary's harmonics."""
     harmonics = summarize(channels)["harmonics"]
-    return 1e-3 * np.mean([harmonics[f"root_moment_oop_{blade}"]["amplitude"] for blade in (1, 2, 3)], axis=0)
+    return 1e-6 * np.mean([harmonics[f"root_moment_oop_{blade}"]["amplitude"] for blade in (1, 2, 3)], axis=0)
 
 
 def test_the_compare_page_has_the_blade_root_harmonics_as_a_table_one_column_per_run(runs, tmp_path):
-    """One row per harmonic 1P-6P, one column per run: the blades' mean amplitude in kN·m, the second run's with its
-    change against the first."""
+    """One row per harmonic 1P-6P, one column per run: the blades' mean amplitude in MN·m (the unit of the text
+    tables), the second run's with its change against the first."""
     analyses = [_analysis(label, channels) for label, channels in runs.items()]
     comparison = compare_summaries([analysis.summary for analysis in analyses], list(runs))
     page = Page(write_comparison_report(comparison, tmp_path, analyses).read_text(encoding="utf-8"))
-    first, second = _blade_mean_kn_m(runs["a"]), _blade_mean_kn_m(runs["b"])
-    assert page.rows == [["harmonic", "a", "b"]] + [[f"{n}P", f"{a:.4g}", f"{b:.4g} (-50.0%)"]
+    first, second = _blade_mean_mn_m(runs["a"]), _blade_mean_mn_m(runs["b"])
+    assert page.rows == [["harmonic", "a", "b"]] + [[f"{n}P", f"{a:.4g}", f"{b:.4g} (-50.0 %)"]
                                                    for n, a, b in zip(range(1, 7), first, second)]
-    assert page.captions == ["amplitude of the periodic part, mean of the 3 blades [kN·m]"]
-    assert 1900 < first[0] < 2100  # the synthetic run's 2 MN·m 1P
+    assert page.captions == ["amplitude of the periodic part, mean of the 3 blades [MN·m]"]
+    assert 1.9 < first[0] < 2.1  # the synthetic run's 2 MN·m 1P
 
 
 def test_the_analyze_page_has_the_harmonic_table_with_one_column(runs, tmp_path):
     """hawt analyze's page: the same table, one column named after the bag, no change."""
     page = Page(write_analysis_report(_analysis("run.mcap", runs["a"]), tmp_path).read_text(encoding="utf-8"))
     assert page.rows == [["harmonic", "run.mcap"]] + [[f"{n}P", f"{a:.4g}"]
-                                                     for n, a in zip(range(1, 7), _blade_mean_kn_m(runs["a"]))]
+                                                     for n, a in zip(range(1, 7), _blade_mean_mn_m(runs["a"]))]
 
 
 @pytest.mark.parametrize("page", ["analyze", "compare"])
@@ -104,3 +112,24 @@ def test_every_image_and_link_of_the_page_is_a_file_beside_it(runs, tmp_path, pa
     parsed = Page(index.read_text(encoding="utf-8"))
     assert (parsed.images, parsed.links) == expected
     assert all((tmp_path / name).is_file() for name in parsed.images + parsed.links)
+
+
+@pytest.mark.parametrize("page, headings", [
+    ("analyze", ["rotor speed, power, pitch and loads over time",
+                 "power spectral densities of the loads and the pitch, rotor harmonics marked",
+                 "damage-equivalent loads (1 Hz)"]),
+    ("compare", ["damage-equivalent loads (1 Hz)",
+                 "changes against the first run: damage-equivalent loads and pitch activity",
+                 "the runs over time: rotor speed, pitch, blade 1 root, hub and tower loads",
+                 "the runs' power spectral densities: blade 1 root, hub and tower moments"]),
+])
+def test_each_figure_is_headed_by_what_it_shows_not_by_its_file_name(runs, tmp_path, page, headings):
+    """Once "del" and "comparison": the headings say what the figure shows, after the harmonics table's."""
+    analyses = [_analysis(label, channels) for label, channels in runs.items()]
+    if page == "analyze":
+        index = write_analysis_report(analyses[0], tmp_path)
+    else:
+        index = write_comparison_report(compare_summaries([analysis.summary for analysis in analyses], list(runs)),
+                                        tmp_path, analyses)
+    assert Page(index.read_text(encoding="utf-8")).headings == [
+        "harmonics of the blade-root out-of-plane moment", *headings]
