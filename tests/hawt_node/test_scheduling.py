@@ -42,5 +42,7 @@ def test_a_node_process_takes_its_priority_from_the_launcher_environment():
 
 
 def test_hawt_launch_refuses_a_bad_priority_in_one_line_with_exit_code_2(capsys):
-    assert main(["launch", "example", "--priority", "120"]) == 2
-    assert capsys.readouterr().err.strip() == "hawt launch: priority 120: SCHED_FIFO takes 1..99"
+    with pytest.raises(SystemExit) as exit_:
+        main(["launch", "example", "--priority", "120"])
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err.strip() == "hawt launch: argument --priority: 120: expected a whole number from 1 to 99"

@@ -220,7 +220,7 @@ def test_compare_reads_campaign_folders(local_run, hawt_cli):
     result = subprocess.run([*hawt_cli, "compare", str(local_run)], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     header, *rows = result.stdout.splitlines()
-    assert header.split() == ["baseline", "ipc_1p"] and rows[-1].startswith("AEP [GWh]")
+    assert header.split() == ["baseline", "ipc_1p", "change"] and rows[-1].startswith("AEP [GWh]")
     assert "%" in rows[0], "the second controller's change against the first"
 
 
