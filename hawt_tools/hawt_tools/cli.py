@@ -20,7 +20,7 @@ import yaml
 
 from hawt_bag.errors import BagError
 
-from hawt_tools.graph_file import GraphError, load_graph
+from hawt_tools.graph_file import GraphError, did_you_mean, load_graph
 from hawt_tools.view import ViewOptionError
 from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
@@ -46,7 +46,7 @@ def find_graph(name: str) -> Path:
                 return candidate
             known += sorted(p.stem for p in folder.glob("*.yaml"))
     raise GraphError(f"{name}: no such graph file, and no installed graph of that name"
-                     + (f" (installed graphs: {', '.join(known)})" if known else ""))
+                     + (did_you_mean(name, known) if known else ""))
 
 
 def _launch_arguments(words: List[str]) -> Dict[str, str]:
@@ -66,6 +66,37 @@ def _cmd_launch(args: argparse.Namespace) -> int:
     view = _view_command(args.view_port, args.view_allow_parameter_sets) if args.view else None
     return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority, view,
                       args.record_optional)
+
+
+def _cmd_graph_show(args: argparse.Namespace) -> int:
+    """A graph's launch arguments with their defaults, its nodes with their parameter files, and its programs."""
+    from hawt_tools.graph_file import ParameterFile, declared_arguments
+    from hawt_tools.launcher import package_prefix
+
+    path = find_graph(args.graph)
+    graph = load_graph(path, _launch_arguments(args.arguments), package_prefix)
+    declared = declared_arguments(path)
+    print(graph.path)
+    print("arguments (NAME:=VALUE, default, description):" if declared else "arguments: none")
+    defaults = {a.name: "(none)" if a.default is None else a.default or '""' for a in declared}
+    name_width = max(map(len, defaults), default=0)
+    default_width = max(map(len, defaults.values()), default=0)
+    for argument in declared:
+        print(f"  {argument.name:<{name_width}}  {defaults[argument.name]:<{default_width}}  "
+              f"{argument.description}".rstrip())
+    print("nodes (namespace/name, package/executable, then parameters in the order they apply):")
+    label_width = max(len(node.label) for node in graph.nodes)
+    for node in graph.nodes:
+        print(f"  {node.label:<{label_width}}  {node.package}/{node.executable}")
+        for source in node.parameters:
+            lines = [f"from {source.path}"] if isinstance(source, ParameterFile) else (
+                f"{name}: {json.dumps(value)}" for name, value in source.values)
+            print("".join(f"    {line}\n" for line in lines), end="")
+    if graph.programs:
+        print("programs (executable actions, run by hawt launch only):")
+    for program in graph.programs:
+        print(f"  {program.name}: {' '.join(program.command)}")
+    return 0
 
 
 def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
@@ -866,6 +897,18 @@ def _parser() -> argparse.ArgumentParser:
     recover.add_argument("bag", metavar="FILE.mcap")
     recover.add_argument("-o", "--output", metavar="OUT.mcap", help="default: FILE.recovered.mcap")
     recover.set_defaults(run=_cmd_bag_recover)
+
+    graph = commands.add_parser("graph", help="what a graph file declares (show)")
+    graph_commands = graph.add_subparsers(dest="graph_action", required=True, metavar="ACTION")
+    graph_show = graph_commands.add_parser(
+        "show", help="a graph's launch arguments with defaults, its nodes and parameter files, its programs",
+        description="List a graph file's launch arguments (NAME:=VALUE) with their defaults and descriptions, "
+                    "then its nodes (namespace/name, package/executable) with their parameter files as the "
+                    "defaults (or the given arguments) resolve them, then its executable programs. Starts nothing.")
+    graph_show.add_argument("graph", metavar="GRAPH", help="graph file, or the name of an installed graph")
+    graph_show.add_argument("arguments", nargs="*", metavar="NAME:=VALUE",
+                            help="launch arguments to resolve the parameter files with")
+    graph_show.set_defaults(run=_cmd_graph_show)
 
     analyze = commands.add_parser("analyze", help="DELs, harmonics, spectra, pitch activity and events of a run",
                                   description="Analyse one turbine's run in a bag: plant/blade_loads and "

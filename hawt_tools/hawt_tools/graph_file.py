@@ -54,6 +54,8 @@ __all__ = [
     "did_you_mean",
     "load_marked_yaml",
     "ProgramSpec",
+    "ArgumentSpec",
+    "declared_arguments",
 ]
 
 NODE_KEYS = (
@@ -159,6 +161,15 @@ class Graph:
                 return spec
         raise GraphError(f"{self.path}: no node named {name!r} in the graph "
                          f"(nodes: {', '.join(s.label for s in self.nodes)})")
+
+
+@dataclass(frozen=True)
+class ArgumentSpec:
+    """One ``arg`` action as written: its name, its default (None if it has none) and its description."""
+
+    name: str
+    default: Optional[str]
+    description: str = ""
 
 
 class _Map(dict):
@@ -497,6 +508,26 @@ def _parse_program(entry: Any, line: int, path: Path, substitute: _Substitutor) 
         raise GraphError(f"{key_where('cwd')}: cwd {cwd!r} is not a folder")
     return ProgramSpec(name=name, command=(program, *command[1:]), cwd=cwd,
                        **_process_options(entry, line, path, substitute))
+
+
+def declared_arguments(path: Path) -> Tuple[ArgumentSpec, ...]:
+    """The launch arguments a graph file declares (its ``arg`` actions), in file order, defaults unsubstituted.
+
+    Only the ``arg`` actions are read; :func:`load_graph` checks the whole file.
+    """
+    path = Path(path).resolve()
+    data = load_marked_yaml(path)
+    actions = data.get("launch") if isinstance(data, _Map) else None
+    if not isinstance(actions, list):
+        raise GraphError(f"{path}:1: a graph file has one root key 'launch' holding a list of actions")
+    declared = []
+    for action in actions:
+        body = action.get("arg") if isinstance(action, _Map) else None
+        if isinstance(body, _Map) and "name" in body:
+            default = body.get("default")
+            declared.append(ArgumentSpec(str(body["name"]), None if default is None else str(default),
+                                         str(body.get("description", ""))))
+    return tuple(declared)
 
 
 def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,

@@ -1,0 +1,35 @@
+"""``hawt graph show`` lists what a graph declares without starting it: arguments with defaults, nodes, parameters."""
+from pathlib import Path
+
+from hawt_tools.cli import main
+from hawt_tools.graph_file import ArgumentSpec, declared_arguments
+
+
+def test_the_ipc_graph_shows_its_arguments_with_defaults_and_its_nodes(capsys):
+    assert main(["graph", "show", "ipc"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert ["turbine", "nrel_5mw"] in (line.split() for line in lines)
+    assert ["namespace", "wt1"] in (line.split() for line in lines)
+    for node in ("plant", "cpc", "mbc", "ipc_h1", "ipc_h2", "ipc_h3", "controller_manager"):
+        assert any(line.split()[0] == f"/wt1/{node}" for line in lines if line.startswith("  /"))
+    assert any(line.strip().startswith("from ") and line.endswith("ipc_nrel5mw.yaml") for line in lines)
+
+
+def test_given_arguments_resolve_the_nodes_but_the_defaults_stay_listed(capsys):
+    assert main(["graph", "show", "ipc", "namespace:=wt7"]) == 0
+    out = capsys.readouterr().out
+    assert "/wt7/plant" in out and "/wt1/plant" not in out
+    assert ["namespace", "wt1"] in (line.split() for line in out.splitlines())
+
+
+def test_an_unknown_graph_is_one_line_with_the_closest_name_and_exit_2(capsys):
+    assert main(["graph", "show", "ipx"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "did you mean 'ipc'?" in err
+
+
+def test_declared_arguments_keep_default_and_description_as_written(tmp_path: Path):
+    graph = tmp_path / "graph.yaml"
+    graph.write_text('launch:\n- arg: {name: gain, default: "2.5", description: loop gain}\n'
+                     '- arg: {name: out}\n- node: {pkg: hawt_tools, exec: relay}\n')
+    assert declared_arguments(graph) == (ArgumentSpec("gain", "2.5", "loop gain"), ArgumentSpec("out", None))
