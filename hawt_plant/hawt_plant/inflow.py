@@ -1,6 +1,7 @@
 """Choosing the plant's wind field from a few named settings (the plant node's parameters)."""
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 from hawt_plant.bts import read_bts
 from hawt_plant.gusts import ExtremeOperatingGust, WindStep
@@ -54,8 +55,9 @@ class InflowSettings:
     step_time: float = 20.0
 
 
-def make_wind(settings: InflowSettings) -> WindField:
-    """The wind field the settings describe (ValueError naming the setting at fault)."""
+def make_wind(settings: InflowSettings, progress: Callable[[str], None] = lambda _: None) -> WindField:
+    """The wind field the settings describe (ValueError naming the setting at fault); ``progress`` gets the lines
+    of :func:`~hawt_plant.turbulence.cached_turbulence` when a turbulent field has to be generated."""
     if settings.kind not in WIND_KINDS:
         raise ValueError(f"wind_type: {settings.kind!r} is not one of {', '.join(WIND_KINDS)}")
     common = dict(hub_height=settings.hub_height, shear_exponent=settings.shear_exponent)
@@ -64,7 +66,7 @@ def make_wind(settings: InflowSettings) -> WindField:
     if settings.kind == "turbulent":
         return cached_turbulence(TurbulenceSpec(
             mean_speed=settings.wind_speed, turbulence_class=settings.turbulence_class, seed=settings.seed,
-            duration=settings.field_duration, **common))
+            duration=settings.field_duration, **common), progress=progress)
     if settings.kind == "bts":
         if not Path(settings.bts_file).is_file():
             raise ValueError(f"bts_file: {settings.bts_file!r} does not exist")

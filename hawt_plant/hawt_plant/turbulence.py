@@ -14,9 +14,11 @@ import hashlib
 import json
 import os
 import tempfile
+import time
 import warnings
 from pathlib import Path
 from types import MappingProxyType
+from typing import Callable
 
 import numpy as np
 import pandas as pd
@@ -472,7 +474,8 @@ def _cache_key(spec: TurbulenceSpec) -> str:
     return hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:32]
 
 
-def cached_turbulence(spec: TurbulenceSpec, cache_dir: Path | str | None = None) -> TurbulentWind:
+def cached_turbulence(spec: TurbulenceSpec, cache_dir: Path | str | None = None,
+                      progress: Callable[[str], None] = lambda _: None) -> TurbulentWind:
     """The field of ``spec``, loaded from the disk cache or generated and stored there.
 
     Parameters
@@ -481,6 +484,9 @@ def cached_turbulence(spec: TurbulenceSpec, cache_dir: Path | str | None = None)
         Field parameters; their hash (with pyconturb's version) names the cache file.
     cache_dir : Path or str, optional
         Cache directory; default :func:`default_cache_dir`. Created if missing.
+    progress : callable, optional
+        Gets a line before a field is generated (what, and the file it goes into) and one when it is done (how
+        long it took); nothing when the field comes from the cache.
 
     Returns
     -------
@@ -502,7 +508,11 @@ def cached_turbulence(spec: TurbulenceSpec, cache_dir: Path | str | None = None)
             raise ValueError(f"{path}: cached field has shape {velocity.shape} {velocity.dtype}, expected "
                              f"{expected_shape} float32; delete the file to regenerate it")
         return _wind_from_spec(spec, velocity)
+    progress(f"generating a turbulent wind field (class {spec.turbulence_class}, {spec.mean_speed:g} m/s, seed "
+             f"{spec.seed}, {spec.duration:g} s) into {path}; cached for the next run")
+    start = time.monotonic()
     wind = generate_turbulence(spec)
+    progress(f"turbulent wind field generated in {time.monotonic() - start:.1f} s")
     directory.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(dir=directory, suffix=".npy.tmp", delete=False) as handle:
         np.save(handle, wind.velocity_grid)

@@ -142,6 +142,21 @@ def test_cache_dir_comes_from_hawt_cache_dir(tmp_path, monkeypatch):
     assert len(list((tmp_path / "turbulence").glob("*.npy"))) == 1
 
 
+def test_a_generated_field_is_announced_with_its_cache_file_and_a_cached_one_silently(tmp_path, monkeypatch):
+    """Generating says what, where it is cached, then how long it took; the field from the cache says nothing."""
+    monkeypatch.setenv("HAWT_CACHE_DIR", str(tmp_path))
+    first: list[str] = []
+    cached_turbulence(_small_spec(seed=3), progress=first.append)
+    assert len(first) == 2
+    assert first[0].startswith(f"generating a turbulent wind field (class A, 11.4 m/s, seed 3, 60 s) into "
+                               f"{tmp_path / 'turbulence'}/")
+    assert first[0].endswith(".npy; cached for the next run")
+    assert first[1].startswith("turbulent wind field generated in ") and first[1].endswith(" s")
+    second: list[str] = []
+    cached_turbulence(_small_spec(seed=3), progress=second.append)
+    assert second == []
+
+
 def test_default_grid_covers_the_nrel_5mw_rotor():
     """Default 11 x 11 grid spans the 63 m rotor radius around the 90 m hub, above ground."""
     spec = TurbulenceSpec(mean_speed=RATED_SPEED)
