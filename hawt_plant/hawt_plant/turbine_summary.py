@@ -33,9 +33,10 @@ from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Protecti
 
 __all__ = ["TurbineSummary", "format_summary", "peak_power_coefficient", "turbine_summary"]
 
-_TIP_SPEED_RATIOS = np.arange(2.0, 16.01, 0.5)  # coarse grid of the Cp search [-]
+_TIP_SPEED_RATIO_STEP = 1.0  # coarse grid of the Cp search [-]; Nelder-Mead refines from its best point
+_TIP_SPEED_RATIOS = np.arange(2.0, 16.01, _TIP_SPEED_RATIO_STEP)
 _PITCH_SPAN = math.radians(10.0)  # the Cp search covers pitch from the lower limit to this above it [rad]
-_PITCH_STEP = math.radians(1.0)
+_PITCH_STEP = math.radians(2.0)
 _SEARCH_WIND_SPEED = 10.0  # [m/s] the BEM's Cp depends on the tip-speed ratio and pitch only
 
 
@@ -109,7 +110,7 @@ def peak_power_coefficient(turbine: Turbine, blade: BemBlade | None = None) -> t
     """The plant's steady BEM peak power coefficient and where it is.
 
     Searches tip-speed ratios 2..16 and pitch angles from the actuator's lower limit to 10 deg above it on a
-    grid (0.5, 1 deg), then refines from the grid's best point (Nelder-Mead, pitch kept within those bounds).
+    grid (1, 2 deg), then refines from the grid's best point (Nelder-Mead, pitch kept within those bounds).
 
     Returns
     -------
@@ -130,7 +131,7 @@ def peak_power_coefficient(turbine: Turbine, blade: BemBlade | None = None) -> t
     start = max(grid, key=lambda point: cp(np.array(point)))
     best = minimize(lambda point: -cp(point), np.array(start), method="Nelder-Mead",
                     options={"xatol": 1e-4, "fatol": 1e-7, "initial_simplex": np.array(
-                        [start, (start[0] + 0.5, start[1]), (start[0], start[1] + _PITCH_STEP)])})
+                        [start, (start[0] + _TIP_SPEED_RATIO_STEP, start[1]), (start[0], start[1] + _PITCH_STEP)])})
     tsr, pitch = float(best.x[0]), float(np.clip(best.x[1], low, high))
     return cp(np.array([tsr, pitch])), tsr, pitch
 
