@@ -50,13 +50,11 @@ recording with exit code 1 and says how to recover.
 """
 import argparse
 import math
-import os
 import re
 import sys
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Callable, Iterator, List, Optional, Sequence
 
 import rclpy
@@ -78,10 +76,10 @@ from .interface_files import has_header
 from .message_types import message_class
 from .qos_profiles import QosOffer
 from .verification import verify_bag
-from .writer import BagWriter
+from .writer import BagWriter, new_bag_path
 
 __all__ = ["NAME_WAIT", "Recorder", "RecorderOptions", "TopicDiscovery", "adapted_qos", "add_record_arguments",
-           "main", "new_bag_path", "options_from", "record", "take_backlog", "visible"]
+           "main", "options_from", "record", "take_backlog", "visible"]
 
 _QUIET = 0.1
 """[s] A topic that delivers nothing for this long after the stop has delivered what was queued."""
@@ -403,32 +401,6 @@ def add_record_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--chunk-interval", type=float, default=1.0, metavar="S",
                         help="close a chunk at least every S seconds: what a kill can lose (default 1)")
     parser.add_argument("--node-name", default=RECORDER_NODE, help="the recorder node's name")
-
-
-def new_bag_path(output: str, option: str) -> Path:
-    """``output`` as the path of a new bag, checked before anything records, the folders it goes into made if
-    missing (as ``mkdir -p``: ``bags/`` of the README's examples on a fresh clone, or any other).
-
-    Raises
-    ------
-    BagError
-        One line naming ``option``: ``output`` exists, a folder on its way is a file, or the deepest of its folders
-        that exists cannot be written into.
-    """
-    path = Path(output)
-    if path.exists() or path.is_symlink():
-        raise BagError(f"{output}: exists; refusing to overwrite a bag (choose another {option} name)")
-    folder = path.absolute().parent
-    existing = next(parent for parent in (folder, *folder.parents) if parent.exists())
-    if not existing.is_dir():
-        raise BagError(f"{option} {output}: {existing} is a file, not a folder")
-    if not os.access(existing, os.W_OK | os.X_OK):
-        raise BagError(f"{option} {output}: cannot write into the folder {existing}")
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise BagError(f"{option} {output}: cannot create the folder {folder} ({error.strerror})") from None
-    return path
 
 
 def options_from(args: argparse.Namespace) -> RecorderOptions:

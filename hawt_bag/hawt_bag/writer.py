@@ -25,7 +25,7 @@ from .msg_definition import short_type_name
 from .qos_profiles import QosOffer, offered_qos_yaml
 from .reader import PUBLISHER
 
-__all__ = ["LIBRARY", "BagWriter"]
+__all__ = ["LIBRARY", "BagWriter", "new_bag_path"]
 
 LIBRARY = "hawt_bag 0.1.0"
 """The MCAP header's ``library`` field."""
@@ -204,3 +204,29 @@ class BagWriter:
             self._writer.finish()
         finally:
             self._file.close()
+
+
+def new_bag_path(output: str, option: str) -> Path:
+    """``output`` as the path of a new bag, checked before anything records, the folders it goes into made if
+    missing (as ``mkdir -p``: ``bags/`` of the README's examples on a fresh clone, or any other).
+
+    Raises
+    ------
+    BagError
+        One line naming ``option``: ``output`` exists, a folder on its way is a file, or the deepest of its folders
+        that exists cannot be written into.
+    """
+    path = Path(output)
+    if path.exists() or path.is_symlink():
+        raise BagError(f"{output}: exists; refusing to overwrite a bag (choose another {option} name)")
+    folder = path.absolute().parent
+    existing = next(parent for parent in (folder, *folder.parents) if parent.exists())
+    if not existing.is_dir():
+        raise BagError(f"{option} {output}: {existing} is a file, not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise BagError(f"{option} {output}: cannot write into the folder {existing}")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise BagError(f"{option} {output}: cannot create the folder {folder} ({error.strerror})") from None
+    return path

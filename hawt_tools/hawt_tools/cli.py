@@ -108,7 +108,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     ``view`` executable's command line, :func:`_view_command`) it serves the graph to Foxglove while it runs. A
     recorder that dies is respawned and the plant waits for it (hawt_tools.recording), unless ``record_optional``.
     """
-    from hawt_bag.recorder import new_bag_path
+    from hawt_bag.writer import new_bag_path
     from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
     from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
     from hawt_tools.recording import SupervisedRecorder, stop_process
@@ -153,7 +153,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from hawt_bag.recorder import new_bag_path
+    from hawt_bag.writer import new_bag_path
     from hawt_tools.in_process import run_graph
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_graph_parameters
@@ -225,7 +225,7 @@ def _cmd_bag_verify(args: argparse.Namespace) -> int:
 
 
 def _cmd_bag_recover(args: argparse.Namespace) -> int:
-    from hawt_bag.recorder import new_bag_path
+    from hawt_bag.writer import new_bag_path
     from hawt_bag.recover import recover_bag
 
     print(recover_bag(args.bag, new_bag_path(args.output, "-o") if args.output else None).text())
