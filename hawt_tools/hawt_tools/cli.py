@@ -679,6 +679,7 @@ def _cmd_turbine_show(args: argparse.Namespace) -> int:
 def _cmd_campaign(args: argparse.Namespace) -> int:
     """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder."""
     from hawt_analysis.campaign_report import lifetime_text, write_campaign_report
+    from hawt_core.stop_signals import stop_signals
     from hawt_tools.campaign import lifetime_table, run_campaign, write_tables
     from hawt_tools.campaign_file import load_campaign
 
@@ -687,8 +688,11 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
     scheduler = _scheduler_address(args.scheduler)
     campaign = load_campaign(Path(args.campaign))
     output = _output_path(args.output or Path(args.campaign).stem, "-o", folder=True)
-    done = run_campaign(campaign, output, args.workers, scheduler, args.bags,
-                        report=lambda line: print(line, flush=True))
+    # Ctrl-C or SIGTERM stops the campaign, keeping what finished, also in a process started with SIGINT ignored
+    # (a script's background job, a test runner's worker)
+    with stop_signals(signal.default_int_handler):
+        done = run_campaign(campaign, output, args.workers, scheduler, args.bags,
+                            report=lambda line: print(line, flush=True))
     if done.rows:
         tables = write_tables(campaign, done.rows, output)
         lifetime = lifetime_table(campaign, done.rows)

@@ -35,8 +35,9 @@ HAWT = [sys.executable, "-m", "hawt_tools.cli"]
 class _Command:
     """A command in a child process whose output lines are read as they come."""
 
-    def __init__(self, arguments: List[str]) -> None:
-        self.process = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    def __init__(self, arguments: List[str], preexec_fn=None) -> None:
+        self.process = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                        preexec_fn=preexec_fn)
         self.lines: List[str] = []
         self.changed = threading.Condition()
         threading.Thread(target=self._read, daemon=True).start()
@@ -146,11 +147,14 @@ def test_on_a_cluster_with_a_worker_killed_every_case_is_stored_once_and_equal_t
 
 def test_a_campaign_interrupted_with_ctrl_c_keeps_what_finished_and_resumes(hawt_cli, tmp_path):
     """Ctrl-C once the first case is reported. The cases are 30 s here (about 2 s of wall time each, one worker):
-    with the small campaign's 10 s a fresh-clone suite once finished all six before the test's Ctrl-C arrived."""
+    with the small campaign's 10 s a fresh-clone suite once finished all six before the test's Ctrl-C arrived.
+    The campaign is started with SIGINT ignored, as a script's background job is (and as a test runner's worker once
+    passed it on): Ctrl-C must stop it all the same."""
     campaign_file = tmp_path / "longer.yaml"
     campaign_file.write_text(CAMPAIGN.replace("duration: 10", "duration: 30"))
     output = tmp_path / "interrupted"
-    command = _Command([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1"])
+    command = _Command([*hawt_cli, "campaign", str(campaign_file), "-o", str(output), "--workers", "1"],
+                       preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
     command.wait_for("[1/")
     command.process.send_signal(signal.SIGINT)
     assert command.finish() == 130, "".join(command.lines[-30:])
