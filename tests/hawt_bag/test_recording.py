@@ -167,25 +167,24 @@ def test_a_stopped_recorder_first_takes_everything_queued_for_it(processes, prob
             assert np.array_equal(read_topic_columns(reader, topic).fields["step"], np.arange(count)), topic
 
 
-def test_a_topic_of_two_publishing_nodes_is_recorded_in_a_channel_each_and_reads_whole(processes, probe, tmp_path):
-    """Two nodes publish on one topic, 50 messages each (even steps and odd steps): the bag has a channel for each,
-    named by the node's fully qualified name, and read_topic_columns reads the topic whole, each message with its
-    publisher."""
-    count, topic = 50, "/two/loads"
-    bag = tmp_path / "two.mcap"
+def _record_two_senders(processes, probe, bag, topic: str, second_name: str, offers: tuple, first_readers: int):
+    """``hawt record`` of ``topic`` while the probe's node and a second node (``second_name``) publish 50 messages
+    each on it (even and odd steps), with the QoS ``offers`` (the probe's, the second's); the second publisher is
+    made once the recorder reads the first, and the run goes on once the recorder reads it too (the first then has
+    ``first_readers``). The bag's channels' publishers and the topic's columns."""
     recorder = processes.hawt("record", "-o", str(bag), "--topics", topic)
     wait_for_file(bag, recorder)
-    second = ProbeNode("second_sender", background=True)
+    second = ProbeNode(second_name, background=True)
     try:
-        reliable = QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE)
-        publishers = [node.create_publisher(hawt_msgs.msg.BladeLoads, topic, reliable)
-                      for node in (probe.node, second.node)]
-        probe.wait_until(lambda: all(p.get_subscription_count() == 1 for p in publishers),
-                         "the recorder's subscription", alive=recorder)
-        for step in range(count):
-            for parity, publisher in enumerate(publishers):
-                publisher.publish(hawt_msgs.msg.BladeLoads(step=2 * step + parity))
-        for publisher in publishers:
+        first = probe.node.create_publisher(hawt_msgs.msg.BladeLoads, topic, offers[0])
+        probe.wait_until(lambda: first.get_subscription_count() == 1, "the recorder's subscription", alive=recorder)
+        late = second.node.create_publisher(hawt_msgs.msg.BladeLoads, topic, offers[1])
+        probe.wait_until(lambda: late.get_subscription_count() == 1 and first.get_subscription_count() == first_readers,
+                         "the recorder reading both publishers", alive=recorder)
+        for step in range(50):
+            first.publish(hawt_msgs.msg.BladeLoads(step=2 * step))
+            late.publish(hawt_msgs.msg.BladeLoads(step=2 * step + 1))
+        for publisher in (first, late):
             assert publisher.wait_for_all_acked(Duration(seconds=60)), publisher.topic_name
         code, _, err = processes.stop(recorder)  # while both nodes are in the graph
     finally:
@@ -193,12 +192,21 @@ def test_a_topic_of_two_publishing_nodes_is_recorded_in_a_channel_each_and_reads
     assert code == 0, err
     with BagReader(bag) as reader:
         named = sorted(c.metadata["publisher"] for c in reader.summary.channels.values() if c.topic == topic)
-        columns = read_topic_columns(reader, topic, ("step",))
+        return named, read_topic_columns(reader, topic, ("step",))
+
+
+def test_a_topic_of_two_publishing_nodes_is_recorded_in_a_channel_each_and_reads_whole(processes, probe, tmp_path):
+    """Two nodes publish on one topic, 50 messages each (even steps and odd steps): the bag has a channel for each,
+    named by the node's fully qualified name, and read_topic_columns reads the topic whole, each message with its
+    publisher."""
+    reliable = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+    named, columns = _record_two_senders(processes, probe, tmp_path / "two.mcap", "/two/loads", "second_sender",
+                                         (reliable, reliable), first_readers=1)
     assert named == ["/bag_test_probe", "/second_sender"]
     steps = columns.fields["step"]
-    assert np.array_equal(np.sort(steps), np.arange(2 * count))
-    assert np.array_equal(steps[columns.publisher == "/bag_test_probe"], np.arange(0, 2 * count, 2))
-    assert np.array_equal(steps[columns.publisher == "/second_sender"], np.arange(1, 2 * count, 2))
+    assert np.array_equal(np.sort(steps), np.arange(100))
+    assert np.array_equal(steps[columns.publisher == "/bag_test_probe"], np.arange(0, 100, 2))
+    assert np.array_equal(steps[columns.publisher == "/second_sender"], np.arange(1, 100, 2))
 
 
 def test_a_publisher_the_subscription_cannot_match_is_recorded_through_a_second_one_each_message_once(
@@ -206,33 +214,12 @@ def test_a_publisher_the_subscription_cannot_match_is_recorded_through_a_second_
     """The topic's first publisher offers transient local, so the recorder subscribes transient local; a volatile
     publisher (an intruder, a probe) that joins later cannot match that subscription. Its messages come through a
     second subscription, which matches both publishers: every message of both is in the bag, and once."""
-    count, topic = 50, "/late/loads"
-    bag = tmp_path / "late.mcap"
-    recorder = processes.hawt("record", "-o", str(bag), "--topics", topic)
-    wait_for_file(bag, recorder)
-    second = ProbeNode("volatile_sender", background=True)
-    try:
-        latched = QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE,
-                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        first = probe.node.create_publisher(hawt_msgs.msg.BladeLoads, topic, latched)
-        probe.wait_until(lambda: first.get_subscription_count() == 1, "the recorder's subscription", alive=recorder)
-        late = second.node.create_publisher(hawt_msgs.msg.BladeLoads, topic,
-                                            QoSProfile(depth=count, reliability=ReliabilityPolicy.RELIABLE))
-        probe.wait_until(lambda: late.get_subscription_count() == 1 and first.get_subscription_count() == 2,
-                         "the recorder's second subscription", alive=recorder)
-        for step in range(count):
-            first.publish(hawt_msgs.msg.BladeLoads(step=2 * step))
-            late.publish(hawt_msgs.msg.BladeLoads(step=2 * step + 1))
-        for publisher in (first, late):
-            assert publisher.wait_for_all_acked(Duration(seconds=60)), publisher.topic_name
-        code, _, err = processes.stop(recorder)
-    finally:
-        second.close()
-    assert code == 0, err
-    with BagReader(bag) as reader:
-        columns = read_topic_columns(reader, topic, ("step",))
-    assert np.array_equal(np.sort(columns.fields["step"]), np.arange(2 * count))
-    assert np.array_equal(columns.fields["step"][columns.publisher == "/volatile_sender"], np.arange(1, 2 * count, 2))
+    latched = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    volatile = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+    _, columns = _record_two_senders(processes, probe, tmp_path / "late.mcap", "/late/loads", "volatile_sender",
+                                     (latched, volatile), first_readers=2)
+    assert np.array_equal(np.sort(columns.fields["step"]), np.arange(100))
+    assert np.array_equal(columns.fields["step"][columns.publisher == "/volatile_sender"], np.arange(1, 100, 2))
 
 
 def test_launch_record_starts_the_recorder_first_and_stops_it_last(hawt_cli, tmp_path):
