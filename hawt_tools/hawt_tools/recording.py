@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Callable, List, Optional
 
 from hawt_bag.errors import BagError
+from hawt_bag.recording_parts import join_parts, part_path
 from hawt_core.stop_signals import LAUNCHER_PID
 from hawt_tools.launcher import describe_exit, package_prefix
 
@@ -119,13 +120,9 @@ class SupervisedRecorder:
             os.kill(os.getpid(), signal.SIGINT)  # the launcher's own stop: the nodes are stopped as on Ctrl-C
 
     def _next_part(self) -> Path:
-        from hawt_bag.recording_parts import part_path
-
         return part_path(self.path, len(self.parts) + 1)
 
     def _respawn(self, part: Path) -> None:
-        from hawt_bag.recording_parts import part_path
-
         if len(self.parts) == 1:
             self.parts = [part_path(self.path, 1)]
             self.path.rename(self.parts[0])
@@ -142,8 +139,6 @@ class SupervisedRecorder:
         if self.lost is not None:
             return code or 1
         if code == 0 and len(self.parts) > 1:
-            from hawt_bag.recording_parts import join_parts
-
             joined = join_parts(self.parts, self.path)
             for part in self.parts:
                 part.unlink()
