@@ -27,7 +27,8 @@ interpreted; the program must exist when the graph is read. Only ``hawt launch``
 such a graph. Supported substitutions: ``$(var NAME)``,
 ``$(env NAME [DEFAULT])``, ``$(find-pkg-share PKG)``, ``$(find-pkg-prefix PKG)``,
 ``$(dirname)``, ``$(filename)`` and hawt's ``$(turbine-tuning TURBINE KIND)`` (a turbine's controller
-tuning file, :func:`hawt_controllers.tunings.tuning_file`); a substitution may hold others, e.g.
+tuning file, :func:`hawt_controllers.tunings.tuning_file`, as an absolute path: a TURBINE folder or file is
+relative to the working directory, :func:`resolve_turbine`); a substitution may hold others, e.g.
 ``$(turbine-tuning $(var turbine) cpc)``, expanded innermost first. Everything is checked before a process starts;
 an error is a :class:`GraphError` whose one-line message names the file, the line
 and the key at fault.
@@ -56,6 +57,7 @@ __all__ = [
     "ProgramSpec",
     "ArgumentSpec",
     "declared_arguments",
+    "resolve_turbine",
 ]
 
 NODE_KEYS = (
@@ -226,6 +228,31 @@ def did_you_mean(word: str, choices: Sequence[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else f" (expected one of: {', '.join(choices)})"
 
 
+def resolve_turbine(turbine: str, where: str) -> str:
+    """A turbine as every engine takes it: a packaged turbine's name as it is, else the absolute path of the folder or
+    definition file ``turbine`` names relative to the working directory (never to a graph's folder: a tuning file
+    found from it is an absolute path, so a graph's ``{from: FILE}`` reads it from where the turbine is).
+
+    Raises
+    ------
+    GraphError
+        ``WHERE: turbine 'iea15': no packaged turbine of that name (packaged: …) and no folder or file /cwd/iea15``,
+        or a folder without ``turbine.yaml``.
+    """
+    from hawt_plant.turbine import PACKAGED_TURBINES
+
+    if turbine in PACKAGED_TURBINES:
+        return turbine
+    path = Path(turbine).resolve()
+    if not path.exists():
+        raise GraphError(f"{where}: turbine {turbine!r}: no packaged turbine of that name (packaged: "
+                         f"{', '.join(PACKAGED_TURBINES)}) and no folder or file {path}")
+    if path.is_dir() and not (path / "turbine.yaml").is_file():
+        raise GraphError(f"{where}: turbine {turbine!r}: the folder {path} has no turbine.yaml (hawt turbine import "
+                         "writes one)")
+    return str(path)
+
+
 SUBSTITUTIONS = ("var", "env", "find-pkg-share", "find-pkg-prefix", "dirname", "filename", "turbine-tuning")
 
 
@@ -276,7 +303,7 @@ class _Substitutor:
             from hawt_controllers.tunings import TuningError, tuning_file
 
             try:
-                return str(tuning_file(*words))
+                return str(tuning_file(resolve_turbine(words[0], where), words[1]))
             except TuningError as error:
                 raise GraphError(f"{where}: {error}") from None
         raise GraphError(f"{where}: unknown substitution $({kind})" + did_you_mean(kind, SUBSTITUTIONS))

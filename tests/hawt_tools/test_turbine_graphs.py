@@ -2,16 +2,30 @@
 controller tunings the graph finds beside it ($(turbine-tuning TURBINE KIND)); a missing one stops the graph before
 anything starts, naming the file and the command that writes it."""
 import shutil
+from pathlib import Path
 
 import pytest
 
-from hawt_controllers.tunings import PACKAGED, TuningError, tuning_file
+from hawt_controllers.tunings import FILE_NAMES, PACKAGED, TuningError, tuning_file
 from hawt_tools.cli import find_graph, main
-from hawt_tools.graph_file import GraphError, load_graph
+from hawt_tools.graph_file import GraphError, ParameterFile, load_graph
 from hawt_tools.launcher import package_prefix
 
 GRAPHS = ("baseline", "controllers", "identification", "ipc", "lqg", "repetitive", "rosco", "rosco_ipc", "switching",
           "validation")
+PACKAGED_NREL_5MW = Path(__file__).resolve().parents[2] / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
+
+
+def copied_turbine(folder: Path) -> Path:
+    """A turbine folder as ``hawt turbine import`` and the design tools leave it, without importing a deck: the packaged
+    NREL 5 MW's definition and airfoils with its packaged tunings of every kind beside them (the DISCON.IN with its
+    Cp/Ct/Cq file)."""
+    shutil.copytree(PACKAGED_NREL_5MW, folder)
+    for kind, name in FILE_NAMES.items():
+        shutil.copy(tuning_file("nrel_5mw", kind), folder / name)
+    discon = tuning_file("nrel_5mw", "discon")
+    shutil.copy(discon.parent / "Cp_Ct_Cq.NREL5MW.txt", folder)
+    return folder
 
 
 @pytest.mark.parametrize("name", GRAPHS)
@@ -46,6 +60,7 @@ def test_a_turbine_folder_without_a_tuning_is_refused_with_the_command_that_writ
 
 
 def test_hawt_run_refuses_a_turbine_without_its_tuning_in_one_line(capsys, tmp_path):
+    (tmp_path / "turbine.yaml").write_text("")
     assert main(["run", "baseline", f"turbine:={tmp_path}", "duration:=1"]) == 2
     out, err = capsys.readouterr()
     assert err.count("\n") == 1 and "no cpc tuning" in err and "hawt design cpc --turbine" in err
@@ -70,3 +85,37 @@ def test_a_graph_on_an_imported_turbine_runs_its_plant_and_its_designed_controll
     for _ in range(200):
         run.step(None)
     assert run.step_index == 200 and run.turbine.name == turbine_from(str(folder)).name
+
+
+@pytest.mark.parametrize("name", GRAPHS)
+def test_a_relative_turbine_folder_is_the_working_directorys_in_every_graph(name, tmp_path, monkeypatch):
+    """turbine:=FOLDER from a working directory that is not the repository: every tuning a node gets, inline or as a
+    parameter file, is the file in that folder, whatever folder the graph file is in (issue 31)."""
+    folder = copied_turbine(tmp_path / "my_turbine")
+    monkeypatch.chdir(tmp_path)
+    graph = load_graph(find_graph(name), {"turbine": "my_turbine"}, package_prefix)
+    tunings = [str(source.path) for node in graph.nodes for source in node.parameters
+               if isinstance(source, ParameterFile) and source.path.name in FILE_NAMES.values()]
+    tunings += [value for node in graph.nodes for source in node.parameters if not isinstance(source, ParameterFile)
+                for key, value in source.values if key in ("controller_file", "linear_models", "infile")]
+    assert tunings and all(Path(path).parent == folder for path in tunings), tunings
+
+
+def test_hawt_run_takes_the_readmes_relative_turbine_folder_from_another_directory(tmp_path, monkeypatch, capsys):
+    """``hawt run ipc turbine:=DIR`` (the README's command) from the folder holding DIR runs, where it once looked for
+    the IPC tuning in the graph file's folder."""
+    copied_turbine(tmp_path / "iea15")
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "ipc", "turbine:=iea15", "duration:=0.2"]) == 0, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("turbine, message", [
+    ("iea15", "turbine 'iea15': no packaged turbine of that name (packaged: nrel_5mw, "),
+    ("empty", "turbine 'empty': the folder {tmp_path}/empty has no turbine.yaml (hawt turbine import writes one)"),
+], ids=["no such folder", "folder without a definition"])
+def test_a_turbine_that_is_neither_packaged_nor_a_definition_is_one_line(turbine, message, tmp_path, monkeypatch):
+    (tmp_path / "empty").mkdir()
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(GraphError, match=r"baseline.yaml:\d+: ") as raised:
+        load_graph(find_graph("baseline"), {"turbine": turbine}, package_prefix)
+    assert message.format(tmp_path=tmp_path) in str(raised.value) and "\n" not in str(raised.value)
