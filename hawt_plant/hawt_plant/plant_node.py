@@ -120,6 +120,7 @@ class PlantNode(Node):
                                                                self._on_recorder_progress, CONTROL_LOOP)
         self.done = Future()
         self.sent_at = time.monotonic()
+        self.last_sent: Optional[int] = None
         self.latency = LoopLatency()
         self.started = False
         self.created = self.wall_start = self.answered_at = time.monotonic()
@@ -144,6 +145,7 @@ class PlantNode(Node):
             self.clock_publisher.publish(Clock(clock=stamp))
         self.loads_publisher.publish(loads)
         self.state_publisher.publish(state)
+        self.last_sent = self.step_index
         self.sent_at = time.monotonic()
         self.latency.sent(self.step_index, self.sent_at)
 
@@ -234,8 +236,12 @@ class PlantNode(Node):
                     stamp=_stamp(self.output.time))
 
     def destroy_node(self) -> None:
+        """Close the command guard and say which step was the last sent (a recording of the run ends there)."""
         if self.guard is not None:
             self.guard.close()
+        if self.last_sent is not None:
+            self.get_logger().info(f"stopped: step {self.last_sent} (t={self.last_sent * self.values['dt']:.2f} s) "
+                                   "was the last sent")
         super().destroy_node()
 
     def _on_command(self, msg: PitchCommand) -> None:

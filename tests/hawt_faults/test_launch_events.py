@@ -1,4 +1,7 @@
 """What no node can report itself is in the bag: a node that died, and a graph stopped by a wall-clock --duration."""
+import re
+
+import numpy as np
 import psutil
 import pytest
 from hawt_msgs.msg import ControlEvent
@@ -30,17 +33,23 @@ def test_a_node_that_dies_is_an_error_event_in_the_bag_at_the_plants_step(tmp_pa
 
 
 @pytest.mark.parametrize("composed", [False, True], ids=["processes", "composed"])
-def test_a_wall_clock_stop_is_an_event_in_the_bag(tmp_path, composed):
-    """Separate processes or --composed (every node in the launcher's process): the stop is in the bag."""
+def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path, composed):
+    """Separate processes or --composed (every node in the launcher's process): the stop is in the bag, and so is
+    every step the plant sent up to it (the last one it names as it stops), each once, none missing."""
     bag = tmp_path / "stopped.mcap"
     with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "20", "--record",
                         str(bag), *(["--composed"] if composed else [])]) as graph:
         assert graph.finish() == 0, graph.tail()
+    (last_sent,) = [int(m.group(1)) for m in map(re.compile(r"stopped: step (\d+) \(t=").search, graph.lines) if m]
     recording = read_recording(bag, "stopped")
     (stop,) = recording.events_of("wall_clock_stop")
     assert stop["source"] == "/hawt_launch" and stop["level"] == ControlEvent.INFO
-    assert 0 < stop["step"] <= recording.loads.fields["step"].max()
+    assert 0 < stop["step"] <= last_sent
     assert "wall-clock --duration of 20 s reached" in stop["detail"] and not recording.events_of("finished")
+    for topic in (recording.loads, recording.state):
+        steps = np.unique(topic.fields["step"])
+        assert steps.tolist() == list(range(last_sent + 1)), f"{topic.topic}: {steps.size} steps recorded, " \
+            f"missing {sorted(set(range(last_sent + 1)) - set(steps.tolist()))[:10]}…, last {steps.max()}"
 
 
 def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribution_returns(tmp_path):
