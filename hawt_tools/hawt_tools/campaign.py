@@ -8,10 +8,16 @@ once, by a task every controller's case of that bin and seed waits for (pycontur
 :func:`hawt_plant.turbulence.cached_turbulence`; workers on other machines without the shared cache
 generate the same field again).
 
+Everything a case needs is checked before any wind is generated or worker started (:func:`plan_cases`): each
+graph with its arguments (the campaign's turbine among them), its parameters for every speed, and its controllers built
+once per controller configuration against the plant's turbine, as every engine configures them (a tuning for another
+turbine, say); then the output folders. Each is one line, a :class:`CampaignError`.
+
 Results are stored per case, ``OUTPUT/cases/KEY.json``, written by this (client) process when the
 case's task completes, so a case rerun by Dask after a worker died is written once. ``KEY`` hashes
-everything that defines the case: the campaign's wind and times, the turbine file, the graph and
-parameter files and the arguments, and the code (:func:`code_version`). A rerun of the same
+everything that defines the case: the campaign's wind and times, the turbine (a packaged one's name, or the files
+of its definition: :func:`turbine_digest`), the graph and the files its parameters read or name, the arguments, and
+the code (:func:`code_version`). A rerun of the same
 campaign skips the cases already stored (after a Ctrl-C, a failure or a change to one controller).
 A case that fails is reported with its error, stored under ``OUTPUT/failed/`` and the others go on.
 
@@ -29,14 +35,16 @@ from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
+import yaml
 
 from hawt_analysis.record import PER_BLADE_CHANNELS, SCALAR_CHANNELS, make_record
 from hawt_analysis.summary import load_channels, summarize
-from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides
-from hawt_tools.graph_file import Graph, GraphError, load_graph
+from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides, graph_arguments
+from hawt_tools.graph_file import Graph, GraphError, ParameterFile, load_graph
 
-__all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "check_scheduler", "code_version", "plan_cases",
-           "prepare_wind", "run_case", "run_campaign", "lifetime_table", "write_tables", "read_lifetime"]
+__all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "case_graph", "check_scheduler", "code_version", "plan_cases",
+           "prepare_wind", "run_case", "run_campaign", "lifetime_table", "write_tables", "read_lifetime",
+           "turbine_digest"]
 
 SCHEDULER_TIMEOUT = 10.0
 """Seconds ``--scheduler`` has to answer (TCP connection, Dask handshake and identity); the client's timeout too."""
@@ -76,11 +84,12 @@ def code_version() -> str:
     return digest.hexdigest()[:16]
 
 
-def _graph(config: ControllerConfig) -> Graph:
+def case_graph(config: ControllerConfig, campaign: Campaign) -> Graph:
+    """The graph every case of ``config`` runs: its file with its arguments and the campaign's turbine."""
     from hawt_tools.cli import find_graph
     from hawt_tools.launcher import package_prefix
 
-    return load_graph(find_graph(config.graph), dict(config.arguments), package_prefix)
+    return load_graph(find_graph(config.graph), graph_arguments(campaign, config), package_prefix)
 
 
 def _overrides(graph: Graph, config: ControllerConfig, campaign: Campaign, speed: float, seed: int):
@@ -90,37 +99,71 @@ def _overrides(graph: Graph, config: ControllerConfig, campaign: Campaign, speed
 
 
 def _files_digest(graph: Graph) -> str:
-    """Hash of the graph file and of every parameter file its nodes read."""
+    """Hash of the graph file, of every parameter file its nodes read and of every file a parameter's value names
+    (a tuning given inline: ``controller_file``, ``linear_models``, ``infile``)."""
     digest = hashlib.sha256(Path(graph.path).read_bytes())
     for spec in graph.nodes:
         for parameters in spec.parameters:
-            path = getattr(parameters, "path", None)
-            if path is not None:
-                digest.update(Path(path).read_bytes())
+            if isinstance(parameters, ParameterFile):
+                digest.update(parameters.path.read_bytes())
+                continue
+            for _, value in parameters.values:
+                if isinstance(value, str) and value and Path(value).is_file():
+                    digest.update(value.encode() + Path(value).read_bytes())
+    return digest.hexdigest()
+
+
+def turbine_digest(turbine: str) -> str:
+    """What a turbine is made of, for a case's key: a packaged turbine's name (:func:`code_version` covers its files),
+    else the hash of its definition file (a folder's ``turbine.yaml``), of the definitions it is ``derived_from`` and
+    of its airfoils."""
+    from hawt_plant.turbine import PACKAGED_TURBINES
+
+    path = Path(turbine)
+    if turbine in PACKAGED_TURBINES or not path.exists():
+        return turbine
+    definition = path / "turbine.yaml" if path.is_dir() else path
+    digest, seen = hashlib.sha256(), []
+    while definition.is_file() and definition not in seen:
+        seen.append(definition)
+        digest.update(definition.read_bytes())
+        data = yaml.safe_load(definition.read_text())
+        base = data.get("derived_from") if isinstance(data, dict) else None
+        if not isinstance(base, str):
+            break
+        definition = definition.parent / base
+    for airfoil in sorted((path.parent if path.is_file() else path).glob("airfoils/*.yaml")):
+        digest.update(airfoil.name.encode() + airfoil.read_bytes())
     return digest.hexdigest()
 
 
 def plan_cases(campaign: Campaign) -> List[Case]:
-    """Every case of the campaign, controllers outermost, each graph and its parameters checked for every speed.
+    """Every case of the campaign, controllers outermost, all checked as the module notes say: each graph with its
+    parameters for every speed (:func:`hawt_tools.parameter_check.check_graph_parameters`, as ``hawt run`` checks
+    them), then its controllers built once against the plant's turbine
+    (:func:`hawt_tools.parameter_check.check_against_plant`: the same description as every case's plant, without
+    building the plant model or its wind).
 
     Raises
     ------
     CampaignError
-        A graph that cannot be loaded or a parameter it refuses, named with the campaign file, line and controller.
+        A graph that cannot be loaded, a parameter it refuses or a core that cannot be built (a tuning for another
+        turbine), named with the campaign file, line and controller.
     """
-    from hawt_tools.parameter_check import check_graph_parameters
+    from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     code = code_version()
-    turbine = hashlib.sha256(Path(campaign.turbine).read_bytes()).hexdigest() if campaign.turbine else ""
     cases = []
     for config in campaign.controllers:
         where = f"{campaign.path}:{config.line}: controllers.{config.name}"
         try:
-            graph = _graph(config)
+            graph = case_graph(config, campaign)
             graph.refuse_programs("in one process (hawt run, campaigns)")
-            for speed in campaign.speeds:
-                check_graph_parameters(graph, _overrides(graph, config, campaign, speed, campaign.seeds[0]), {})
+            checked = [check_graph_parameters(graph, _overrides(graph, config, campaign, speed, campaign.seeds[0]), {})
+                       for speed in campaign.speeds]
+            check_against_plant(graph, checked[0])  # the speed changes no controller's values nor the turbine
             files = _files_digest(graph)
+            turbine = turbine_digest(graph.arguments.get("turbine", ""))
         except GraphError as error:
             raise CampaignError(f"{where}: {error}") from None
         for speed in campaign.speeds:
@@ -139,7 +182,7 @@ def prepare_wind(config: ControllerConfig, campaign: Campaign, speed: float, see
     from hawt_plant.plant_setup import make_plant
     from hawt_tools.in_process import plant_parameters
 
-    graph = _graph(config)
+    graph = case_graph(config, campaign)
     turbine, _, _ = make_plant(plant_parameters(graph, _overrides(graph, config, campaign, speed, seed)))
     return f"{speed:g} m/s seed {seed}: field ready for {turbine.name}"
 
@@ -150,7 +193,7 @@ def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: An
     from hawt_tools.in_process import RunRecord, build_run, write_run
 
     start = time.monotonic()
-    graph = _graph(case.controller)
+    graph = case_graph(case.controller, campaign)
     run = build_run(graph, _overrides(graph, case.controller, campaign, case.speed, case.seed))
     dt = run.description.dt
     skipped, kept = round(campaign.transient / dt), round(campaign.duration / dt)
@@ -301,6 +344,11 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
            f"{len(campaign.seeds)} seeds, {campaign.transient + campaign.duration:g} s each); "
            f"{len(cases) - len(todo)} already done in {output}")
     if todo:
+        for folder in (output / "cases", *([output / "bags"] if bags else ())):  # before any wind or worker
+            try:
+                folder.mkdir(parents=True, exist_ok=True)
+            except OSError as error:
+                raise CampaignError(f"-o {output}: cannot create {folder} ({error.strerror or error})") from None
         client, cluster = _client(workers, scheduler)
         try:
             report(f"running {len(todo)} on {len(client.scheduler_info()['workers'])} Dask worker(s) "
@@ -311,8 +359,6 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
                     winds[(case.speed, case.seed)] = client.submit(
                         prepare_wind, case.controller, campaign, case.speed, case.seed, pure=False,
                         key=f"wind-{case.speed:g}-{case.seed}-{case.key}")
-            if bags:  # before any case can write there
-                (output / "bags").mkdir(parents=True, exist_ok=True)
             futures = {client.submit(run_case, case, campaign,
                                      str(output / "bags" / f"{case.file_stem}.mcap") if bags else None,
                                      winds[(case.speed, case.seed)], key=f"case-{case.key}", pure=False): case

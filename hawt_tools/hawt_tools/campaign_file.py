@@ -2,7 +2,7 @@
 
 A campaign file is YAML::
 
-    turbine: ""                       # turbine definition ('' = the packaged NREL 5 MW)
+    turbine: iea15                    # optional: a packaged turbine's name, or a turbine's folder or definition file
     wind:
       speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing
       seeds: 3                        # seeds 1..3 per bin, or a list [4, 7]
@@ -17,18 +17,22 @@ A campaign file is YAML::
       lqg: {graph: lqg, parameters: ["lqg_ipc.wind_noise:=0.001"]}
 
 Every case is a run of a controller's graph (its launch ``arguments`` and ``-p``-style
-``parameters``) with the plant's wind set by the campaign. Everything is checked before a case
-runs, each graph with the plant parameters of every case: an error is a :class:`CampaignError`
-whose one line names the file, the line and the key at fault.
+``parameters``) with the plant's wind set by the campaign. The ``turbine`` is every graph's ``turbine``
+argument, as ``turbine:=`` gives it to ``hawt run``: the plant's turbine and, through ``$(turbine-tuning …)``,
+every controller's tuning; a folder or file is relative to the working directory (as a graph's), and a
+controller's ``arguments`` may not give another. Without it each graph runs its own default turbine.
+Everything is checked before a case runs (:func:`hawt_tools.campaign.plan_cases`): an error is a
+:class:`CampaignError` whose one line names the file, the line and the key at fault.
 """
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, List, Mapping, Tuple
+from typing import Any, Dict, List, Mapping, Tuple
 
 from hawt_analysis.lifetime import IEC_CLASS_MEAN_SPEED, WindDistribution
-from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml
+from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml, resolve_turbine
 
-__all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "TURBULENCE_CLASSES"]
+__all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "graph_arguments",
+           "TURBULENCE_CLASSES"]
 
 TURBULENCE_CLASSES = ("A", "B", "C")
 _KEYS = {"": ("turbine", "wind", "site", "duration", "transient", "controllers"),
@@ -67,6 +71,7 @@ class Campaign:
     shear_exponent: float = 0.2
     site: WindDistribution = WindDistribution(IEC_CLASS_MEAN_SPEED["I"])
     turbine: str = ""
+    """Every graph's ``turbine`` argument: a packaged name or an absolute path ('': each graph's default)."""
 
 
 class _Reader:
@@ -138,18 +143,26 @@ def load_campaign(path: Path) -> Campaign:
     if not isinstance(controllers, dict) or not controllers:
         read.fail(_line(top, "controllers"), "controllers: expected a mapping NAME: {graph: GRAPH, ...}, found "
                   f"{controllers!r}")
-    turbine = top.get("turbine", "")
-    if not isinstance(turbine, str) or (turbine and not Path(turbine).is_file()):
-        read.fail(_line(top, "turbine"), f"turbine: {turbine!r} is not a turbine definition file")
+    turbine = _turbine(read, top.get("turbine", ""), _line(top, "turbine"))
     return Campaign(
         path=path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine,
-        controllers=tuple(_controller(read, name, entry, _line(controllers, name))
+        controllers=tuple(_controller(read, name, entry, _line(controllers, name), turbine)
                           for name, entry in controllers.items()),
         turbulence_class=read.choice(wind.get("turbulence_class", "B"), _line(wind, "turbulence_class"),
                                      "wind.turbulence_class", TURBULENCE_CLASSES),
         shear_exponent=read.number(wind.get("shear_exponent", 0.2), _line(wind, "shear_exponent"),
                                    "wind.shear_exponent", -0.5, 0.99),
         site=_site(read, top.get("site", {}), _line(top, "site")))
+
+
+def _turbine(read: _Reader, value: Any, line: int) -> str:
+    """The campaign's turbine as every engine takes it (:func:`hawt_tools.graph_file.resolve_turbine`)."""
+    if not isinstance(value, str):
+        read.fail(line, f"turbine: expected a packaged turbine's name or a turbine's folder or file, found {value!r}")
+    try:
+        return resolve_turbine(value, f"{read.path}:{line}") if value else ""
+    except GraphError as error:
+        raise CampaignError(str(error)) from None
 
 
 def _seeds(read: _Reader, value: Any, line: int) -> Tuple[int, ...]:
@@ -173,7 +186,7 @@ def _site(read: _Reader, value: Any, line: int) -> WindDistribution:
     return WindDistribution(mean, read.number(site.get("shape", 2.0), _line(site, "shape"), "site.shape", 0.5, 10.0))
 
 
-def _controller(read: _Reader, name: Any, entry: Any, line: int) -> ControllerConfig:
+def _controller(read: _Reader, name: Any, entry: Any, line: int, turbine: str) -> ControllerConfig:
     where = f"controllers.{name}"
     if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
         read.fail(line, f"{where}: a controller name is letters, digits, _ and -")
@@ -183,6 +196,9 @@ def _controller(read: _Reader, name: Any, entry: Any, line: int) -> ControllerCo
     arguments = entry.get("arguments", {})
     if not isinstance(arguments, dict) or any(isinstance(v, (dict, list)) for v in arguments.values()):
         read.fail(_line(entry, "arguments"), f"{where}.arguments: expected a mapping NAME: VALUE, found {arguments!r}")
+    if turbine and "turbine" in arguments:
+        read.fail(_line(arguments, "turbine"), f"{where}.arguments.turbine: the campaign's turbine is every "
+                  "controller's; a campaign compares controllers on one turbine")
     parameters = entry.get("parameters", [])
     if not isinstance(parameters, list) or not all(isinstance(p, str) and ":=" in p for p in parameters):
         read.fail(_line(entry, "parameters"), f"{where}.parameters: expected a list of 'NODE.PARAM:=VALUE', found "
@@ -196,10 +212,14 @@ def _text(value: Any) -> str:
     return str(value).lower() if isinstance(value, bool) else str(value)
 
 
+def graph_arguments(campaign: Campaign, config: ControllerConfig) -> Dict[str, str]:
+    """The launch arguments of a controller's graph in every case: its own and the campaign's ``turbine``."""
+    return {**dict(config.arguments), **({"turbine": campaign.turbine} if campaign.turbine else {})}
+
+
 def case_overrides(campaign: Campaign, speed: float, seed: int) -> List[str]:
     """The ``-p`` texts that set the plant's wind and duration for the case (speed, seed)."""
-    total = campaign.transient + campaign.duration
-    texts = ["plant.wind_type:=turbulent", f"plant.wind_speed:={speed!r}", f"plant.seed:={seed}",
-             f"plant.turbulence_class:={campaign.turbulence_class}",
-             f"plant.shear_exponent:={campaign.shear_exponent!r}", f"plant.duration:={total!r}"]  # the plant makes its turbulent field at least this long
-    return texts + ([f"plant.turbine_file:={campaign.turbine}"] if campaign.turbine else [])
+    total = campaign.transient + campaign.duration  # the plant makes its turbulent field at least this long
+    return ["plant.wind_type:=turbulent", f"plant.wind_speed:={speed!r}", f"plant.seed:={seed}",
+            f"plant.turbulence_class:={campaign.turbulence_class}",
+            f"plant.shear_exponent:={campaign.shear_exponent!r}", f"plant.duration:={total!r}"]

@@ -21,8 +21,10 @@ Not checked: a node whose class has no ``PARAMETERS`` table, or whose executable
 Python entry point with a ``node_class`` (a C++ node, a script) — it gets its values
 unchecked, as before. The launcher's global parameters (``wait_for_recorder``) apply only to
 nodes whose table has them: every node is given them, and rclpy ignores what a node never
-declares. Rules that need the built plant (filter design against dt, the turbine file) are
-left to the nodes themselves.
+declares. Rules that need the plant are left to the nodes themselves, but for one check a campaign runs before any
+wind is generated (:func:`check_against_plant`): the plant's turbine file loaded and every controller core built
+against its description, as each engine configures it (a tuning for another turbine, a ``dt`` that is not the
+plant's); the plant model itself (its operating point) is not built.
 """
 from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
@@ -30,8 +32,8 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, did_you_mean
 from hawt_tools.node_parameters import Origin, node_parameter_sources
 
-__all__ = ["RCLPY_PARAMETERS", "check_graph_parameters", "check_node_parameters", "parameter_table",
-           "takes_parameter"]
+__all__ = ["RCLPY_PARAMETERS", "check_against_plant", "check_graph_parameters", "check_node_parameters",
+           "parameter_table", "takes_parameter"]
 
 RCLPY_PARAMETERS = (
     ParameterSpec("use_sim_time", False, "follow /clock (rclpy.time_source.USE_SIM_TIME_NAME)"),
@@ -135,3 +137,37 @@ def check_graph_parameters(graph: Graph, overrides: Overrides = (), global_param
                                  f"one with active: false and swap them with hawt switch)")
             claimants[interface] = spec
     return checked
+
+
+def check_against_plant(graph: Graph, checked: Mapping[str, Optional[Dict[str, Any]]]) -> None:
+    """Build every controller core of the graph against the description of its plant's turbine, as each engine does at
+    configure, with the values :func:`check_graph_parameters` returned (``checked``).
+
+    Raises
+    ------
+    GraphError
+        One line naming the graph file and the node: the plant's turbine file that cannot be read, or a controller
+        whose values contradict the plant (``node cpc: controller_file: rated generator speed 122.91 rad/s conflicts
+        with plant/description 76.79 rad/s (…): a tuning for another turbine``). A graph without a plant node is
+        not checked.
+    """
+    from hawt_plant.plant_node import PlantNode
+    from hawt_plant.turbine import turbine_from
+
+    classes = {spec.label: parameter_table(graph, spec)[0] for spec in graph.nodes}
+    plants = [spec for spec in graph.nodes if isinstance(classes[spec.label], type)
+              and issubclass(classes[spec.label], PlantNode)]
+    if len(plants) != 1:
+        return
+    plant = checked[plants[0].label]
+    try:
+        description = turbine_from(plant["turbine_file"] or "nrel_5mw").description(plant["dt"])
+    except (OSError, ValueError) as error:
+        raise GraphError(f"{graph.path}: node {plants[0].name}: turbine_file: {error}") from None
+    for spec in graph.nodes:
+        controller = getattr(classes[spec.label], "CONTROLLER", None)
+        if controller is not None and checked[spec.label] is not None:
+            try:
+                controller(checked[spec.label], description)
+            except ValueError as error:
+                raise GraphError(f"{graph.path}: node {spec.name}: {error}") from None

@@ -7,8 +7,10 @@ from pathlib import Path
 import pytest
 
 from hawt_analysis.lifetime import WindDistribution
-from hawt_tools.campaign import plan_cases
+from hawt_tools.campaign import case_graph, plan_cases
 from hawt_tools.campaign_file import CampaignError, load_campaign
+from hawt_tools.graph_file import ParameterFile
+from turbine_folders import copied_turbine
 
 GOOD = """\
 wind:
@@ -61,8 +63,11 @@ def test_a_good_file_gives_every_case_once_with_a_key_of_what_defines_it(tmp_pat
     (GOOD.replace("integral_gain:=2e-08", "integral_gian:=2e-08"), "campaign.yaml:10: controllers.ipc_1p: "),
     (GOOD.replace("integral_gain:=2e-08", "integral_gain:=nan"), "campaign.yaml:10: controllers.ipc_1p: "),
     ("wind: {speeds: [5]\n", "campaign.yaml:2:1: YAML error"),
+    ("turbine: iea15\n" + GOOD, "campaign.yaml:1: turbine 'iea15': no packaged turbine of that name (packaged: "),
+    ("turbine: nrel_5mw\n" + GOOD.replace("ipc_h2: false", "turbine: nrel_5mw, ipc_h2: false"),
+     "campaign.yaml:11: controllers.ipc_1p.arguments.turbine: the campaign's turbine is every controller's"),
 ], ids=["key typo", "speed range", "speed order", "seeds", "class", "duration", "missing", "site", "controller key",
-        "graph", "argument", "parameter name", "parameter value", "yaml"])
+        "graph", "argument", "parameter name", "parameter value", "yaml", "turbine", "a controller's own turbine"])
 def test_a_bad_file_is_one_line_naming_file_line_and_key(tmp_path, text, message):
     with pytest.raises(CampaignError) as raised:
         plan_cases(load_campaign(_write(tmp_path, text)))
@@ -81,3 +86,62 @@ def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_c
 def test_the_shipped_campaign_files_are_valid(name):
     campaign = load_campaign(Path(__file__).resolve().parents[2] / "campaigns" / name)
     assert len(plan_cases(campaign)) == len(campaign.controllers) * len(campaign.speeds) * len(campaign.seeds)
+
+
+def _parameter_files(graph):
+    """Node name -> the files its parameters read or name: parameter files and inline values that are files."""
+    files = {}
+    for node in graph.nodes:
+        for source in node.parameters:
+            found = [source.path] if isinstance(source, ParameterFile) else [
+                Path(value) for _, value in source.values if isinstance(value, str) and Path(value).is_file()]
+            files.setdefault(node.name, []).extend(found)
+    return files
+
+
+def test_a_campaign_turbine_folder_reaches_the_controllers(tmp_path, monkeypatch):
+    """``turbine: FOLDER`` (relative to the working directory, as a graph's turbine:=) is every case's graph argument:
+    the plant gets the folder and each controller the folder's tuning; a case's key changes with the folder's
+    definition and with its tunings."""
+    folder = copied_turbine(tmp_path / "my_turbine")
+    monkeypatch.chdir(tmp_path)
+    campaign = load_campaign(_write(tmp_path, "turbine: my_turbine\n" + GOOD))
+    assert campaign.turbine == str(folder)
+    cases = plan_cases(campaign)
+    for config in campaign.controllers:
+        graph = case_graph(config, campaign)
+        assert graph.arguments["turbine"] == str(folder)
+        files = _parameter_files(graph)
+        assert dict(graph.node("plant").parameters[0].values)["turbine_file"] == str(folder)
+        assert files["cpc"] == [folder / "cpc.yaml"]
+        assert all(folder / "ipc.yaml" in files[name] for name in files if name.startswith("ipc_h"))
+    (folder / "turbine.yaml").write_text((folder / "turbine.yaml").read_text() + "\n# edited\n")
+    definition_edited = plan_cases(campaign)
+    (folder / "cpc.yaml").write_text((folder / "cpc.yaml").read_text() + "\n# edited\n")
+    tuning_edited = plan_cases(campaign)
+    for before, after in ((cases, definition_edited), (definition_edited, tuning_edited)):
+        assert not {case.key for case in before} & {case.key for case in after}
+
+
+def test_a_campaign_turbine_may_be_a_packaged_name_or_a_definition_file(tmp_path, monkeypatch):
+    copied_turbine(tmp_path / "my_turbine")
+    monkeypatch.chdir(tmp_path)
+    for turbine, expected in (("nrel_5mw", "nrel_5mw"), ("my_turbine/turbine.yaml",
+                                                         str(tmp_path / "my_turbine" / "turbine.yaml"))):
+        campaign = load_campaign(_write(tmp_path, f"turbine: {turbine}\n" + GOOD))
+        assert case_graph(campaign.controllers[0], campaign).arguments["turbine"] == expected
+
+
+def test_a_tuning_for_another_turbine_is_one_line_with_exit_2_before_any_wind(tmp_path, hawt_cli):
+    """The issue 31 campaign: a turbine whose rated speed is not its tuning's. Every case would fail at its first
+    step; the command refuses it in one line, before it prints its plan, generates a field or writes anything."""
+    folder = copied_turbine(tmp_path / "other")
+    definition = folder / "turbine.yaml"
+    definition.write_text(definition.read_text().replace("rated_rotor_speed: 1.26711", "rated_rotor_speed: 0.79168"))
+    path = _write(tmp_path, f"turbine: {folder}\n" + GOOD)
+    result = subprocess.run([*hawt_cli, "campaign", str(path), "-o", str(tmp_path / "out")], capture_output=True,
+                            text=True, timeout=120)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert result.stderr.startswith("hawt campaign: ") and "campaign.yaml:10: controllers.baseline: " in result.stderr
+    assert "rated generator speed 122.91 rad/s conflicts with plant/description" in result.stderr
+    assert result.stdout == "" and not (tmp_path / "out").exists()

@@ -10,22 +10,10 @@ from hawt_controllers.tunings import FILE_NAMES, PACKAGED, TuningError, tuning_f
 from hawt_tools.cli import find_graph, main
 from hawt_tools.graph_file import GraphError, ParameterFile, load_graph
 from hawt_tools.launcher import package_prefix
+from turbine_folders import copied_turbine
 
 GRAPHS = ("baseline", "controllers", "identification", "ipc", "lqg", "repetitive", "rosco", "rosco_ipc", "switching",
           "validation")
-PACKAGED_NREL_5MW = Path(__file__).resolve().parents[2] / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
-
-
-def copied_turbine(folder: Path) -> Path:
-    """A turbine folder as ``hawt turbine import`` and the design tools leave it, without importing a deck: the packaged
-    NREL 5 MW's definition and airfoils with its packaged tunings of every kind beside them (the DISCON.IN with its
-    Cp/Ct/Cq file)."""
-    shutil.copytree(PACKAGED_NREL_5MW, folder)
-    for kind, name in FILE_NAMES.items():
-        shutil.copy(tuning_file("nrel_5mw", kind), folder / name)
-    discon = tuning_file("nrel_5mw", "discon")
-    shutil.copy(discon.parent / "Cp_Ct_Cq.NREL5MW.txt", folder)
-    return folder
 
 
 @pytest.mark.parametrize("name", GRAPHS)
