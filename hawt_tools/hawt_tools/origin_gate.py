@@ -1,4 +1,5 @@
-"""The view's front door: a WebSocket relay that lets in native clients and the web pages it is told to trust.
+"""The view's front door: a WebSocket relay that lets in native clients and the web pages it is told to trust,
+speaking every subprotocol name current Foxglove clients offer.
 
 A browser sends the page's ``Origin`` with every WebSocket handshake, and any page open on this
 machine can reach a server on 127.0.0.1. foxglove-sdk's server (0.30) does not look at the header,
@@ -6,27 +7,47 @@ so ``hawt view`` puts this relay in front of it: the Foxglove server listens on 
 its own, and the relay listens where the user asked. A handshake with an ``Origin`` that is not in
 ``allowed`` is answered 403 and logged with the option that would accept it; one without the
 header (a native client: the Foxglove desktop app, a script) is let in. Every frame is passed on
-unchanged in both directions, and the subprotocol the client chose goes on to the server.
+unchanged in both directions.
 
-The relay is the ``websockets`` library's server and client (its ``process_request`` hook makes
-the check); what is written here is only the pairing of the two connections.
+Subprotocols: foxglove-sdk's server (0.30) accepts only ``foxglove.sdk.v1`` and ``foxglove.sdk.v1.1``
+and answers anything else with a bare 400 ("Missing expected sec-websocket-protocol header"),
+logging only "handshake failed". Clients older than the SDK (the Foxglove app before it, Lichtblick,
+PlotJuggler, roslibjs-foxglove) offer ``foxglove.websocket.v1``, the name of the same protocol
+before the SDK renamed it (foxglove/ws-protocol ``docs/spec.md``; Foxglove's discussion 1131: the
+rename changed no message).
+The gate accepts all three (`SUBPROTOCOLS`, the first the client offers in that order) and asks the
+server for the SDK's name of the same protocol. A client that offers none of them is answered 400
+with the list, and the refusal is logged with what it offered and the list.
+
+The relay is the ``websockets`` library's server and client (its ``process_request`` hook checks the
+Origin, its ``select_subprotocol`` hook the subprotocol); what is written here is only the pairing of
+the two connections.
 """
 from __future__ import annotations
 
 import asyncio
 import threading
 from http import HTTPStatus
-from typing import Callable, Iterable, Optional
+from types import MappingProxyType
+from typing import Callable, Iterable, Optional, Sequence
 
 from websockets.asyncio.client import connect
 from websockets.asyncio.server import ServerConnection, serve
-from websockets.exceptions import ConnectionClosed
+from websockets.exceptions import ConnectionClosed, InvalidHandshake, NegotiationError
+from websockets.frames import CloseCode
 from websockets.http11 import Request, Response
+from websockets.typing import Subprotocol
 
 __all__ = ["OriginGate", "SUBPROTOCOLS"]
 
-SUBPROTOCOLS = ("foxglove.sdk.v1",)
-"""The WebSocket subprotocols the Foxglove server behind the gate speaks."""
+SUBPROTOCOLS = MappingProxyType({
+    "foxglove.sdk.v1.1": "foxglove.sdk.v1.1",
+    "foxglove.sdk.v1": "foxglove.sdk.v1",
+    "foxglove.websocket.v1": "foxglove.sdk.v1",
+})
+"""The WebSocket subprotocols a client may speak through the gate, in the order of preference, each with the one
+the gate asks of the Foxglove server behind it (``foxglove.websocket.v1`` is the same protocol's name before
+foxglove-sdk)."""
 
 
 class OriginGate:
@@ -75,7 +96,7 @@ class OriginGate:
         self._stopped = asyncio.Event()
         try:
             server = await serve(self._relay, host, port, process_request=self._check_origin,
-                                 subprotocols=list(SUBPROTOCOLS), max_size=None, compression=None)
+                                 select_subprotocol=self._select_subprotocol, max_size=None, compression=None)
         except OSError as error:
             failure.append(error)
             started.set()
@@ -93,9 +114,27 @@ class OriginGate:
                  f"--allow-origin ORIGIN are let in): hawt view --allow-origin {origin} accepts it")
         return connection.respond(HTTPStatus.FORBIDDEN, f"Origin {origin} is not allowed\n")
 
+    def _select_subprotocol(self, connection: ServerConnection,
+                            offered: Sequence[Subprotocol]) -> Subprotocol:
+        """The first of `SUBPROTOCOLS` the client offers; none is NegotiationError (400 with the list), logged."""
+        chosen = next((Subprotocol(name) for name in SUBPROTOCOLS if name in offered), None)
+        if chosen is None:
+            accepted = ", ".join(SUBPROTOCOLS)
+            self.log(f"refused a WebSocket client offering {', '.join(offered) or 'no subprotocol'}: the Foxglove "
+                     f"WebSocket protocol is spoken as {accepted}")
+            raise NegotiationError(f"unsupported subprotocol {', '.join(offered) or '(none)'}; expected one of "
+                                   f"{accepted}")
+        return chosen
+
     async def _relay(self, client: ServerConnection) -> None:
-        protocols = [client.subprotocol] if client.subprotocol else None
-        async with connect(self.backend, subprotocols=protocols, max_size=None, compression=None) as server:
+        try:
+            server = await connect(self.backend, subprotocols=[Subprotocol(SUBPROTOCOLS[client.subprotocol])],
+                                   max_size=None, compression=None)
+        except (OSError, InvalidHandshake) as error:
+            self.log(f"dropped a WebSocket client: the Foxglove server refused it ({error})")
+            await client.close(CloseCode.INTERNAL_ERROR, "the Foxglove server refused the connection")
+            return
+        async with server:
             pumps = [asyncio.create_task(self._pump(client, server)), asyncio.create_task(self._pump(server, client))]
             _, pending = await asyncio.wait(pumps, return_when=asyncio.FIRST_COMPLETED)
             for pump in pending:

@@ -8,7 +8,12 @@ simulated time seen, and ``/clock`` is the server's time, so plots of a live gra
 one time axis. The time goes to the clients at most every ``TIME_PERIOD`` of wall time: the protocol's time
 messages share a bounded per-client control queue (1024) with the server's other control messages, and a
 client that misses more than that is dropped, which ``/clock`` at every plant step (100 Hz, or faster in
-lockstep) did to a client that a busy machine kept from reading for a second. Parameters: the protocol's get
+lockstep) did to a client that a busy machine kept from reading for a second. A topic whose publishers are all
+transient local (latched: ``plant/description``, ``controller_manager/controllers``, the switches, the events, and
+the loop's topics, whose writers keep their history for late readers) keeps its last ``LATCHED_REPLAY`` messages,
+which are sent again when a client subscribes to it, so a client that joins late sees them as a late ROS reader
+would; foxglove-sdk 0.30's Python API cannot send to one client, so the clients already subscribed to that channel
+receive them once more. Parameters: the protocol's get
 and set go to the nodes' standard ``rcl_interfaces`` parameter services (``/ns/node.param``; an empty get
 lists every node's parameters), so a gain can be retuned from the Foxglove app; a node that refuses a value
 says why in a status message; what ``/parameter_events`` reports changed, however it was set, goes to the
@@ -22,14 +27,16 @@ import math
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Iterable, Iterator, Sequence
 from typing import List, Optional
 
 import foxglove
 from foxglove import Parameter, ParameterType, Schema, StatusLevel
-from foxglove.websocket import Capability, Client, ServerListener
+from foxglove.websocket import Capability, ChannelView, Client, ServerListener
 from rcl_interfaces.msg import ParameterEvent
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy
 from rclpy.parameter import Parameter as RosParameter
 from rclpy.parameter import parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
@@ -45,10 +52,15 @@ from hawt_tools.origin_gate import OriginGate
 from hawt_tools.view import (CDR, ROS2MSG, ViewOptionError, ViewOptions, add_view_arguments, coerce, is_loopback,
                              options_from, parameter_name, split_parameter_name)
 
-__all__ = ["View", "main", "ros2_schema", "to_parameter", "view", "TIME_PERIOD"]
+__all__ = ["View", "main", "ros2_schema", "to_parameter", "view", "LATCHED_REPLAY", "TIME_PERIOD"]
 
 TIME_PERIOD = 0.05
 """Wall time [s] between two time messages to the clients (20 per second: smooth for a person watching)."""
+
+LATCHED_REPLAY = 20
+"""Messages of a transient-local topic sent again to a client that subscribes to it: every state of a graph's
+controllers and its switches; for a loop topic 0.2 s of simulated time. With every channel subscribed at once
+(about 20) they stay well inside the server's per-client message queue of 1024."""
 
 
 def ros2_schema(type_name: str) -> Schema:
@@ -78,13 +90,15 @@ class View(Node):
         self._time_sent = -math.inf  # when the server last sent the time (monotonic wall time [s])
         self.counts: dict[str, int] = {}
         self._channels: dict[str, foxglove.Channel] = {}
+        self._latched: dict[str, deque] = {}  # topic -> its last (log time [ns], CDR bytes), for late subscribers
+        self._latched_lock = threading.Lock()
         self._forwarders = {}
         self._parameter_clients: dict[str, AsyncParameterClient] = {}
         self._lock = threading.Lock()
         self._foxglove = foxglove.Context()
         self.server = foxglove.start_server(
             name="hawt", host="127.0.0.1", port=0, context=self._foxglove,
-            capabilities=[Capability.Time, Capability.Parameters], server_listener=_Parameters(self))
+            capabilities=[Capability.Time, Capability.Parameters], server_listener=_Listener(self))
         self.gate: Optional[OriginGate] = None
         try:
             self.gate = OriginGate(options.host, options.port, f"ws://127.0.0.1:{self.server.port}",
@@ -103,8 +117,12 @@ class View(Node):
 
     def _subscribe(self, topic: str, type_name: str, publishers) -> None:
         kind = message_class(type_name)
+        qos = adapted_qos(publishers, self.options.depth)
         channel = foxglove.Channel(topic, schema=ros2_schema(type_name), message_encoding=CDR, context=self._foxglove)
         stamped, clock = has_header(type_name), topic == CLOCK
+        kept = deque(maxlen=LATCHED_REPLAY) if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL else None
+        if kept is not None:
+            self._latched[topic] = kept
         self._channels[topic] = channel
         self.counts[topic] = 0
 
@@ -118,10 +136,19 @@ class View(Node):
                 self._time_sent = time.monotonic()
             channel.log(data, log_time=stamp)
             self.counts[topic] += 1
+            if kept is not None:
+                with self._latched_lock:
+                    kept.append((stamp, data))
 
-        self._forwarders[topic] = self.create_subscription(
-            kind, topic, forward, adapted_qos(publishers, self.options.depth), raw=True)
-        self.get_logger().info(f"viewing {topic} [{type_name}]")
+        self._forwarders[topic] = self.create_subscription(kind, topic, forward, qos, raw=True)
+        self.get_logger().info(f"viewing {topic} [{type_name}]{' (latched)' if kept is not None else ''}")
+
+    def replay(self, topic: str) -> None:
+        """Send the kept messages of a transient-local topic again (called when a client subscribes to it)."""
+        with self._latched_lock:
+            kept = list(self._latched.get(topic, ()))
+        for stamp, data in kept:
+            self._channels[topic].log(data, log_time=stamp)
 
     def destroy_node(self) -> None:
         """Stop the gate and the server (clients are disconnected), close the channels, say what was forwarded,
@@ -217,11 +244,14 @@ class View(Node):
         return after
 
 
-class _Parameters(ServerListener):
-    """The server's parameter requests, handed to the view node."""
+class _Listener(ServerListener):
+    """The server's subscriptions (latched topics are replayed) and parameter requests, handed to the view node."""
 
     def __init__(self, node: View) -> None:
         self._node = node
+
+    def on_subscribe(self, client: Client, channel: ChannelView) -> None:
+        self._node.replay(channel.topic)
 
     def on_get_parameters(self, client: Client, param_names: list[str],
                           request_id: Optional[str] = None) -> list[Parameter]:

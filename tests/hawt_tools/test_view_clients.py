@@ -1,0 +1,154 @@
+"""A standalone `hawt view` started beside a running graph: clients on every Foxglove subprotocol, joining after the
+latched messages were published, get them and the running loop on every channel they subscribe to; a client
+offering no subprotocol the view speaks is refused with the reason, in its answer and in the view's log."""
+import asyncio
+import json
+import re
+import signal
+import struct
+import subprocess
+import threading
+import time
+from collections import Counter
+from typing import Callable, List
+
+import pytest
+import websockets
+from launched_graph import CLI, LaunchedGraph
+from mcap.records import Schema
+from mcap_ros2.decoder import DecoderFactory
+
+from hawt_tools.origin_gate import SUBPROTOCOLS
+
+pytestmark = pytest.mark.ros
+
+_NAMESPACE = "joined"
+_MESSAGE_DATA = 0x01
+_WANTED = {f"/{_NAMESPACE}/{topic}": least for topic, least in [
+    ("plant/description", 1), ("controller_manager/controllers", 4), ("plant/blade_loads", 50),
+    ("control/collective", 50), ("control/pitch_command", 50)]}
+"""Topics a client must receive on, with how many messages at least: the latched description and the four ipc
+controllers' states (published before the client joined), and three loop topics."""
+
+
+class StandaloneView:
+    """``hawt view --port 0`` in a child process, its output read as it comes; stopped with SIGINT."""
+
+    def __init__(self) -> None:
+        self.process = subprocess.Popen([*CLI, "view", "--port", "0"], stdout=subprocess.PIPE,
+                                        stderr=subprocess.STDOUT, text=True)
+        self.lines: List[str] = []
+        self._reader = threading.Thread(target=lambda: self.lines.extend(self.process.stdout), daemon=True)
+        self._reader.start()
+        self.wait_until(lambda: "serving the graph on ws://" in self.output(), "a serving view")
+        self.port = int(re.search(r"serving the graph on ws://127\.0\.0\.1:(\d+)", self.output()).group(1))
+
+    def output(self) -> str:
+        return "".join(list(self.lines))
+
+    def wait_until(self, condition: Callable[[], bool], what: str, timeout: float = 180.0) -> None:
+        """Return once ``condition()`` holds; fail with the view's output after ``timeout`` s or if it ended."""
+        deadline = time.monotonic() + timeout
+        while not condition():
+            assert self.process.poll() is None, f"the view ended before {what}:\n{self.output()[-3000:]}"
+            assert time.monotonic() < deadline, f"no {what} within {timeout:g} s:\n{self.output()[-3000:]}"
+            time.sleep(0.1)
+
+    def stop(self) -> int:
+        self.process.send_signal(signal.SIGINT)
+        try:
+            self.process.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+        self._reader.join(timeout=10)
+        return self.process.returncode
+
+
+def _schema(channel: dict, schemas: dict) -> Schema:
+    """A channel's schema: in the channel (``foxglove.sdk.v1``), or advertised once by id (``foxglove.sdk.v1.1``)."""
+    if "schemaId" in channel:
+        schema = schemas[channel["schemaId"]]
+        return Schema(id=schema["id"], name=schema["name"], encoding=schema["encoding"], data=schema["data"].encode())
+    return Schema(id=channel["id"], name=channel["schemaName"], encoding=channel["schemaEncoding"],
+                  data=channel["schema"].encode())
+
+
+async def _join(port: int, subprotocol: str) -> dict:
+    """Connect offering ``subprotocol``, subscribe to every channel advertised, and read until each `_WANTED` topic
+    has its messages: the negotiated subprotocol, the count per topic, the error statuses and the first
+    description decoded."""
+    seen = {"counts": Counter(), "errors": [], "description": None}
+    topics, decoders, schemas = {}, {}, {}
+    deadline = time.monotonic() + 120
+    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[subprotocol], max_size=None) as socket:
+        seen["subprotocol"] = socket.subprotocol
+        while any(seen["counts"][topic] < least for topic, least in _WANTED.items()):
+            assert time.monotonic() < deadline, f"within 120 s only {dict(seen['counts'])}; errors {seen['errors']}"
+            frame = await asyncio.wait_for(socket.recv(), 120)
+            if isinstance(frame, bytes):
+                if frame[0] == _MESSAGE_DATA:
+                    topic = topics[struct.unpack_from("<I", frame, 1)[0]]
+                    seen["counts"][topic] += 1
+                    if topic.endswith("plant/description") and seen["description"] is None:
+                        seen["description"] = decoders[topic](frame[13:])
+                continue
+            message = json.loads(frame)
+            if message["op"] == "status" and message["level"] >= 2:
+                seen["errors"].append(message["message"])
+            if message["op"] != "advertise":
+                continue
+            schemas.update((schema["id"], schema) for schema in message.get("schemas", ()))
+            subscriptions = []
+            for channel in message["channels"]:
+                topics[channel["id"]] = channel["topic"]  # subscription id = channel id
+                decoders[channel["topic"]] = DecoderFactory().decoder_for(channel["encoding"], _schema(channel, schemas))
+                subscriptions.append({"id": channel["id"], "channelId": channel["id"]})
+            await socket.send(json.dumps({"op": "subscribe", "subscriptions": subscriptions}))
+    return seen
+
+
+@pytest.fixture(scope="module")
+def view_beside_a_graph():
+    """A lockstep ipc graph running for a while, then a standalone view started beside it; one first client has
+    received the description through the view, so every client of the tests joins after it was published and
+    forwarded."""
+    with LaunchedGraph(["ipc", f"namespace:={_NAMESPACE}", "duration:=600", "-p", "plant.report_period:=1"]) as graph:
+        graph.wait_for_line("t=")
+        view = StandaloneView()
+        try:
+            first = asyncio.run(_join(view.port, "foxglove.sdk.v1"))
+            assert first["counts"][f"/{_NAMESPACE}/plant/description"] >= 1
+            yield view
+        finally:
+            view.stop()
+
+
+@pytest.mark.parametrize("subprotocol", list(SUBPROTOCOLS))
+def test_a_late_client_on_each_subprotocol_gets_the_latched_messages_and_every_subscribed_channel(
+        view_beside_a_graph, subprotocol):
+    """A client offering only ``subprotocol`` (``foxglove.websocket.v1``: clients older than foxglove-sdk) is
+    accepted on it; subscribed to every advertised channel, it is refused none (no "Unknown channel ID") and
+    receives the description and the controllers' states published before it joined, and the loop's topics."""
+    seen = asyncio.run(_join(view_beside_a_graph.port, subprotocol))
+    assert seen["subprotocol"] == subprotocol
+    assert seen["errors"] == []
+    assert seen["description"].turbine and seen["description"].blades == 3, seen["description"]
+
+
+def test_a_client_offering_no_subprotocol_the_view_speaks_is_refused_with_the_reason_and_it_is_logged(
+        view_beside_a_graph):
+    """An offer of ``foxglove.sdk.v2`` only is answered 400 naming the subprotocols the view speaks, and the view
+    logs the refusal with what was offered and that list."""
+    accepted = ", ".join(SUBPROTOCOLS)
+
+    async def offer_v2() -> None:
+        async with websockets.connect(f"ws://127.0.0.1:{view_beside_a_graph.port}", subprotocols=["foxglove.sdk.v2"]):
+            pass
+
+    with pytest.raises(websockets.InvalidStatus) as refused:
+        asyncio.run(offer_v2())
+    assert refused.value.response.status_code == 400
+    assert f"expected one of {accepted}" in refused.value.response.body.decode()
+    view_beside_a_graph.wait_until(
+        lambda: f"refused a WebSocket client offering foxglove.sdk.v2: the Foxglove WebSocket protocol is spoken as "
+                f"{accepted}" in view_beside_a_graph.output(), "log line of the refusal")
