@@ -6,7 +6,7 @@ from typing import Callable
 from hawt_plant.bts import read_bts
 from hawt_plant.gusts import ExtremeOperatingGust, WindStep
 from hawt_plant.shear_wind import PowerLawWind
-from hawt_plant.turbulence import TurbulenceSpec, cached_turbulence
+from hawt_plant.turbulence import TurbulenceSpec, cached_turbulence, rotor_grid_size
 from hawt_plant.wind_field import WindField
 
 __all__ = ["WIND_KINDS", "InflowSettings", "make_wind"]
@@ -31,6 +31,8 @@ class InflowSettings:
         Power-law exponent alpha [-].
     hub_height : float
         Hub height the speed refers to [m].
+    rotor_radius : float
+        Tip radius of the rotor [m]: a turbulent field's grid covers it (:func:`~hawt_plant.turbulence.rotor_grid_size`).
     turbulence_class : str
         IEC turbulence category A, B or C.
     seed : int
@@ -47,6 +49,7 @@ class InflowSettings:
     wind_speed: float = 18.0
     shear_exponent: float = 0.2
     hub_height: float = 90.0
+    rotor_radius: float = 63.0
     turbulence_class: str = "B"
     seed: int = 0
     field_duration: float = 600.0
@@ -64,9 +67,10 @@ def make_wind(settings: InflowSettings, progress: Callable[[str], None] = lambda
     if settings.kind == "steady":
         return PowerLawWind(settings.wind_speed, **common)
     if settings.kind == "turbulent":
+        width, height = rotor_grid_size(settings.rotor_radius, settings.hub_height)
         return cached_turbulence(TurbulenceSpec(
             mean_speed=settings.wind_speed, turbulence_class=settings.turbulence_class, seed=settings.seed,
-            duration=settings.field_duration, **common), progress=progress)
+            duration=settings.field_duration, grid_width=width, grid_height=height, **common), progress=progress)
     if settings.kind == "bts":
         if not Path(settings.bts_file).is_file():
             raise ValueError(f"bts_file: {settings.bts_file!r} does not exist")

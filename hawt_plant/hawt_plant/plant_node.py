@@ -90,7 +90,7 @@ class PlantNode(Node):
         super().__init__("plant", **node_kwargs)
         v = self.values = declare_parameters(self, PARAMETERS)
         check_parameters(v)
-        turbine, self.model, self.output = make_plant(v)
+        turbine, self.model, self.output = make_plant(v, self.get_logger().info)
         self.actuator = turbine.pitch_actuator
         self.blades = self.model.number_of_blades
         self.command = (np.array(self.output.pitch), float(self.output.generator_torque))

@@ -12,7 +12,7 @@ dynamically typed with the choices ``turbine``, ``true``, ``false``: ``-p plant.
 works in every engine, and anything else is refused before a graph starts.
 """
 import math
-from typing import Any, Mapping, Tuple
+from typing import Any, Callable, Mapping, Tuple
 
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
@@ -129,16 +129,19 @@ def aerodynamics_line(turbine: Turbine, values: Mapping[str, Any]) -> str:
     return f"aerodynamics: {aerodynamic_options(turbine, values).text()} ({whose})"
 
 
-def make_plant(values: Mapping[str, Any]) -> Tuple[Turbine, TurbineModel, TurbineOutput]:
+def make_plant(values: Mapping[str, Any], progress: Callable[[str], None] = lambda _: None
+               ) -> Tuple[Turbine, TurbineModel, TurbineOutput]:
     """The turbine, its model and the output of step 0 for the plant's parameter ``values``; the aerodynamic
-    options are :func:`aerodynamic_options`."""
+    options are :func:`aerodynamic_options`. ``progress`` gets the lines of a turbulent field's generation (what,
+    where it is cached, how long it took)."""
     v = values
     turbine = turbine_from(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
     wind = make_wind(InflowSettings(
         kind=v["wind_type"], wind_speed=v["wind_speed"], shear_exponent=v["shear_exponent"],
-        hub_height=turbine.hub_height, turbulence_class=v["turbulence_class"], seed=v["seed"],
+        hub_height=turbine.hub_height, rotor_radius=turbine.rotor.tip_radius,
+        turbulence_class=v["turbulence_class"], seed=v["seed"],
         field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
-        step_speed=v["step_speed"], step_time=v["step_time"]))
+        step_speed=v["step_speed"], step_time=v["step_time"]), progress)
     options = aerodynamic_options(turbine, v)
     model = TurbineModel(turbine, wind, ModelConfig(
         dt=v["dt"], torque_disturbance=v["torque_disturbance"],

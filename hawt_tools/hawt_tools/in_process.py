@@ -19,7 +19,7 @@ say: live switches and parameter sets, lost contributors, realtime.
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -77,10 +77,11 @@ class InProcessRun:
 
     def __init__(self, namespace: str, plant_values: Mapping[str, Any], assembler_values: Mapping[str, Any],
                  controllers: Sequence[Tuple[str, type, Mapping[str, Any]]],
-                 schedule: Sequence[str] = (), ramp_time: float = 0.0) -> None:
+                 schedule: Sequence[str] = (), ramp_time: float = 0.0,
+                 progress: Callable[[str], None] = lambda _: None) -> None:
         self.namespace = namespace
         self.plant_values = dict(plant_values)
-        self.turbine, self.model, self.output = make_plant(plant_values)
+        self.turbine, self.model, self.output = make_plant(plant_values, progress)
         self.description = self.turbine.description(plant_values["dt"])
         self.actuator = self.turbine.pitch_actuator
         self.safety = make_safety_system(self.turbine, plant_values)
@@ -278,8 +279,10 @@ def _node_values(graph: Graph, spec: NodeSpec, table, overrides: Overrides) -> D
         raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r}: {error}") from None
 
 
-def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
-    """The cores of ``graph`` with the parameters each node would get.
+def build_run(graph: Graph, overrides: Overrides = (), progress: Callable[[str], None] = lambda _: None
+              ) -> InProcessRun:
+    """The cores of ``graph`` with the parameters each node would get; ``progress`` gets the lines of a turbulent
+    field's generation, if the plant's field is not in the cache yet.
 
     Raises
     ------
@@ -310,7 +313,8 @@ def build_run(graph: Graph, overrides: Overrides = ()) -> InProcessRun:
     schedule, ramp_time = (managers[0]["schedule"], managers[0]["ramp_time"]) if managers else ((), 0.0)
     try:
         return InProcessRun(plant_spec.full_namespace.rstrip("/"), values(plant_spec, PLANT_PARAMETERS),
-                            values(assembler_spec, ASSEMBLER_PARAMETERS), controllers, schedule, ramp_time)
+                            values(assembler_spec, ASSEMBLER_PARAMETERS), controllers, schedule, ramp_time,
+                            progress)
     except SwitchRefused as refusal:
         raise GraphError(f"{graph.path}: controller_manager schedule: {refusal}") from None
 
@@ -320,10 +324,10 @@ def run_graph(graph: Graph, overrides: Overrides = (), record: Optional[Path] = 
               duration: Optional[float] = None, progress=None) -> InProcessRun:
     """Run a graph in process to the plant's ``duration`` (or ``duration`` [s] simulated), recording it if asked.
 
-    ``progress(line)`` gets the plant's aerodynamic options first (as the plant node's start-up line says them),
-    then a line every 10 % of the run.
+    ``progress(line)`` gets the lines of a turbulent field's generation if it is not cached yet, the plant's
+    aerodynamic options (as the plant node's start-up line says them), then a line every 10 % of the run.
     """
-    run = build_run(graph, overrides)
+    run = build_run(graph, overrides, progress or (lambda _: None))
     seconds = duration if duration is not None else run.plant_values["duration"]
     if not seconds or seconds <= 0:
         raise GraphError(f"{graph.path}: the run needs a simulated duration (the plant's duration parameter or "

@@ -234,7 +234,8 @@ def _turbulent_fields(case: ValidationCase, turbine, folder: Path, deck_hub_heig
     from hawt_plant.turbulence import TurbulentWind
 
     wind = make_wind(InflowSettings(kind="turbulent", wind_speed=case.wind_speed, shear_exponent=case.shear_exponent,
-                                    hub_height=turbine.hub_height, turbulence_class=case.turbulence_class,
+                                    hub_height=turbine.hub_height, rotor_radius=turbine.rotor.tip_radius,
+                                    turbulence_class=case.turbulence_class,
                                     seed=case.seed, field_duration=max(600.0, case.duration)))
     path = folder / f"{case.name}.bts"
     write_bts(path, wind, f"hawt validate {case.name}: IEC Kaimal class {case.turbulence_class}, seed {case.seed}",

@@ -6,8 +6,9 @@ import scipy.signal
 from scipy.interpolate import RegularGridInterpolator
 
 from hawt_plant import turbulence
+from hawt_plant.inflow import InflowSettings, make_wind
 from hawt_plant.turbulence import (TurbulenceSpec, TurbulentWind, cached_turbulence, generate_turbulence,
-                                   longitudinal_length_scale, ntm_standard_deviation)
+                                   longitudinal_length_scale, ntm_standard_deviation, rotor_grid_size)
 
 RATED_SPEED = 11.4  # NREL 5 MW rated wind speed [m/s]
 
@@ -143,18 +144,42 @@ def test_cache_dir_comes_from_hawt_cache_dir(tmp_path, monkeypatch):
 
 
 def test_a_generated_field_is_announced_with_its_cache_file_and_a_cached_one_silently(tmp_path, monkeypatch):
-    """Generating says what, where it is cached, then how long it took; the field from the cache says nothing."""
+    """Generating says what, where it is cached, each component as it is done, then how long it took; the field from
+    the cache says nothing."""
     monkeypatch.setenv("HAWT_CACHE_DIR", str(tmp_path))
     first: list[str] = []
     cached_turbulence(_small_spec(seed=3), progress=first.append)
-    assert len(first) == 2
+    assert len(first) == 4
     assert first[0].startswith(f"generating a turbulent wind field (class A, 11.4 m/s, seed 3, 60 s) into "
                                f"{tmp_path / 'turbulence'}/")
     assert first[0].endswith(".npy; cached for the next run")
-    assert first[1].startswith("turbulent wind field generated in ") and first[1].endswith(" s")
+    assert first[1:3] == ["turbulence component u done (1 of 3)", "turbulence component v done (2 of 3)"]
+    assert first[3].startswith("turbulent wind field generated in ") and first[3].endswith(" s")
     second: list[str] = []
     cached_turbulence(_small_spec(seed=3), progress=second.append)
     assert second == []
+
+
+@pytest.mark.parametrize("tip_radius, hub_height", [(63.0, 90.0), (120.97, 150.0), (120.97, 135.0), (40.0, 42.0)])
+def test_the_grid_for_a_rotor_covers_it_with_a_margin_above_ground(tip_radius, hub_height):
+    """The grid a turbine's plant gets (make_wind) covers its rotor with 10 % margin (less above a hub lower than
+    that), the bottom row 1 m above ground:
+    the NREL 5 MW's is the 140 m square of the defaults, the IEA 15 MW's 268 m."""
+    width, height = rotor_grid_size(tip_radius, hub_height)
+    spec = TurbulenceSpec(mean_speed=RATED_SPEED, hub_height=hub_height, grid_width=width, grid_height=height)
+    assert spec.grid_y[0] <= -1.1 * tip_radius and spec.grid_y[-1] >= 1.1 * tip_radius
+    assert spec.grid_z[0] >= 1.0 and spec.grid_z[-1] >= hub_height + tip_radius  # a low hub: less margin above
+    assert spec.grid_z[0] <= max(1.0, hub_height - 1.1 * tip_radius)
+    if tip_radius == 63.0:
+        assert (width, height) == (TurbulenceSpec.grid_width, TurbulenceSpec.grid_height) == (140.0, 140.0)
+
+
+def test_a_turbines_turbulent_wind_is_generated_on_its_rotors_grid(tmp_path, monkeypatch):
+    """make_wind's field for a 121 m rotor spans it (the grid is not the NREL 5 MW's 140 m)."""
+    monkeypatch.setenv("HAWT_CACHE_DIR", str(tmp_path))
+    wind = make_wind(InflowSettings(kind="turbulent", wind_speed=11.0, hub_height=150.0, rotor_radius=120.97,
+                                    field_duration=20.0))
+    assert wind.grid_y[-1] - wind.grid_y[0] == 268.0 and wind.grid_z[-1] - wind.grid_z[0] == 268.0
 
 
 def test_default_grid_covers_the_nrel_5mw_rotor():
