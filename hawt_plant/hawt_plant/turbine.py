@@ -229,12 +229,19 @@ class Nacelle:
 class Tower:
     """Tower distributed properties, first bending modes and aerodynamic outline.
 
+    Heights are above the ground (offshore: mean sea level; below it negative). The tower's beam runs from
+    ``clamp_height``, where it is clamped, to its top at ``height``. A tower on the ground is clamped there (both
+    base heights 0). A tower on a substructure (ElastoDyn TowerBsHt = ``base_height`` > 0) stands on a rigid base
+    when it is clamped at its base (``clamp_height`` = ``base_height``); on a flexible base when the beam reaches
+    down to the substructure's own clamp (a monopile's mudline, ``clamp_height`` < ``base_height``), the
+    substructure's sections being its stations below ``base_height``.
+
     Attributes
     ----------
     height : float
-        Tower-top height above ground [m].
+        Tower-top height [m].
     height_fraction : ndarray, shape (T,)
-        Station height as a fraction of ``height``.
+        Station heights as fractions of the beam's length (:attr:`length`) from ``clamp_height``.
     mass_density : ndarray, shape (T,)
         [kg/m]
     fa_stiffness, ss_stiffness : ndarray, shape (T,)
@@ -248,6 +255,10 @@ class Tower:
     drag_coefficient : float
         Tower drag coefficient [-] (AeroDyn TwrCd), for the wake behind the tower that a downwind
         rotor's blades cross.
+    base_height : float
+        Height of the tower's base, the top of its substructure (ElastoDyn TowerBsHt) [m].
+    clamp_height : float
+        Height where the beam is clamped [m], at most ``base_height``.
     """
 
     height: float
@@ -262,6 +273,20 @@ class Tower:
     outline_elevation: np.ndarray
     outline_diameter: np.ndarray
     drag_coefficient: float = 1.0
+    base_height: float = 0.0
+    clamp_height: float = 0.0
+
+    @property
+    def length(self) -> float:
+        """The beam's length from its clamp to the tower top [m]."""
+        return self.height - self.clamp_height
+
+    @property
+    def base_kind(self) -> str:
+        """What the tower stands on: ``"ground"``, a ``"rigid"`` base or a ``"flexible"`` one (class notes)."""
+        if self.clamp_height < self.base_height:
+            return "flexible"
+        return "rigid" if self.base_height > 0.0 else "ground"
 
 
 @dataclass(frozen=True)
@@ -829,8 +854,12 @@ def _tower(s: _Section) -> Tower:
         if abs(modes[key].sum() - 1.0) > 1e-3:
             raise s.error(key, f"coefficients add up to {modes[key].sum():.4f}, expected 1 (unit top value)")
     elevation = s.array("outline_elevation", increasing=True)
+    height = s.number("height", low=0.0)
+    base = s.number("base_height", low=0.0, high=height, strict=False, default=0.0)
+    if base == height:
+        raise s.error("base_height", f"expected a value below the tower top (height {height:g}), found {base:g}")
     return Tower(
-        height=s.number("height", low=0.0),
+        height=height,
         height_fraction=fraction,
         mass_density=s.array("mass_density", length=n, positive=True),
         fa_stiffness=s.array("fa_stiffness", length=n, positive=True),
@@ -842,6 +871,8 @@ def _tower(s: _Section) -> Tower:
         outline_elevation=elevation,
         outline_diameter=s.array("outline_diameter", length=elevation.size, positive=True),
         drag_coefficient=s.number("drag_coefficient", low=0.0, strict=False, default=1.0),
+        base_height=base,
+        clamp_height=s.number("clamp_height", high=base, strict=False, default=base),
     )
 
 

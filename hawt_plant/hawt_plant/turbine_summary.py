@@ -9,7 +9,8 @@ the plant's modal model (:mod:`hawt_plant.modal`), each on its own:
   stiffening), k, m, k_c the generalized stiffness, mass and centrifugal stiffness of the first flap mode;
 - tower fore-aft and side-side: sqrt(k / (m + M)), m the tower's generalized mass and M the mass of the rotor
   and nacelle, a point on the top (the plant adds their rotary inertia to the fore-aft mode and couples the
-  tower with the blades);
+  tower with the blades); over a flexible base, the tower's beam includes its substructure
+  (:class:`hawt_plant.turbine.Tower`), and the summary says what the tower stands on;
 - drivetrain: the free-free torsion of the rotor and the generator on the shaft spring K,
   sqrt(K (1 / J_rotor + 1 / (N^2 J_generator))), J_rotor the hub's and the coned blades' inertia about the shaft;
 - blade edgewise: the plant has no such mode; :func:`hawt_plant.modal.blade_edgewise_frequency` estimates it from
@@ -71,8 +72,13 @@ class TurbineSummary:
         J_rotor, the hub's and the coned blades' inertia about the shaft [kg m^2].
     blade_flap_frequency, blade_flap_frequency_rated : float
         First flap mode standing still and at rated rotor speed [Hz].
+    tower_base : str
+        What the tower stands on (:attr:`hawt_plant.turbine.Tower.base_kind`): "ground", "rigid" or "flexible".
+    tower_base_height, tower_clamp_height : float
+        The tower's base (the top of its substructure) and where its beam is clamped, above the ground [m].
     tower_fa_frequency, tower_ss_frequency : float
-        First fore-aft and side-side tower modes with the rotor and nacelle on top [Hz].
+        First fore-aft and side-side tower modes with the rotor and nacelle on top [Hz]; over a flexible base,
+        those of the tower and substructure as one beam.
     drivetrain_frequency : float
         Free-free shaft torsion [Hz].
     blade_edge_frequency : float
@@ -98,6 +104,9 @@ class TurbineSummary:
     rotor_inertia: float
     blade_flap_frequency: float
     blade_flap_frequency_rated: float
+    tower_base: str
+    tower_base_height: float
+    tower_clamp_height: float
     tower_fa_frequency: float
     tower_ss_frequency: float
     drivetrain_frequency: float
@@ -178,12 +187,25 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         schedule_tip_speed_ratio=schedule.optimal_tip_speed_ratio, rotor_inertia=inertia,
         blade_flap_frequency=hertz(blade.stiffness, blade.modal_mass),
         blade_flap_frequency_rated=hertz(blade.stiffness + omega**2 * blade.centrifugal_stiffness, blade.modal_mass),
+        tower_base=turbine.tower.base_kind, tower_base_height=turbine.tower.base_height,
+        tower_clamp_height=turbine.tower.clamp_height,
         tower_fa_frequency=hertz(tower["fa"].stiffness, tower["fa"].modal_mass + top),
         tower_ss_frequency=hertz(tower["ss"].stiffness, tower["ss"].modal_mass + top),
         drivetrain_frequency=hertz(drivetrain.torsional_stiffness, torsion_inertia),
         blade_edge_frequency=blade_edgewise_frequency(turbine),
         aerodynamics=turbine.aerodynamics, protection=turbine.protection,
     )
+
+
+def _tower_base(summary: TurbineSummary) -> str:
+    """What the tower stands on, in words."""
+    if summary.tower_base == "flexible":
+        return (f"a flexible base: its substructure, from its clamp at {summary.tower_clamp_height:g} m to the tower's "
+                f"base at {summary.tower_base_height:g} m (heights above the ground, offshore above mean sea level), "
+                "bends with it as one beam")
+    if summary.tower_base == "rigid":
+        return f"a rigid base {summary.tower_base_height:g} m high: the tower is clamped there"
+    return "the ground: the tower is clamped there"
 
 
 def format_summary(summary: TurbineSummary) -> str:
@@ -204,6 +226,7 @@ def format_summary(summary: TurbineSummary) -> str:
         f"rated speed, blade edgewise {s.blade_edge_frequency:.3f} Hz standing (estimated); tower fore-aft "
         f"{s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; drivetrain torsion "
         f"{s.drivetrain_frequency:.3f} Hz",
+        f"the tower stands on {_tower_base(s)}",
         "aerodynamics (what the plant runs; its parameter of the same name, true or false, overrides one):",
         *(f"  {s.aerodynamics.state(name)}: {s.aerodynamics.sources[name]}" for name in AERODYNAMIC_OPTIONS),
         f"protection (the safety system trips and feathers above these; the definition's protection section sets "

@@ -22,10 +22,15 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
   them;
 - blade structure: ED blade file BlFract, StrcTwst, BMassDen with AdjBlMs, FlpStff x AdjFlSt x FlStTunr(1),
   EdgStff x AdjEdSt, BldFl1Sh, BldFlDmp(1);
-- tower: ED TowerHt - TowerBsHt (the plant's tower is clamped at the ground: a tower standing on a substructure
-  is lowered onto it, hub height included), tower file HtFract, TMassDen x AdjTwMa, TwFAStif x AdjFASt x
-  FAStTunr(1), TwSSStif x AdjSSSt x SSStTunr(1), TwFAM1Sh, TwSSM1Sh, TwrFADmp(1), TwrSSDmp(1); AD TwrElev,
-  TwrDiam, TwrCd (their mean, if the nodes differ) for the tower shadow and drag;
+- tower: ED TowerHt, tower file HtFract, TMassDen x AdjTwMa, TwFAStif x AdjFASt x FAStTunr(1), TwSSStif x AdjSSSt
+  x SSStTunr(1), TwFAM1Sh, TwSSM1Sh, TwrFADmp(1), TwrSSDmp(1); AD TwrElev, TwrDiam, TwrCd (their mean, if the
+  nodes differ) for the tower shadow and drag. A tower on a substructure (ED TowerBsHt > 0) keeps its heights
+  (the hub is the deck's) and stands on a flexible base if the deck's SubDyn input (CompSub = 1) is a monopile
+  (:func:`_monopile`): the tower's beam then reaches down to SubDyn's clamp with the monopile's circular sections
+  (YoungE, MatDens, XsecD, XsecT) below TowerBsHt, and its first mode shapes are that beam's
+  (:func:`hawt_plant.modal.beam_first_mode`, with the rotor and nacelle on top), not the tower file's of the tower
+  clamped at TowerBsHt. Otherwise (no SubDyn, or another structure) it stands on a rigid base: clamped at
+  TowerBsHt, with the tower file's modes. The approximations say which, and why;
 - drivetrain: ED GBRatio, GBoxEff, GenIner, DTTorSpr (for a rigid drivetrain, DrTrDOF = False, at most the
   stiffness of a :data:`RIGID_TORSION_FREQUENCY` torsion), DTTorDmp;
 - generator: SD GenEff; DISCON VS_RtPwr, VS_RtTq, VS_MaxTq, VS_MaxRat;
@@ -75,6 +80,7 @@ import numpy as np
 from openfast_io.FAST_reader import InputReader_OpenFAST
 
 from hawt_controllers.rosco_input import RELATIVE_PATH_SETTINGS, read_settings
+from hawt_plant.modal import beam_first_mode
 from hawt_plant.turbine import TurbineDefinitionError, load_turbine
 
 __all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "AerodynamicMapping", "DeckError", "ImportedAirfoil",
@@ -308,15 +314,21 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
     length = _blade_length(ed, files["ed"])
     aerodynamics, airfoils = _blade_aerodynamics(deck, ad, ad_blade, length, files)
     torsion = _torsion_frequency(ed, blade, files)
+    base = _number(ed, "TowerBsHt", files["ed"])
+    substructure = _monopile(deck, main, base, files) if base else ""
+    structure = _blade_structure(blade, length, files["blade"])
+    nacelle = _nacelle(ed, files["ed"])
+    top_mass = (_number(ed, "HubMass", files["ed"]) + nacelle["mass"].value
+                + ed["NumBl"] * structure["reference_mass"].value)
     definition = {
         "name": Sourced(fst.stem, f"{fst.name}: the deck's name"),
         "source": Sourced(f"OpenFAST deck {fst.name} ({deck.vt['description'].strip()}), imported by hawt turbine "
                           "import", f"{fst.name} title line"),
         "environment": _environment(main, ad, files),
         "rotor": _rotor(ed, files["ed"]),
-        "nacelle": _nacelle(ed, files["ed"]),
-        "blade": {"aerodynamics": aerodynamics, "structure": _blade_structure(blade, length, files["blade"])},
-        "tower": _tower(ed, tower, ad, files),
+        "nacelle": nacelle,
+        "blade": {"aerodynamics": aerodynamics, "structure": structure},
+        "tower": _tower(ed, tower, ad, files, substructure, top_mass, _number(main, "Gravity", files["fst"])),
         "drivetrain": _drivetrain(ed, torsion, files["ed"]),
         "generator": _generator(sd, discon, files["sd"]),
         "pitch_actuator": _pitch_actuator(discon),
@@ -325,8 +337,10 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
     aero = aerodynamic_options(ad, definition["rotor"].get("position") is not None, files["ad"])
     definition["aerodynamics"] = aero.section
     return ImportedTurbine(deck=fst, definition=definition, airfoils=airfoils,
-                           approximations=tuple(_approximations(ed, torsion, ad, discon, files)) + aero.approximations,
-                           not_modelled=tuple(_not_modelled(main, ed, ad, ad_blade, sd, files)) + aero.not_modelled)
+                           approximations=tuple(_approximations(ed, torsion, ad, discon, substructure, files))
+                           + aero.approximations,
+                           not_modelled=tuple(_not_modelled(main, ed, ad, ad_blade, sd, substructure, files))
+                           + aero.not_modelled)
 
 
 _UNSUPPORTED = {
@@ -553,35 +567,125 @@ def _blade_structure(blade: Mapping[str, Any], length: float, file: str) -> Dict
     }
 
 
-def _tower(ed: Mapping[str, Any], tower: Mapping[str, Any], ad: Mapping[str, Any],
-           files: Mapping[str, str]) -> Dict[str, Sourced]:
+@dataclass(frozen=True, eq=False)
+class _Monopile:
+    """A deck's SubDyn monopile as stations of the tower's beam below the tower's base (:func:`_monopile`): heights
+    [m] from its clamp up to 1 mm below the interface, each with its section (linear between stations, as the plant
+    takes every distributed property), the number of its members, and its concentrated masses [kg]."""
+
+    height: np.ndarray
+    mass_density: np.ndarray
+    stiffness: np.ndarray
+    members: int
+    point_mass: float
+
+
+def _monopile(deck: _Deck, main: Mapping[str, Any], base: float, files: Dict[str, str]) -> _Monopile | str:
+    """The deck's SubDyn substructure if it is a monopile the plant can make part of the tower's beam (a vertical
+    line of circular beams, MType 1, joined rigidly from one reaction joint clamped in all six directions without
+    soil file to one interface joint at TowerBsHt = ``base``); otherwise why the tower stands on a rigid base."""
+    if main["CompSub"] != 1:
+        return f"{files['fst']} CompSub = {main['CompSub']}: no SubDyn substructure"
+    path = deck.existing(files["fst"], "SubFile", "", main["SubFile"])
+    files["sub"] = file = deck.name(path)
+    try:
+        deck.read(file, lambda: deck.reader.read_SubDyn(str(path)))
+    except DeckError as error:
+        return str(error)
+    sd = deck.vt["SubDyn"]
+    joints = {joint: (x, y, z) for joint, x, y, z in zip(sd["JointID"], sd["JointXss"], sd["JointYss"],
+                                                          sd["JointZss"])}
+    sections = {index: (modulus, density, diameter, thickness) for index, modulus, density, diameter, thickness in
+                zip(sd["PropSetID1"], sd["YoungE1"], sd["MatDens1"], sd["XsecD"], sd["XsecT"])}
+    locked = [sd[key][0] for key in ("RctTDXss", "RctTDYss", "RctTDZss", "RctRDXss", "RctRDYss", "RctRDZss")] \
+        if sd["NReact"] == 1 else []
+    members = sorted((sorted(((joints[j1][2], p1), (joints[j2][2], p2))) for j1, j2, p1, p2 in
+                      zip(sd["MJointID1"], sd["MJointID2"], sd["MPropSetID1"], sd["MPropSetID2"])))
+    chained = all(lower[1][0] == upper[0][0] for lower, upper in zip(members, members[1:]))
+    vertical = len({(x, y) for x, y, _ in joints.values()}) == 1 and set(sd["JointType"]) == {1}
+    if not (sd["NReact"] == 1 and locked == [1] * 6 and sd["Rct_SoilFile"][0].strip('"') == ""
+            and sd["NInterf"] == 1 and vertical and set(sd["MType"]) == {1} and members and chained
+            and members[0][0][0] == joints[sd["RJointID"][0]][2] and members[-1][1][0] == joints[sd["IJointID"][0]][2]
+            and abs(members[-1][1][0] - base) <= _LENGTH_TOLERANCE):
+        return (f"{file} is not a monopile the plant can bend with the tower: one vertical line of circular beams "
+                "(MType 1, cantilever joints) from one reaction joint clamped in all six directions without soil "
+                f"file to one interface joint at TowerBsHt = {base:g} m")
+    # Each member's section at its lower joint, and the last one's at its top 1 mm below the tower's base (the
+    # step to the tower's section, as the deck's own 1 mm members step between sections).
+    ends = [lower for lower, _ in members] + [(members[-1][1][0] - _LENGTH_TOLERANCE, members[-1][1][1])]
+    height = np.array([z for z, _ in ends])
+    modulus, density, diameter, thickness = (np.array([sections[index][k] for _, index in ends]) for k in range(4))
+    inner = diameter - 2.0 * thickness
+    keep = np.concatenate((np.diff(height) > 0.0, [True]))  # a zero-length member gives way to the next one
+    return _Monopile(height=height[keep], mass_density=(density * math.pi / 4.0 * (diameter**2 - inner**2))[keep],
+                     stiffness=(modulus * math.pi / 64.0 * (diameter**4 - inner**4))[keep], members=len(members),
+                     point_mass=float(np.sum(sd["JMass"])) if sd["NCmass"] else 0.0)
+
+
+def _tower(ed: Mapping[str, Any], tower: Mapping[str, Any], ad: Mapping[str, Any], files: Mapping[str, str],
+           substructure: _Monopile | str, top_mass: float, gravity: float) -> Dict[str, Sourced]:
+    """The tower: on the ground (TowerBsHt = 0), on a rigid base at TowerBsHt, or on the deck's monopile as a
+    flexible base (``substructure``, :func:`_monopile`; a string says why the base is rigid). ``top_mass`` [kg] is
+    the rotor's and nacelle's, for a flexible base's first modes."""
     ed_file, file, ad_file = files["ed"], files["tower"], files["ad"]
     base = _number(ed, "TowerBsHt", ed_file)
-    lowered = f", lowered by TowerBsHt = {base:g} m onto the ground" if base else ""
-    elevation = _array(ad, "TwrElev", ad_file) - base
+    top = _number(ed, "TowerHt", ed_file)
+    elevation = _array(ad, "TwrElev", ad_file)
     diameter = _array(ad, "TwrDiam", ad_file)
     above = elevation >= -_LENGTH_TOLERANCE
     drag = _array(ad, "TwrCd", ad_file)
     factors = {key: _number(tower, key, file) for key in ("AdjTwMa", "AdjFASt", "FAStTunr1", "AdjSSSt", "SSStTunr1")}
     fa_factor, ss_factor = factors["AdjFASt"] * factors["FAStTunr1"], factors["AdjSSSt"] * factors["SSStTunr1"]
-    return {
-        "height": Sourced(_number(ed, "TowerHt", ed_file) - base, f"{ed_file} TowerHt - TowerBsHt"),
+    fraction = _array(tower, "HtFract", file)
+    mass = factors["AdjTwMa"] * _array(tower, "TMassDen", file)
+    fa = fa_factor * _array(tower, "TwFAStif", file)
+    ss = ss_factor * _array(tower, "TwSSStif", file)
+    section = {
+        "height": Sourced(top, f"{ed_file} TowerHt"),
         "fa_damping_ratio": Sourced(_number(tower, "TwrFADmp1", file) / 100.0, f"{file} TwrFADmp(1) [%]"),
         "ss_damping_ratio": Sourced(_number(tower, "TwrSSDmp1", file) / 100.0, f"{file} TwrSSDmp(1) [%]"),
         "fa_mode_shape": Sourced(_array(tower, "TwFAM1Sh", file), f"{file} TwFAM1Sh(2..6)"),
         "ss_mode_shape": Sourced(_array(tower, "TwSSM1Sh", file), f"{file} TwSSM1Sh(2..6)"),
-        "height_fraction": Sourced(_array(tower, "HtFract", file), f"{file} HtFract"),
-        "mass_density": Sourced(factors["AdjTwMa"] * _array(tower, "TMassDen", file),
-                                f"{file} TMassDen x AdjTwMa (= {factors['AdjTwMa']:g})"),
-        "fa_stiffness": Sourced(fa_factor * _array(tower, "TwFAStif", file),
-                                f"{file} TwFAStif x AdjFASt x FAStTunr(1) (= {fa_factor:g})"),
-        "ss_stiffness": Sourced(ss_factor * _array(tower, "TwSSStif", file),
-                                f"{file} TwSSStif x AdjSSSt x SSStTunr(1) (= {ss_factor:g})"),
-        "outline_elevation": Sourced(np.maximum(elevation[above], 0.0), f"{ad_file} TwrElev{lowered}"),
+        "height_fraction": Sourced(fraction, f"{file} HtFract"),
+        "mass_density": Sourced(mass, f"{file} TMassDen x AdjTwMa (= {factors['AdjTwMa']:g})"),
+        "fa_stiffness": Sourced(fa, f"{file} TwFAStif x AdjFASt x FAStTunr(1) (= {fa_factor:g})"),
+        "ss_stiffness": Sourced(ss, f"{file} TwSSStif x AdjSSSt x SSStTunr(1) (= {ss_factor:g})"),
+        "outline_elevation": Sourced(np.maximum(elevation[above], 0.0), f"{ad_file} TwrElev"),
         "outline_diameter": Sourced(diameter[above], f"{ad_file} TwrDiam"),
         "drag_coefficient": Sourced(float(np.mean(drag)), f"{ad_file} TwrCd" + (
             "" if np.all(drag == drag[0]) else f", the mean of {drag.min():g} .. {drag.max():g}")),
     }
+    if not base:
+        return section
+    section["base_height"] = Sourced(base, f"{ed_file} TowerBsHt")
+    if isinstance(substructure, str):
+        section["clamp_height"] = Sourced(base, f"{ed_file} TowerBsHt: a rigid base ({substructure})")
+        return section
+    sub_file, clamp = files["sub"], float(substructure.height[0])
+    length = top - clamp
+    stations = np.concatenate((substructure.height, base + fraction * (top - base)))
+    section["clamp_height"] = Sourced(clamp, f"{sub_file} JointZss of the reaction joint: the monopile's clamp")
+    section["height_fraction"] = Sourced((stations - clamp) / length, f"{sub_file} JointZss of each member's lower "
+                                         "joint and 1 mm below TowerBsHt (the last member's top section), then "
+                                         f"TowerBsHt + {file} HtFract x (TowerHt - TowerBsHt); over the length from "
+                                         "the clamp to TowerHt")
+    monopile = "below TowerBsHt"
+    section["mass_density"] = Sourced(np.concatenate((substructure.mass_density, mass)),
+                                      f"{sub_file} MatDens x pi/4 (XsecD^2 - (XsecD - 2 XsecT)^2) {monopile}, then "
+                                      f"{file} TMassDen x AdjTwMa (= {factors['AdjTwMa']:g})")
+    for key, values, name, factor in (("fa", fa, "TwFAStif x AdjFASt x FAStTunr(1)", fa_factor),
+                                      ("ss", ss, "TwSSStif x AdjSSSt x SSStTunr(1)", ss_factor)):
+        stiffness = np.concatenate((substructure.stiffness, values))
+        shape, frequency = beam_first_mode(section["height_fraction"].value, section["mass_density"].value,
+                                           stiffness, length, top_mass, gravity)
+        section[f"{key}_stiffness"] = Sourced(stiffness, f"{sub_file} YoungE x pi/64 (XsecD^4 - (XsecD - 2 XsecT)^4) "
+                                                         f"{monopile}, then {file} {name} (= {factor:g})")
+        section[f"{key}_mode_shape"] = Sourced(shape, f"the first mode of the monopile and tower as one beam with the "
+                                                      f"rotor and nacelle's {top_mass:.6g} kg on top, {frequency:.4f} "
+                                                      "Hz (hawt_plant.modal.beam_first_mode; the deck's "
+                                                      f"{'TwFAM1Sh' if key == 'fa' else 'TwSSM1Sh'} is the tower's "
+                                                      "alone, clamped at TowerBsHt)")
+    return section
 
 
 def _torsion_frequency(ed: Mapping[str, Any], blade: Mapping[str, Any], files: Mapping[str, str]) -> float:
@@ -812,13 +916,23 @@ def aerodynamic_options(ad: Mapping[str, Any], downwind: bool, file: str) -> Aer
 
 
 def _approximations(ed: Mapping[str, Any], torsion: float, ad: Mapping[str, Any], discon: _Discon,
-                    files: Mapping[str, str]) -> List[str]:
+                    substructure: _Monopile | str, files: Mapping[str, str]) -> List[str]:
     """How values were approximated where the plant's definition has no place for the deck's (``torsion``: the
-    shaft's frequency [Hz], :func:`_torsion_frequency`)."""
+    shaft's frequency [Hz], :func:`_torsion_frequency`; ``substructure``: the tower's base, :func:`_tower`)."""
     ed_file, out = files["ed"], []
-    if ed["TowerBsHt"]:
-        out.append(f"the tower stands on a base {ed['TowerBsHt']:g} m high ({ed_file} TowerBsHt): the plant's tower "
-                   "is clamped at the ground, so the tower, rotor and hub height are that much lower")
+    base = ed["TowerBsHt"]
+    if base and isinstance(substructure, str):
+        out.append(f"the tower stands on a rigid base {base:g} m high ({ed_file} TowerBsHt; {substructure}): the "
+                   "plant's tower is clamped there, the hub at the deck's height; its first modes are the tower's "
+                   "alone (the deck's TwFAM1Sh, TwSSM1Sh)")
+    elif base:
+        out.append(f"the tower stands on the deck's monopile, a flexible base ({files['sub']}: "
+                   f"{substructure.members} members from {substructure.height[0]:g} m, clamped, to TowerBsHt = "
+                   f"{base:g} m): the plant's tower is one beam from the monopile's clamp to the tower top, the "
+                   "monopile's sections below the tower's, the hub at the deck's height; its first modes are that "
+                   "beam's, by Rayleigh-Ritz (hawt turbine show gives their frequencies), in place of the deck's "
+                   "TwFAM1Sh and TwSSM1Sh of the tower clamped at its base, with SubDyn's Timoshenko beams as "
+                   "Euler-Bernoulli ones")
     if ed["YawBrMass"]:
         out.append(f"the yaw bearing's {ed['YawBrMass']:g} kg ({ed_file} YawBrMass) is lumped into the nacelle")
     if not ed["DrTrDOF"]:
@@ -840,9 +954,9 @@ def _approximations(ed: Mapping[str, Any], torsion: float, ad: Mapping[str, Any]
 
 
 def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[str, Any], ad_blade: Mapping[str, Any],
-                  sd: Mapping[str, Any], files: Mapping[str, str]) -> List[str]:
+                  sd: Mapping[str, Any], substructure: _Monopile | str, files: Mapping[str, str]) -> List[str]:
     """What of the deck the plant does not model (one flap mode per blade, first tower modes, drivetrain torsion,
-    second-order pitch actuators, quasi-steady or Øye BEM)."""
+    second-order pitch actuators, quasi-steady or Øye BEM; ``substructure``: the tower's base, :func:`_tower`)."""
     ed_file, blade_file, tower_file, ad_file = files["ed"], files["blade"], files["tower"], files["ad"]
     out = []
     if ed["FlapDOF2"] or ed["EdgeDOF"]:
@@ -862,8 +976,14 @@ def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[st
             if ed[key]]
     parts = ([f"{files['fst']} " + ", ".join(modules)] if modules else []) + \
         ([f"{ed_file} " + ", ".join(dofs)] if dofs else [])
-    if parts:
+    if parts and isinstance(substructure, str):
         out.append(f"substructure and platform ({'; '.join(parts)}): the tower is clamped at its base")
+    elif parts:
+        lumped = f"its {substructure.point_mass:g} kg of concentrated masses ({files['sub']} JMass), " \
+            if substructure.point_mass else ""
+        out.append(f"substructure and platform ({'; '.join(parts)}): the monopile bends with the tower, clamped at "
+                   f"{substructure.height[0]:g} m; {lumped}the water around and in it, waves, currents and soil are "
+                   "not modelled")
     if ed["TeetDOF"] or ed["TeetMod"]:
         out.append(f"teeter ({ed_file} TeetDOF = {ed['TeetDOF']}, TeetMod = {ed['TeetMod']})")
     masses = [key for key in ("TipMass(1)", "PBrIner(1)", "BlPIner(1)", "NacCMyn", "HubCM", "UndSling", "Delta3")

@@ -5,7 +5,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from hawt_plant.modal import (blade_edgewise_frequency, blade_modal_properties, polynomial_mode,
+from hawt_plant.modal import (beam_first_mode, blade_edgewise_frequency, blade_modal_properties, polynomial_mode,
                               tower_modal_properties)
 
 
@@ -65,6 +65,46 @@ def test_gravity_softens_the_tower(turbine):
     heavy = tower_modal_properties(turbine, "fa", 350_000.0)
     assert heavy.stiffness < light.stiffness
     assert heavy.top_slope == light.top_slope > 0.0
+
+
+def test_a_rigid_base_raises_the_tower_without_changing_its_mode(turbine):
+    """The same tower clamped on a rigid base 15 m high: its mode's mass, stiffness and top slope are unchanged, and
+    its height moment (about the ground, where the plant takes the tower-base moments) grows by 15 m times its
+    first moment."""
+    tower = turbine.tower
+    raised = replace(turbine, tower=replace(tower, height=tower.height + 15.0, base_height=15.0, clamp_height=15.0))
+    assert raised.tower.base_kind == "rigid" and turbine.tower.base_kind == "ground"
+    top = 350_000.0
+    ground, rigid = tower_modal_properties(turbine, "fa", top), tower_modal_properties(raised, "fa", top)
+    for name in ("modal_mass", "modal_first_moment", "stiffness", "top_slope"):
+        assert getattr(rigid, name) == pytest.approx(getattr(ground, name), rel=1e-12)
+    assert rigid.modal_height_moment == pytest.approx(ground.modal_height_moment + 15.0 * ground.modal_first_moment,
+                                                      rel=1e-12)
+
+
+def test_the_beam_mode_is_the_best_shape_of_elastodyns_basis(turbine):
+    """beam_first_mode on the NREL 5 MW's tower: a shape adding up to 1 (unit top) whose frequency, evaluated by
+    tower_modal_properties, is the one returned, and below that of the deck's own TwFAM1Sh (Rayleigh-Ritz gives
+    the lowest over the basis); within 3 % of it."""
+    tower, top = turbine.tower, 350_000.0
+    shape, frequency = beam_first_mode(tower.height_fraction, tower.mass_density, tower.fa_stiffness, tower.length,
+                                       top, turbine.environment.gravity)
+    assert shape.sum() == pytest.approx(1.0)
+
+    def hertz(coefficients: np.ndarray) -> float:
+        mode = tower_modal_properties(replace(turbine, tower=replace(tower, fa_mode_shape=coefficients)), "fa", top)
+        return math.sqrt(mode.stiffness / (mode.modal_mass + top)) / (2.0 * math.pi)
+
+    assert hertz(shape) == pytest.approx(frequency, rel=1e-9)
+    assert frequency < hertz(tower.fa_mode_shape) < 1.03 * frequency
+
+
+def test_the_beam_mode_of_a_uniform_beam_is_the_cantilevers(turbine):
+    """A uniform cantilever without top mass or gravity: 1.8751^2 sqrt(EI / (mu L^4)) / (2 pi) (Euler-Bernoulli) to
+    within 1e-4."""
+    fraction = np.array([0.0, 1.0])
+    shape, frequency = beam_first_mode(fraction, np.full(2, 5000.0), np.full(2, 4e11), 80.0, 0.0, 0.0)
+    assert frequency == pytest.approx(1.87510407**2 * math.sqrt(4e11 / (5000.0 * 80.0**4)) / (2 * math.pi), rel=1e-4)
 
 
 def test_unknown_tower_direction_is_rejected(turbine):

@@ -92,6 +92,30 @@ def test_nrel_5mw_limits_and_rated_values(turbine):
     assert turbine.drivetrain.gearbox_ratio == 97.0
 
 
+@pytest.mark.parametrize("base, clamp, kind", [(None, None, "ground"), (15.0, None, "rigid"), (15.0, -30.0, "flexible")])
+def test_the_tower_stands_on_the_ground_a_rigid_base_or_a_flexible_one(editable_copy, base, clamp, kind):
+    """Without base_height the tower is clamped on the ground; with it alone, on a rigid base that high; with a
+    clamp_height below it, on a flexible base (its beam reaches down to the clamp)."""
+    path = editable_copy(["tower", "base_height"], base) if base is not None else PACKAGED / "turbine.yaml"
+    if clamp is not None:
+        path = editable_copy(["tower", "clamp_height"], clamp)
+    tower = load_turbine(path).tower
+    assert tower.base_kind == kind
+    assert (tower.base_height, tower.clamp_height) == (base or 0.0, clamp if clamp is not None else base or 0.0)
+    assert tower.length == tower.height - tower.clamp_height
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("base_height", 87.6, r"tower\.base_height: expected a value below the tower top \(height 87\.6\), found 87\.6"),
+    ("base_height", -1.0, r"tower\.base_height: expected a value >= 0"),
+    ("clamp_height", 1.0, r"tower\.clamp_height: expected a value <= 0"),
+])
+def test_a_base_at_or_above_the_top_or_a_clamp_above_the_base_is_refused(editable_copy, key, value, message):
+    """The base is below the tower top, on or above the ground; the clamp at or below the base."""
+    with pytest.raises(TurbineDefinitionError, match=message):
+        load_turbine(editable_copy(["tower", key], value))
+
+
 def test_missing_key_is_named_with_its_file(editable_copy):
     """A missing key gives an error naming the file and the dotted key."""
     path = editable_copy(["generator", "max_torque"], None)

@@ -61,16 +61,17 @@ def test_the_modes_are_the_modal_models_one_at_a_time(summary):
 
 
 def test_the_text_names_rated_values_cp_max_first_modes_and_the_aerodynamic_options(summary):
-    """Four lines: the turbine, its rated values, Cp-max with its tip-speed ratio, the first modes; then the
-    aerodynamic options, one line each with its source; then the protection's trip levels."""
+    """Five lines: the turbine, its rated values, Cp-max with its tip-speed ratio, the first modes, what the tower
+    stands on; then the aerodynamic options, one line each with its source; then the protection's trip levels."""
     lines = format_summary(summary).splitlines()
-    assert len(lines) == 4 + 1 + 5 + 1
+    assert len(lines) == 5 + 1 + 5 + 1
     assert lines[1].startswith("rated: 5 MW electrical, rotor 12.10 rpm")
     assert lines[2].startswith(f"Cp-max {summary.max_power_coefficient:.4f} at tip-speed ratio")
     assert lines[3].startswith("first modes: blade flap")
-    assert lines[4].startswith("aerodynamics")
-    assert lines[8] == ("  unsteady_airfoil on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat UA_Mod = 3 (B-L "
+    assert lines[4] == "the tower stands on the ground: the tower is clamped there"
+    assert lines[5].startswith("aerodynamics")
+    assert lines[9] == ("  unsteady_airfoil on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat UA_Mod = 3 (B-L "
                         "Minnema/Pierce; the plant's is Hansen-Gaunaa-Madsen's, UA_Mod = 4)")
-    assert lines[9].startswith("  dynamic_inflow off: hawt: quasi-steady induction")
-    assert lines[10].startswith("protection (the safety system trips and feathers above these") and \
-        "rotor 14.28 rpm (1.18 x rated; warning at 13.55), generator 1385.0 rpm" in lines[10]
+    assert lines[10].startswith("  dynamic_inflow off: hawt: quasi-steady induction")
+    assert lines[11].startswith("protection (the safety system trips and feathers above these") and \
+        "rotor 14.28 rpm (1.18 x rated; warning at 13.55), generator 1385.0 rpm" in lines[11]

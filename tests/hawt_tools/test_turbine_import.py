@@ -80,6 +80,8 @@ MATCHES = {
     "tower.outline_elevation": EXACT,
     "tower.outline_diameter": EXACT,
     "tower.drag_coefficient": EXACT,
+    "tower.base_height": EXACT,
+    "tower.clamp_height": EXACT,
     "drivetrain.gearbox_ratio": EXACT,
     "drivetrain.gearbox_efficiency": (1e-12, 0.0, "GBoxEff / 100"),
     "drivetrain.generator_inertia": EXACT,
@@ -321,7 +323,7 @@ def test_each_aerodyn_node_acts_halfway_to_its_neighbours():
 
 
 @pytest.mark.parametrize("deck, blades, rated_power, hub_height", [
-    (IEA_15MW, 3, 15e6, 150.0 - 15.0),  # the tower base at 15 m above the sea is lowered onto the ground
+    (IEA_15MW, 3, 15e6, 150.0),  # the tower's base 15 m above the sea, on its monopile
     (NREL_2P8, 3, 2.8e6, 88.05),
 ])
 def test_other_decks_import_load_and_a_plant_steps_on_them(imported_deck, deck, blades, rated_power, hub_height):
@@ -341,6 +343,46 @@ def test_other_decks_import_load_and_a_plant_steps_on_them(imported_deck, deck, 
         values = [getattr(out, field.name) for field in dataclasses.fields(out)]
         assert all(np.all(np.isfinite(value)) for value in values)
         assert out.rotor_speed == pytest.approx(first.rotor_speed, rel=0.02)
+
+
+def test_the_iea_15mw_stands_on_its_monopile_as_a_flexible_base_at_the_decks_heights(imported_deck):
+    """The monopile deck's tower stands on SubDyn's monopile (clamped at the mudline, 30 m below the sea, up to
+    TowerBsHt = 15 m): the plant's tower is one beam from -30 m to the top, the hub at the deck's 150 m. Its first
+    modes are that beam's: 0.182 Hz, against 0.17 Hz in the IEA 15 MW report (Gaertner et al. 2020) and 0.181 Hz
+    from WISDEM's current model (IEA-15-240-RWT issue 247); well below 2P at rated speed (0.252 Hz), where the
+    tower clamped at its base (0.256 Hz) stood. The beam's mass below the base is the monopile's steel."""
+    turbine = load_turbine(imported_deck(IEA_15MW) / "turbine.yaml")
+    tower = turbine.tower
+    assert (tower.base_kind, tower.base_height, tower.clamp_height) == ("flexible", 15.0, -30.0)
+    assert turbine.hub_height == pytest.approx(150.0, abs=0.05)
+    summary = turbine_summary(turbine)
+    assert summary.tower_fa_frequency == pytest.approx(0.181, rel=0.02)
+    assert summary.tower_ss_frequency == pytest.approx(0.181, rel=0.02)
+    assert summary.tower_fa_frequency == pytest.approx(0.17, rel=0.08)
+    assert summary.tower_fa_frequency < 0.75 * 2 * turbine.schedule.rated_rotor_speed / (2 * np.pi)
+    heights = tower.clamp_height + tower.height_fraction * tower.length
+    below = heights < tower.base_height - 1e-6
+    # SubDyn: D = 10 m, XsecT 55.3 .. 41.1 mm over nine 5 m sections, steel 7800 kg/m^3
+    thickness = np.array([0.055341, 0.053449, 0.051509, 0.049527, 0.047517, 0.045517, 0.043527, 0.042242, 0.041058])
+    steel = 7800.0 * np.pi / 4.0 * (10.0**2 - (10.0 - 2.0 * thickness) ** 2) * 5.0
+    assert np.trapezoid(tower.mass_density[below], heights[below]) == pytest.approx(steel.sum(), rel=1e-4)
+
+
+def test_a_deck_without_a_substructure_model_stands_on_a_rigid_base(rosco_case, tmp_path):
+    """The monopile deck with SubDyn off (CompSub = 0): the tower is clamped at TowerBsHt, a rigid base, the hub
+    still at 150 m; its first modes are the tower's alone with the deck's TwFAM1Sh (0.256 Hz), and the import says
+    why the base is rigid."""
+    deck = shutil.copytree(rosco_case(IEA_15MW).parent, tmp_path / "IEA-15-240-RWT-Monopile")
+    (tmp_path / "IEA-15-240-RWT").symlink_to(rosco_case("IEA-15-240-RWT/IEA-15-240-RWT"))  # the shared blade files
+    _set(deck / "IEA-15-240-RWT-Monopile.fst", "CompSub", "0")
+    imported = import_deck(deck / "IEA-15-240-RWT-Monopile.fst")
+    turbine = load_turbine(write_turbine(imported, tmp_path / "out"))
+    assert (turbine.tower.base_kind, turbine.tower.base_height, turbine.tower.clamp_height) == ("rigid", 15.0, 15.0)
+    assert turbine.hub_height == pytest.approx(150.0, abs=0.05)
+    assert turbine_summary(turbine).tower_fa_frequency == pytest.approx(0.256, abs=0.0005)
+    assert any(line.startswith("the tower stands on a rigid base 15 m high (IEA-15-240-RWT-Monopile_ElastoDyn.dat "
+                               "TowerBsHt; IEA-15-240-RWT-Monopile.fst CompSub = 0: no SubDyn substructure)")
+               for line in imported.approximations)
 
 
 def test_a_rigid_drivetrain_is_kept_at_a_torsion_the_plant_integrates(imported_deck):
@@ -502,7 +544,7 @@ def _with_a_negative_blade_mass_density(tmp_path: Path, case) -> Path:
     (lambda tmp_path, case: case(BAR_10), "BAR_10.fst: CompElast: 2 (BeamDyn blades) is not supported"),
     (_with_setting(ELASTODYN, "GBRatio", "0"), f"{ELASTODYN}: GBRatio: expected a value > 0, found 0\n"),
     (_with_setting(ELASTODYN, "GBRatio", "-97"), f"{ELASTODYN}: GBRatio: expected a value > 0, found -97\n"),
-    (_with_setting(ELASTODYN, "TowerHt", "0"), f"{ELASTODYN} TowerHt - TowerBsHt: expected a value > 0.0, found 0 "
+    (_with_setting(ELASTODYN, "TowerHt", "0"), f"{ELASTODYN} TowerHt: expected a value > 0.0, found 0 "
                                                  "(tower.height of the turbine definition)\n"),
     (_with_a_negative_blade_mass_density, "NRELOffshrBsline5MW_Blade.dat: BMassDen: expected values > 0, found "
                                           "-773.363 (value 3 of 49)\n"),
