@@ -8,13 +8,16 @@ tunings are files beside it, written by the design tools:
 kind            file in the folder  written by
 =============== =================== ==========================================================
 ``cpc``         ``cpc.yaml``        ``hawt design cpc --turbine DIR``
-``ipc``         ``ipc.yaml``        ``python -m hawt_controllers.ipc_design --turbine DIR``
+``ipc``         ``ipc.yaml``        ``hawt design ipc --turbine DIR``
 ``ipc_retuned`` ``ipc_retuned.yaml`` the same
 ``linear``      ``linear.npz``      ``hawt linearize turbine_file:=DIR --output DIR/linear.npz``
 ``discon``      ``DISCON.IN``       ``hawt turbine import``: the deck's ROSCO input, with its Cp/Ct/Cq file
 =============== =================== ==========================================================
 
-Graph files ask for them with ``$(turbine-tuning TURBINE KIND)``.
+Graph files ask for them with ``$(turbine-tuning TURBINE KIND)``. The ``ipc`` file holds every designed
+harmonic; those past the pitch actuator's rate budget carry ``active: false``
+(:func:`hawt_controllers.ipc_design.within_budget`), which a graph's own ``active`` parameter, given after the
+file, overrides (the ``ipc`` graph's ``ipc_hN`` arguments).
 """
 from __future__ import annotations
 
@@ -39,8 +42,8 @@ PACKAGED = {
 }
 """The packaged turbines' tunings (and the NREL 5 MW's ``discon``: the rosco wheel's DISCON.IN)."""
 
-_WRITERS = {"cpc": "hawt design cpc --turbine {t}", "ipc": "python -m hawt_controllers.ipc_design --turbine {t}",
-            "ipc_retuned": "python -m hawt_controllers.ipc_design --turbine {t}",
+_WRITERS = {"cpc": "hawt design cpc --turbine {t}", "ipc": "hawt design ipc --turbine {t}",
+            "ipc_retuned": "hawt design ipc --turbine {t}",
             "linear": "hawt linearize turbine_file:={t} --output {f}",
             "discon": "hawt turbine import DECK.fst -o {t} (it copies the deck's DISCON.IN and the Cp/Ct/Cq file "
                       "it names)"}

@@ -110,7 +110,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     """
     from hawt_bag.writer import new_bag_path
     from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
-    from hawt_tools.parameter_check import check_graph_parameters, takes_parameter
+    from hawt_tools.parameter_check import check_against_plant, check_graph_parameters, takes_parameter
     from hawt_tools.recording import SupervisedRecorder, stop_process
 
     # --mode beats the graph's own 'mode' values (an override of every node that has one); -p beats --mode
@@ -118,7 +118,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
         if mode else []
     overrides = parse_overrides(graph, modes + list(parameters))
     global_parameters = launcher_parameters(graph, bool(record), record_optional)
-    check_graph_parameters(graph, overrides, global_parameters)  # before anything starts
+    check_against_plant(graph, check_graph_parameters(graph, overrides, global_parameters))  # before anything starts
     if priority:
         check_priority(priority)
     recorder = SupervisedRecorder(new_bag_path(record, "--record"), record_optional) if record else None
@@ -156,11 +156,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from hawt_bag.writer import new_bag_path
     from hawt_tools.in_process import run_graph
     from hawt_tools.launcher import package_prefix, parse_overrides
-    from hawt_tools.parameter_check import check_graph_parameters
+    from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
     overrides = parse_overrides(graph, args.param)
-    check_graph_parameters(graph, overrides)
+    check_against_plant(graph, check_graph_parameters(graph, overrides))
     record = new_bag_path(args.record, "--record") if args.record else None
     run = run_graph(graph, overrides, record, args.duration, _progress)
     for event in run.events:
@@ -534,6 +534,31 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
         use = (f"hawt launch baseline turbine:={folder}" if not args.output else
                f"hawt launch baseline turbine:={args.turbine} -p cpc.controller_file:={path}")
         print(f"tuning: {path} (use it as: {use})")
+    return 0
+
+
+def _cmd_design_ipc(args: argparse.Namespace) -> int:
+    """The IPC harmonics tuned from the plant, those past the actuator's rate budget written inactive, as the ipc
+    graph's parameter file (hawt_controllers.ipc_design.write_tunings)."""
+    from hawt_controllers.ipc_design import write_tunings
+    from hawt_controllers.tunings import TuningError
+    from hawt_plant.turbine import TurbineDefinitionError
+
+    if args.linear_models and not Path(args.linear_models).is_file():
+        raise GraphError(f"--linear-models: {args.linear_models}: no such file (write one with hawt linearize)")
+    for option, path in (("-o", args.output), ("--retuned-output", args.retuned_output)):
+        if path:
+            _output_path(path, option)
+    try:
+        write_tunings(args.turbine, args.harmonics, args.wind_speeds, args.reference_speed,
+                      2 * math.pi * args.bandwidth_hz, args.loop_delay, args.dt,
+                      args.linear_models and Path(args.linear_models), args.measured,
+                      args.output and Path(args.output), args.retuned_output and Path(args.retuned_output),
+                      args.retuned_only)
+    except TurbineDefinitionError as error:
+        raise GraphError(f"--turbine: {error}") from None
+    except TuningError as error:
+        raise GraphError(str(error)) from None
     return 0
 
 
@@ -1011,7 +1036,7 @@ def _parser() -> argparse.ArgumentParser:
     linearize.add_argument("--plot", metavar="PNG", help="write the Campbell diagram here")
     linearize.set_defaults(run=_cmd_linearize)
 
-    design = commands.add_parser("design", help="design a controller on the plant's models (lqg, cpc)")
+    design = commands.add_parser("design", help="design a controller on the plant's models (lqg, cpc, ipc)")
     design_commands = design.add_subparsers(dest="design", required=True, metavar="CONTROLLER")
     lqg = design_commands.add_parser(
         "lqg", help="Selvam's LQG IPC with wind-estimate feedforward: checks and closed-loop frequency responses",
@@ -1046,6 +1071,40 @@ def _parser() -> argparse.ArgumentParser:
                      help="damping ratio of the pitch loop (default 0.7, Jonkman's; ROSCO's IEA 15 MW: 1.0)")
     cpc.add_argument("--discon", metavar="DISCON.IN", help="compare with this ROSCO input's gains (e.g. the deck's)")
     cpc.set_defaults(run=_cmd_design_cpc)
+    ipc = design_commands.add_parser(
+        "ipc", help="the per-harmonic IPC (ipc_h1, ipc_h2, ...) tuned from the plant, for the ipc graph",
+        description="Tune each IPC harmonic from the plant: dM/dtheta and the phase offset from the plant's "
+                    "Coleman-frame linear models (the measured static response printed beside them as the "
+                    "cross-check) or, with --measured or without models, from the measured static response; van "
+                    "Engelen's integral gain for a 0.1 Hz crossover at --reference-speed, gain-scheduled over the "
+                    "operating points. Print each harmonic's rate budget (the pitch rate that cancelling its moment of "
+                    "steady wind with shear 0.2 takes, against the actuator's limit), leave active only the harmonics "
+                    "that fit it together (1P first, up to 85 %), and write the ipc graph's parameter file "
+                    "(the turbine's ipc tuning) with the others inactive, and the switching graph's retuned 1P "
+                    "controller derived from it.")
+    ipc.add_argument("--turbine", default="nrel_5mw", metavar="T",
+                     help="a turbine.yaml, its folder, or a packaged turbine's name (default nrel_5mw); a folder's "
+                          "tunings go beside it")
+    ipc.add_argument("--harmonics", type=_within(1, kind=int), nargs="+", default=[1, 2, 3], metavar="N",
+                     help="the harmonics to design, each its ipc_hN node (default 1 2 3)")
+    ipc.add_argument("--wind-speeds", type=_POSITIVE, nargs="+", default=[13.0, 16.0, 18.0, 20.0, 24.0],
+                     metavar="V", help="operating points above rated [m/s] (default 13 16 18 20 24)")
+    ipc.add_argument("--reference-speed", type=_POSITIVE, default=18.0, metavar="V",
+                     help="where the gain is designed [m/s] (default 18)")
+    ipc.add_argument("--bandwidth-hz", type=_POSITIVE, default=0.1, metavar="F",
+                     help="loop crossover [Hz] (default 0.1, van Engelen's)")
+    ipc.add_argument("--loop-delay", type=_NOT_NEGATIVE, default=0.1, metavar="S",
+                     help="delay from measurement to pitch [s]: one plant step plus the pitch actuator's lag "
+                          "(default 0.1)")
+    ipc.add_argument("--dt", type=_POSITIVE, default=0.01, metavar="S", help="controller step [s] (default 0.01)")
+    ipc.add_argument("--linear-models", metavar="FILE.npz",
+                     help="the plant's Coleman-frame models (hawt linearize; default: the turbine's, if it has them)")
+    ipc.add_argument("--measured", action="store_true", help="the measured static response only, no linear models")
+    ipc.add_argument("-o", "--output", metavar="FILE", help="default: the turbine's ipc tuning file")
+    ipc.add_argument("--retuned-output", metavar="FILE", help="default: the turbine's ipc_retuned tuning file")
+    ipc.add_argument("--retuned-only", action="store_true",
+                     help="only derive the retuned 1P controller from the existing --output file")
+    ipc.set_defaults(run=_cmd_design_ipc)
 
     turbine = commands.add_parser("turbine", help="import an OpenFAST deck as a turbine definition, or summarise one")
     turbine_commands = turbine.add_subparsers(dest="turbine_action", required=True, metavar="ACTION")

@@ -1,12 +1,14 @@
 """The IPC design's rate budget: what cancelling a harmonic's moment of steady sheared wind asks of the pitch
 actuator. On the NREL 5 MW (8 °/s) 1P takes about a quarter of it; on the IEA 15 MW (2 °/s) most of it, which is why
-its 2P IPC, designed for 0.1 Hz like the NREL 5 MW's, was rate-limited in turbulence and raised the loads."""
+its 2P IPC, designed for 0.1 Hz like the NREL 5 MW's, was rate-limited in turbulence and raised the loads. The design
+leaves active only the harmonics that fit it together, 1P first (issue 31 item 1)."""
 import math
+from dataclasses import replace
 
 import pytest
 
-from hawt_controllers.ipc_design import measure_harmonic_response, rate_budget
-from hawt_plant.turbine import nrel_5mw, turbine_from
+from hawt_controllers.ipc_design import RateBudget, design, measure_harmonic_response, rate_budget, within_budget
+from hawt_plant.turbine import Turbine, nrel_5mw, turbine_from
 
 IEA_15MW = "IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst"
 
@@ -28,3 +30,45 @@ def test_on_the_iea_15mw_1p_alone_takes_most_of_the_2_deg_per_second(imported_de
     budget = rate_budget(turbine, measure_harmonic_response(turbine, 18.0, 1))
     assert math.degrees(budget.max_rate) == pytest.approx(2.0, rel=1e-3)
     assert budget.share > 0.5
+
+
+def _budget(harmonic: int, share: float) -> RateBudget:
+    """A budget taking ``share`` of a 1 rad/s limit."""
+    return RateBudget(harmonic, amplitude=share / harmonic, rate=share, max_rate=1.0)
+
+
+@pytest.mark.parametrize("shares, active", [
+    ((0.3, 0.3, 0.2), [1, 2, 3]),  # 80 % together: all fit
+    ((0.5, 0.3, 0.1), [1, 2]),  # 3P would bring it to 90 %
+    ((0.5, 0.4, 0.01), [1]),  # 2P would bring it to 90 %; 3P is not tried past it
+    ((0.9, 0.01, 0.01), []),  # 1P alone is past it
+])
+def test_the_harmonics_that_fit_the_budget_are_active_in_order_up_to_the_first_that_would_not(shares, active):
+    assert within_budget([_budget(n, share) for n, share in enumerate(shares, 1)]) == active
+
+
+def _design(turbine: Turbine) -> dict:
+    """The measured route's design of 1P, 2P and 3P at one operating point (18 m/s), as hawt design ipc runs it."""
+    return design(turbine, [1, 2, 3], [18.0], 18.0, 2 * math.pi * 0.1, 0.1, 0.01)
+
+
+def test_on_the_nrel_5mw_1p_2p_and_3p_fit_the_budget_and_the_design_leaves_them_active(capsys):
+    """The NREL 5 MW's 8 °/s: 1P, 2P and 3P take 38 % together."""
+    nodes = _design(nrel_5mw())
+    assert all("active" not in node["ros__parameters"] for node in nodes.values())
+    assert capsys.readouterr().out.splitlines()[-1] == (
+        "rate budget: h1, h2, h3 take 38 % together, within 85 % of the actuator's 8.0 deg/s: all active")
+
+
+def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_inactive(capsys):
+    """The NREL 5 MW with a 2.8 °/s actuator (the IEA 15 MW's shares): 1P takes 78 %, 1P+2P would take 94 %; 2P
+    and 3P keep their design but are written inactive, and the design says how to start the ipc graph."""
+    turbine = nrel_5mw()
+    slow = replace(turbine, pitch_actuator=replace(turbine.pitch_actuator, max_rate=math.radians(2.8)))
+    nodes = _design(slow)
+    assert [nodes[f"/**/ipc_h{n}"]["ros__parameters"].get("active", True) for n in (1, 2, 3)] == [True, False, False]
+    assert nodes["/**/ipc_h3"]["ros__parameters"]["integral_gain"] > 0.0
+    assert capsys.readouterr().out.splitlines()[-1] == (
+        "rate budget: h1 takes 78 %, within 85 % of the actuator's 2.8 deg/s; h2 would bring it to 94 %: h2, h3 "
+        "written inactive (active: false; hawt switch --activate ipc_h2 brings one in). The ipc graph's ipc_hN "
+        "arguments set active over the file: start it with ipc_h2:=false ipc_h3:=false")

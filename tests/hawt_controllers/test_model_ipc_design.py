@@ -11,14 +11,15 @@ import pytest
 import yaml
 
 from hawt_controllers.coleman_coupling import coleman_plant, first_order
-from hawt_controllers.ipc_design import (DEFAULT_FILE, harmonic_response, loop_analysis, loop_crossover, main,
+from hawt_controllers.ipc_design import (DEFAULT_FILE, harmonic_response, loop_analysis, loop_crossover,
                                          model_harmonic_response, tune)
 from hawt_controllers.linear_models import ColemanModel, load_models
 from hawt_controllers.lqg_controller import DEFAULT_MODELS
 from hawt_controllers.mbc3 import LinearModel
+from hawt_tools import cli
 
 WIND_SPEEDS = (13.0, 16.0, 18.0, 20.0, 24.0)
-"""The design's operating points (python -m hawt_controllers.ipc_design's defaults)."""
+"""The design's operating points (hawt design ipc's defaults)."""
 
 
 @pytest.fixture(scope="module")
@@ -78,11 +79,11 @@ def test_the_model_route_reproduces_the_shipped_design(models, shipped, harmonic
 
 
 def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(models, tmp_path, capsys):
-    """``python -m hawt_controllers.ipc_design``: the linear model's offset goes to the file, the measured
+    """``hawt design ipc``: the linear model's offset goes to the file, the measured
     response's difference is printed, and so is the crossover the loop has on the model; ``--measured`` is the
     static route alone (the shipped file's offset, to the last digit)."""
     files = ["-o", str(tmp_path / "ipc.yaml"), "--retuned-output", str(tmp_path / "retuned.yaml")]
-    main(["--harmonics", "1", "--wind-speeds", "18"] + files)
+    assert cli.main(["design", "ipc", "--harmonics", "1", "--wind-speeds", "18"] + files) == 0
     written = yaml.safe_load((tmp_path / "ipc.yaml").read_text())["/**/ipc_h1"]["ros__parameters"]
     assert written["phase_offset"] == model_harmonic_response(models[18.0], 1).phase
     printed = capsys.readouterr().out
@@ -90,7 +91,7 @@ def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(
     # +0.25 deg with the skewed wake in the linear models (the measured route has none).
     assert "cross-check, the measured static response against the model's: 18 m/s phase +0.25 deg" in printed
     assert "crossover on the model 0.100 Hz" in printed
-    main(["--harmonics", "1", "--wind-speeds", "18", "--measured"] + files)
+    assert cli.main(["design", "ipc", "--harmonics", "1", "--wind-speeds", "18", "--measured"] + files) == 0
     written = yaml.safe_load((tmp_path / "ipc.yaml").read_text())["/**/ipc_h1"]["ros__parameters"]
     assert written["phase_offset"] == pytest.approx(
         yaml.safe_load(DEFAULT_FILE.read_text())["/**/ipc_h1"]["ros__parameters"]["phase_offset"], abs=1e-9)
@@ -125,3 +126,28 @@ def test_with_disario_s_offset_tilt_and_yaw_decouple_at_crossover_and_the_sensit
     assert without.bandwidth == pytest.approx((0.359, 0.561), abs=0.002)
     assert with_offset.bandwidth == pytest.approx((0.407, 0.424), abs=0.002)
     assert (without.at_1p, with_offset.at_1p) == pytest.approx((1.90, 1.95), abs=0.01)
+
+
+def _exit_code(words: list) -> int:
+    """``hawt WORDS`` in this process: its exit code, argparse's refusal included."""
+    try:
+        return cli.main(words)
+    except SystemExit as refused:
+        return refused.code
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--turbine", "/nonexistent"], "hawt design: --turbine: /nonexistent: cannot read the file"),
+    (["--harmonics", "0"], "hawt design ipc: argument --harmonics: 0: expected a whole number of 1 or more"),
+    (["--wind-speeds", "-3"], "hawt design ipc: argument --wind-speeds: -3: expected a finite number above 0"),
+    (["--linear-models", "/nonexistent.npz"],
+     "hawt design: --linear-models: /nonexistent.npz: no such file (write one with hawt linearize)"),
+    (["-o", "/nonexistent/ipc.yaml"], "hawt design: -o /nonexistent/ipc.yaml: the folder /nonexistent does not exist"),
+    (["--retuned-only", "-o", "/nonexistent.yaml"],
+     "hawt design: --retuned-only: no /nonexistent.yaml to derive the retuned controller from"),
+])
+def test_hawt_design_ipc_refuses_bad_input_with_one_line_before_designing(capsys, arguments, message):
+    assert _exit_code(["design", "ipc", *arguments]) == 2
+    printed = capsys.readouterr()
+    assert printed.out == "" and len(printed.err.strip().splitlines()) == 1, printed
+    assert printed.err.startswith(message), printed.err
