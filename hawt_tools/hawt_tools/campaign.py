@@ -114,8 +114,8 @@ def _files_digest(graph: Graph) -> str:
 
 
 def turbine_digest(turbine: str) -> str:
-    """What a turbine is made of, for a case's key: a packaged turbine's name (:func:`code_version` covers its files),
-    else the hash of its definition file (a folder's ``turbine.yaml``), of the definitions it is ``derived_from`` and
+    """What the plant's ``turbine_file`` is made of, for a case's key: a packaged turbine's name (:func:`code_version`
+    covers its files), else the hash of its definition file (a folder's ``turbine.yaml``), of the definitions it is ``derived_from`` and
     of its airfoils."""
     from hawt_plant.turbine import PACKAGED_TURBINES
 
@@ -150,6 +150,7 @@ def plan_cases(campaign: Campaign) -> List[Case]:
         A graph that cannot be loaded, a parameter it refuses or a core that cannot be built (a tuning for another
         turbine), named with the campaign file, line and controller.
     """
+    from hawt_tools.in_process import plant_parameters
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     code = code_version()
@@ -163,7 +164,8 @@ def plan_cases(campaign: Campaign) -> List[Case]:
                        for speed in campaign.speeds]
             check_against_plant(graph, checked[0])  # the speed changes no controller's values nor the turbine
             files = _files_digest(graph)
-            turbine = turbine_digest(graph.arguments.get("turbine", ""))
+            turbine = turbine_digest(plant_parameters(graph, _overrides(graph, config, campaign, campaign.speeds[0],
+                                                                        campaign.seeds[0]))["turbine_file"])
         except GraphError as error:
             raise CampaignError(f"{where}: {error}") from None
         for speed in campaign.speeds:

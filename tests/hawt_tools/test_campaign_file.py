@@ -123,6 +123,17 @@ def test_a_campaign_turbine_folder_reaches_the_controllers(tmp_path, monkeypatch
         assert not {case.key for case in before} & {case.key for case in after}
 
 
+def test_a_turbine_given_as_a_plant_parameter_is_in_the_case_key_too(tmp_path):
+    """A controller whose ``parameters`` set ``plant.turbine_file`` to a definition: editing that definition changes
+    its cases' keys (the key hashes the plant's turbine, however it is given)."""
+    folder = copied_turbine(tmp_path / "my_turbine")
+    text = GOOD.replace('"ipc_h1.integral_gain:=2e-08"', f'"plant.turbine_file:={folder}"')
+    cases = plan_cases(load_campaign(_write(tmp_path, text)))
+    (folder / "turbine.yaml").write_text((folder / "turbine.yaml").read_text() + "\n# edited\n")
+    again = plan_cases(load_campaign(_write(tmp_path, text)))
+    assert [a.key == b.key for a, b in zip(cases, again)] == [True] * 4 + [False] * 4
+
+
 def test_a_campaign_turbine_may_be_a_packaged_name_or_a_definition_file(tmp_path, monkeypatch):
     copied_turbine(tmp_path / "my_turbine")
     monkeypatch.chdir(tmp_path)

@@ -5,9 +5,10 @@ import pytest
 
 from hawt_tools import launcher
 from hawt_tools.cli import find_graph, main
-from hawt_tools.graph_file import load_graph
+from hawt_tools.graph_file import GraphError, load_graph
 from hawt_tools.launcher import launcher_parameters, package_prefix, parse_overrides
-from hawt_tools.parameter_check import check_graph_parameters, parameter_table
+from hawt_tools.parameter_check import check_against_plant, check_graph_parameters, parameter_table
+from turbine_folders import copied_turbine
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -209,3 +210,30 @@ def test_every_number_a_shipped_graph_takes_has_its_range():
                         (row.minimum is None or row.maximum is None):
                     unbounded.add(f"{spec.package}/{spec.executable}: {row.name}")
     assert not unbounded, sorted(unbounded)
+
+
+@pytest.mark.parametrize("name", ["baseline", "ipc", "lqg", "rosco", "switching"])
+def test_every_controller_is_built_against_the_plants_turbine_before_a_campaign_starts(tmp_path, name):
+    """check_against_plant builds each controller core against the description of the plant's turbine: a graph on
+    its own turbine passes; on a turbine whose rated speed is not the tuning's, the cpc is refused in one line naming
+    the graph file and the node, as configure would refuse it after the start."""
+    graph = load_graph(find_graph(name), {}, package_prefix)
+    check_against_plant(graph, check_graph_parameters(graph))
+    other = copied_turbine(tmp_path / "other")
+    definition = other / "turbine.yaml"
+    definition.write_text(definition.read_text().replace("rated_rotor_speed: 1.26711", "rated_rotor_speed: 0.79168"))
+    overrides = parse_overrides(graph, [f"plant.turbine_file:={other}"])
+    with pytest.raises(GraphError, match=rf"^{find_graph(name).resolve()}: node cpc: controller_file: rated generator "
+                                         r"speed 122.91 rad/s conflicts with plant/description 76.79\d* rad/s"):
+        check_against_plant(graph, check_graph_parameters(graph, overrides))
+
+
+@pytest.mark.parametrize("command", ["launch", "run"])
+def test_a_tuning_for_another_turbine_is_one_line_before_anything_starts(capsys, tmp_path, command):
+    """hawt run once stopped with a traceback, and hawt launch's cpc node failed configure after the start."""
+    other = copied_turbine(tmp_path / "other")
+    definition = other / "turbine.yaml"
+    definition.write_text(definition.read_text().replace("rated_rotor_speed: 1.26711", "rated_rotor_speed: 0.79168"))
+    assert _refused(capsys, [command, "baseline", f"turbine:={other}"]).endswith(
+        "baseline.yaml: node cpc: controller_file: rated generator speed 122.91 rad/s conflicts with plant/description "
+        "76.793 rad/s (NREL 5MW onshore): a tuning for another turbine")
