@@ -11,6 +11,7 @@ everything that determines them.
 """
 import dataclasses
 import hashlib
+import importlib.metadata
 import json
 import math
 import os
@@ -22,9 +23,6 @@ from types import MappingProxyType
 from typing import Callable
 
 import numpy as np
-import pandas as pd
-import pyconturb
-from pyconturb.spectral_models import kaimal_spectrum
 from threadpoolctl import threadpool_limits
 
 __all__ = [
@@ -388,7 +386,7 @@ def _even_grid(values: np.ndarray, name: str) -> np.ndarray:
     return values
 
 
-def _kaimal_with_hub_length_scale(f: np.ndarray, spat_df: pd.DataFrame, z_ref: float,
+def _kaimal_with_hub_length_scale(f: np.ndarray, spat_df: "pandas.DataFrame", z_ref: float,
                                   **kwargs) -> np.ndarray:
     """pyconturb's IEC Kaimal spectrum with Lambda_1 taken at hub height for every point.
 
@@ -398,6 +396,8 @@ def _kaimal_with_hub_length_scale(f: np.ndarray, spat_df: pd.DataFrame, z_ref: f
     """
     at_hub = spat_df.copy()
     at_hub.loc["z"] = z_ref
+    from pyconturb.spectral_models import kaimal_spectrum
+
     return kaimal_spectrum(f, at_hub, **kwargs)
 
 
@@ -431,6 +431,8 @@ def generate_turbulence(spec: TurbulenceSpec, progress: Callable[[str], None] = 
     (threadpoolctl): the same numbers, and on a busy 2-core machine four times faster than OpenBLAS's threads
     (a 600 s field at load 9: 18 s against 71 s).
     """
+    import pyconturb  # with pandas about 0.2 s of CPU to import, which only generating a field needs
+
     grid_y, grid_z = spec.grid_y, spec.grid_z
     velocity = np.empty((spec.n_t, grid_z.size, grid_y.size, 3), dtype=np.float32)
     seeds = np.random.SeedSequence(spec.seed).generate_state(3)  # one pyconturb seed per component
@@ -492,7 +494,7 @@ def default_cache_dir() -> Path:
 def _cache_key(spec: TurbulenceSpec) -> str:
     """Hash of every parameter that determines the field, and of the generator version."""
     identity = {**dataclasses.asdict(spec), "generator": "pyconturb", "generator_version":
-                pyconturb.__version__, "cache_format": _CACHE_FORMAT}
+                importlib.metadata.version("pyconturb"), "cache_format": _CACHE_FORMAT}
     return hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:32]
 
 
