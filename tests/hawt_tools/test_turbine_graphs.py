@@ -2,6 +2,7 @@
 controller tunings the graph finds beside it ($(turbine-tuning TURBINE KIND)); a missing one stops the graph before
 anything starts, naming the file and the command that writes it."""
 import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -95,6 +96,15 @@ def test_hawt_run_takes_the_readmes_relative_turbine_folder_from_another_directo
     copied_turbine(tmp_path / "iea15")
     monkeypatch.chdir(tmp_path)
     assert main(["run", "ipc", "turbine:=iea15", "duration:=0.2"]) == 0, capsys.readouterr().err
+
+
+def test_hawt_launch_takes_a_relative_turbine_folder_from_another_directory(tmp_path, hawt_cli):
+    """The same on the ROS graph: every node process, the plant's included, finds the folder from the launcher's
+    working directory."""
+    copied_turbine(tmp_path / "iea15")
+    result = subprocess.run([*hawt_cli, "launch", "ipc", "turbine:=iea15", "duration:=0.5"], cwd=tmp_path,
+                            capture_output=True, text=True, timeout=180)
+    assert result.returncode == 0 and "finished 50 steps" in result.stdout + result.stderr, result.stderr[-3000:]
 
 
 @pytest.mark.parametrize("turbine, message", [
