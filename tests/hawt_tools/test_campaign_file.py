@@ -123,6 +123,20 @@ def test_a_campaign_turbine_folder_reaches_the_controllers(tmp_path, monkeypatch
         assert not {case.key for case in before} & {case.key for case in after}
 
 
+def test_a_case_on_a_campaign_turbine_folder_runs_with_the_folders_tunings(tmp_path, monkeypatch):
+    """One case, 10 s of the ipc graph on a turbine folder given relative to the working directory, run in process as
+    a worker runs it: it holds the rotor near the turbine's rated speed (a campaign once refused a folder)."""
+    from hawt_tools.campaign import run_case
+
+    copied_turbine(tmp_path / "my_turbine")
+    monkeypatch.chdir(tmp_path)
+    campaign = load_campaign(_write(tmp_path, "turbine: my_turbine\nwind: {speeds: [13]}\nduration: 10\n"
+                                              "transient: 0\ncontrollers:\n  ipc: {graph: ipc}\n"))
+    case, = plan_cases(campaign)
+    row = run_case(case, campaign)
+    assert row["controller"] == "ipc" and abs(row["rotor_speed.mean"] / 1.26711 - 1.0) < 0.05
+
+
 def test_a_turbine_given_as_a_plant_parameter_is_in_the_case_key_too(tmp_path):
     """A controller whose ``parameters`` set ``plant.turbine_file`` to a definition: editing that definition changes
     its cases' keys (the key hashes the plant's turbine, however it is given)."""
