@@ -170,3 +170,19 @@ def test_a_tuning_for_another_turbine_is_one_line_with_exit_2_before_any_wind(tm
     assert result.stderr.startswith("hawt campaign: ") and "campaign.yaml:10: controllers.baseline: " in result.stderr
     assert "rated generator speed 122.91 rad/s conflicts with plant/description" in result.stderr
     assert result.stdout == "" and not (tmp_path / "out").exists()
+
+
+def test_an_output_folder_that_cannot_be_made_is_one_line_before_any_worker(tmp_path, monkeypatch):
+    """The output's ``cases`` (and with --bags its ``bags``) folder is made before the cluster starts: one that cannot
+    be is a CampaignError naming it, and no worker starts."""
+    from hawt_tools import campaign as campaign_module
+
+    def refuse(*_args):
+        raise AssertionError("a Dask cluster was started")
+
+    monkeypatch.setattr(campaign_module, "_client", refuse)
+    output = tmp_path / "out"
+    output.mkdir()
+    (output / "bags").write_text("a file where the bags would go\n")
+    with pytest.raises(CampaignError, match=rf"^-o {output}: cannot create {output}/bags \(File exists\)$"):
+        campaign_module.run_campaign(load_campaign(_write(tmp_path, GOOD)), output, bags=True, report=lambda _: None)
