@@ -19,6 +19,14 @@ The gate accepts all three (`SUBPROTOCOLS`, the first the client offers in that 
 server for the SDK's name of the same protocol. A client that offers none of them is answered 400
 with the list, and the refusal is logged with what it offered and the list.
 
+Advertising: foxglove-sdk (0.30, ``ConnectedClient::advertise_channels``) queues a new channel's
+advertisement to each client before it adds the channel to the ones that client may subscribe to, and
+the Python channel constructor releases the GIL meanwhile; a client that answered at once was refused
+"Unknown channel ID" and got nothing on that channel (5 times in 6 on this machine for a client connected
+while a view started beside a running graph). The gate holds every frame from a client while the
+server's owner holds ``advertising`` (the view does while it creates a channel), so a subscription
+reaches the server only once the channel it names can take it.
+
 The relay is the ``websockets`` library's server and client (its ``process_request`` hook checks the
 Origin, its ``select_subprotocol`` hook the subprotocol); what is written here is only the pairing of
 the two connections.
@@ -63,6 +71,8 @@ class OriginGate:
         Origins let in besides clients that send none (e.g. ``https://app.foxglove.dev``).
     log : callable
         Takes one line per refused client.
+    advertising : threading.Lock
+        Held while the server creates a channel; frames from clients wait for it.
 
     Raises
     ------
@@ -71,10 +81,11 @@ class OriginGate:
     """
 
     def __init__(self, host: str, port: int, backend: str, allowed: Iterable[str],
-                 log: Callable[[str], None]) -> None:
+                 log: Callable[[str], None], advertising: threading.Lock) -> None:
         self.backend = backend
         self.allowed = frozenset(allowed)
         self.log = log
+        self.advertising = advertising
         self.port: Optional[int] = None
         self._loop = asyncio.new_event_loop()
         self._stopped: Optional[asyncio.Event] = None
@@ -135,15 +146,22 @@ class OriginGate:
             await client.close(CloseCode.INTERNAL_ERROR, "the Foxglove server refused the connection")
             return
         async with server:
-            pumps = [asyncio.create_task(self._pump(client, server)), asyncio.create_task(self._pump(server, client))]
+            pumps = [asyncio.create_task(self._pump(client, server, self._after_advertising)),
+                     asyncio.create_task(self._pump(server, client))]
             _, pending = await asyncio.wait(pumps, return_when=asyncio.FIRST_COMPLETED)
             for pump in pending:
                 pump.cancel()
 
+    def _after_advertising(self) -> None:
+        """Return once no channel is being created (at once nearly always; else after that one, milliseconds)."""
+        with self.advertising:
+            pass
+
     @staticmethod
-    async def _pump(source, sink) -> None:
+    async def _pump(source, sink, before: Callable[[], None] = lambda: None) -> None:
         try:
             async for frame in source:
+                before()
                 await sink.send(frame)
         except ConnectionClosed:
             pass

@@ -92,6 +92,7 @@ class View(Node):
         self._channels: dict[str, foxglove.Channel] = {}
         self._latched: dict[str, deque] = {}  # topic -> its last (log time [ns], CDR bytes), for late subscribers
         self._latched_lock = threading.Lock()
+        self._advertising = threading.Lock()  # held while a channel is created (hawt_tools.origin_gate)
         self._forwarders = {}
         self._parameter_clients: dict[str, AsyncParameterClient] = {}
         self._lock = threading.Lock()
@@ -102,7 +103,7 @@ class View(Node):
         self.gate: Optional[OriginGate] = None
         try:
             self.gate = OriginGate(options.host, options.port, f"ws://127.0.0.1:{self.server.port}",
-                                   options.allow_origins, self.get_logger().warning)
+                                   options.allow_origins, self.get_logger().warning, self._advertising)
         except OSError as error:
             raise ViewOptionError(f"--port {options.port} on {options.host}: {error.strerror or error}") from None
         if not is_loopback(options.host):
@@ -118,7 +119,9 @@ class View(Node):
     def _subscribe(self, topic: str, type_name: str, publishers) -> None:
         kind = message_class(type_name)
         qos = adapted_qos(publishers, self.options.depth)
-        channel = foxglove.Channel(topic, schema=ros2_schema(type_name), message_encoding=CDR, context=self._foxglove)
+        schema = ros2_schema(type_name)
+        with self._advertising:
+            channel = foxglove.Channel(topic, schema=schema, message_encoding=CDR, context=self._foxglove)
         stamped, clock = has_header(type_name), topic == CLOCK
         kept = deque(maxlen=LATCHED_REPLAY) if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL else None
         if kept is not None:
