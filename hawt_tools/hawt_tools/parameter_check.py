@@ -21,10 +21,13 @@ Not checked: a node whose class has no ``PARAMETERS`` table, or whose executable
 Python entry point with a ``node_class`` (a C++ node, a script) — it gets its values
 unchecked, as before. The launcher's global parameters (``wait_for_recorder``) apply only to
 nodes whose table has them: every node is given them, and rclpy ignores what a node never
-declares. Rules that need the plant are left to the nodes themselves, but for one check a campaign runs before any
-wind is generated (:func:`check_against_plant`): the plant's turbine file loaded and every controller core built
-against its description, as each engine configures it (a tuning for another turbine, a ``dt`` that is not the
-plant's); the plant model itself (its operating point) is not built.
+declares.
+
+Then, the rules that need the plant, but not its model (:func:`check_against_plant`, run by ``hawt launch`` and
+``hawt run`` after the table check, and by ``hawt campaign`` once per controller configuration before any wind is
+generated): the plant's turbine file loaded and every controller core built against its description, as each engine
+configures it — a tuning for another turbine, a ``dt`` that is not the plant's. The plant model (its operating point)
+is not built.
 """
 from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
