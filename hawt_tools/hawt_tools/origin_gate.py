@@ -11,11 +11,10 @@ unchanged in both directions.
 
 Subprotocols: foxglove-sdk's server (0.30) accepts only ``foxglove.sdk.v1`` and ``foxglove.sdk.v1.1``
 and answers anything else with a bare 400 ("Missing expected sec-websocket-protocol header"),
-logging only "handshake failed". Clients older than the SDK (the Foxglove app before it, Lichtblick,
-PlotJuggler, roslibjs-foxglove) offer ``foxglove.websocket.v1``, the name of the same protocol
+logging only "handshake failed". Clients older than the SDK (the Foxglove app before it, older
+Lichtblick, roslibjs-foxglove 0.0.4) offer ``foxglove.websocket.v1``, the name of the same protocol
 before the SDK renamed it (foxglove/ws-protocol ``docs/spec.md``; Foxglove's discussion 1131: the
-rename changed no message).
-The gate accepts all three (`SUBPROTOCOLS`, the first the client offers in that order) and asks the
+rename changed no message). The gate accepts all three (`SUBPROTOCOLS`, the first the client offers in that order) and asks the
 server for the SDK's name of the same protocol. A client that offers none of them is answered 400
 with the list, and the refusal is logged with what it offered and the list.
 

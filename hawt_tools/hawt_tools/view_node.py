@@ -36,10 +36,10 @@ from foxglove import Parameter, ParameterType, Schema, StatusLevel
 from foxglove.websocket import Capability, ChannelView, Client, ServerListener
 from rcl_interfaces.msg import ParameterEvent
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy
 from rclpy.parameter import Parameter as RosParameter
 from rclpy.parameter import parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
+from rclpy.qos import DurabilityPolicy
 from rclpy.task import Future
 
 from hawt_bag.cdr_columns import header_stamp_ns
@@ -120,13 +120,13 @@ class View(Node):
         kind = message_class(type_name)
         qos = adapted_qos(publishers, self.options.depth)
         schema = ros2_schema(type_name)
-        with self._advertising:
-            channel = foxglove.Channel(topic, schema=schema, message_encoding=CDR, context=self._foxglove)
-        stamped, clock = has_header(type_name), topic == CLOCK
         kept = deque(maxlen=LATCHED_REPLAY) if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL else None
-        if kept is not None:
-            self._latched[topic] = kept
-        self._channels[topic] = channel
+        with self._advertising:  # the channel is known to replay() before a subscription to it gets through
+            channel = foxglove.Channel(topic, schema=schema, message_encoding=CDR, context=self._foxglove)
+            self._channels[topic] = channel
+            if kept is not None:
+                self._latched[topic] = kept
+        stamped, clock = has_header(type_name), topic == CLOCK
         self.counts[topic] = 0
 
         def forward(data: bytes) -> None:  # no message info: the EventsExecutor fails on such callbacks
