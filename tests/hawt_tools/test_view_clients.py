@@ -55,6 +55,7 @@ class StandaloneView:
             time.sleep(0.1)
 
     def stop(self) -> int:
+        """SIGINT (killed if it has not ended 60 s later); the exit code."""
         self.process.send_signal(signal.SIGINT)
         try:
             self.process.wait(timeout=60)
@@ -132,7 +133,8 @@ def view_beside_a_graph():
             view.first = asyncio.run(_join(view.port, "foxglove.sdk.v1"))
             yield view
         finally:
-            view.stop()
+            ended = view.stop()
+        assert ended == 0, view.output()[-3000:]  # SIGINT: it stops cleanly
 
 
 def test_a_client_connected_while_the_view_creates_its_channels_gets_every_one_it_subscribes_to(
