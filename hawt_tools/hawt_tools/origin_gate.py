@@ -16,7 +16,8 @@ Lichtblick, roslibjs-foxglove 0.0.4) offer ``foxglove.websocket.v1``, the name o
 before the SDK renamed it (foxglove/ws-protocol ``docs/spec.md``; Foxglove's discussion 1131: the
 rename changed no message). The gate accepts all three (`SUBPROTOCOLS`, the first the client offers in that order) and asks the
 server for the SDK's name of the same protocol. A client that offers none of them is answered 400
-with the list, and the refusal is logged with what it offered and the list.
+with the list, and the refusal is logged with what it offered and the list, once per offer (a client
+app retries every few seconds).
 
 Advertising: foxglove-sdk (0.30, ``ConnectedClient::advertise_channels``) queues a new channel's
 advertisement to each client before it adds the channel to the ones that client may subscribe to, and
@@ -85,6 +86,7 @@ class OriginGate:
         self.allowed = frozenset(allowed)
         self.log = log
         self.advertising = advertising
+        self._refused_offers: set[tuple[str, ...]] = set()
         self.port: Optional[int] = None
         self._loop = asyncio.new_event_loop()
         self._stopped: Optional[asyncio.Event] = None
@@ -126,12 +128,15 @@ class OriginGate:
 
     def _select_subprotocol(self, connection: ServerConnection,
                             offered: Sequence[Subprotocol]) -> Subprotocol:
-        """The first of `SUBPROTOCOLS` the client offers; none is NegotiationError (400 with the list), logged."""
+        """The first of `SUBPROTOCOLS` the client offers; none is NegotiationError (400 with the list), logged the
+        first time that offer comes."""
         chosen = next((Subprotocol(name) for name in SUBPROTOCOLS if name in offered), None)
         if chosen is None:
             accepted = ", ".join(SUBPROTOCOLS)
-            self.log(f"refused a WebSocket client offering {', '.join(offered) or 'no subprotocol'}: the Foxglove "
-                     f"WebSocket protocol is spoken as {accepted}")
+            if tuple(offered) not in self._refused_offers:
+                self._refused_offers.add(tuple(offered))
+                self.log(f"refused a WebSocket client offering {', '.join(offered) or 'no subprotocol'}: the "
+                         f"Foxglove WebSocket protocol is spoken as {accepted} (this offer is not logged again)")
             raise NegotiationError(f"unsupported subprotocol {', '.join(offered) or '(none)'}; expected one of "
                                    f"{accepted}")
         return chosen
