@@ -2,14 +2,14 @@
 
 Both implement :class:`~hawt_plant.wind_field.WindField`. Like the turbulent
 fields, the transient is convected downwind at the initial hub speed: a point
-at x sees the hub history of time t - x / mean_speed.
+at x sees the hub history of time t - x / mean_speed. The other extreme wind
+conditions of IEC 61400-1 are in :mod:`hawt_plant.iec_extreme`.
 """
 import math
-from types import MappingProxyType
 
 import numpy as np
 
-from hawt_plant.turbulence import longitudinal_length_scale, ntm_standard_deviation
+from hawt_plant.turbulence import REFERENCE_WIND_SPEED, longitudinal_length_scale, ntm_standard_deviation
 
 __all__ = [
     "EOG_DURATION",
@@ -17,10 +17,8 @@ __all__ = [
     "ExtremeOperatingGust",
     "WindStep",
     "eog_amplitude",
+    "extreme_wind_speed",
 ]
-
-#: V_ref of the IEC 61400-1 Ed. 3 wind turbine classes [m/s] (anchor_windcontrol.md §3.7).
-REFERENCE_WIND_SPEED = MappingProxyType({"I": 50.0, "II": 42.5, "III": 37.5})
 
 #: Duration T of the extreme operating gust [s], IEC 61400-1 Ed. 3 §6.3.2.2.
 EOG_DURATION = 10.5
@@ -112,6 +110,37 @@ class WindStep:
         return _longitudinal(speed * _power_law_profile(z, self._hub_height, self._shear_exponent))
 
 
+def extreme_wind_speed(turbine_class: str, recurrence_period: int) -> float:
+    """Steady extreme wind speed at hub height, V_e50 or V_e1, of the IEC 61400-1 Ed. 3 wind turbine class [m/s].
+
+    Parameters
+    ----------
+    turbine_class : str
+        ``"I"``, ``"II"`` or ``"III"`` (V_ref 50, 42.5, 37.5 m/s).
+    recurrence_period : int
+        50 or 1 [years].
+
+    Returns
+    -------
+    float
+        V_e50 = 1.4 V_ref (eq. 14 at z = z_hub), or V_e1 = 0.8 V_e50 (eq. 15).
+
+    Notes
+    -----
+    IEC 61400-1 Ed. 3 §6.3.2.1 (EWM, steady model); Ed. 4 (2019) keeps both equations.
+
+    Examples
+    --------
+    >>> round(extreme_wind_speed("I", 50), 9), round(extreme_wind_speed("III", 1), 9)
+    (70.0, 42.0)
+    """
+    if turbine_class not in REFERENCE_WIND_SPEED:
+        raise ValueError(f"turbine_class: expected one of I, II, III, found {turbine_class!r}")
+    if recurrence_period not in (50, 1):
+        raise ValueError(f"recurrence_period: expected 50 or 1 years, found {recurrence_period!r}")
+    return (1.4 if recurrence_period == 50 else 0.8 * 1.4) * REFERENCE_WIND_SPEED[turbine_class]
+
+
 def eog_amplitude(hub_speed: float, turbine_class: str, turbulence_class: str, rotor_diameter: float,
                   hub_height: float) -> float:
     """Gust magnitude V_gust of the IEC 61400-1 Ed. 3 extreme operating gust [m/s].
@@ -133,7 +162,7 @@ def eog_amplitude(hub_speed: float, turbine_class: str, turbulence_class: str, r
     -------
     float
         V_gust = min(1.35 (V_e1 - V_hub), 3.3 sigma_1 / (1 + 0.1 D / Lambda_1)), with
-        V_e1 = 0.8 V_e50 = 0.8 * 1.4 V_ref at hub height and sigma_1 of the NTM.
+        V_e1 of :func:`extreme_wind_speed` and sigma_1 of the NTM.
 
     Notes
     -----
@@ -148,14 +177,17 @@ def eog_amplitude(hub_speed: float, turbine_class: str, turbulence_class: str, r
     >>> round(eog_amplitude(11.4, "I", "A", 126.0, 90.0), 4)  # NREL 5 MW at rated
     5.7471
     """
-    if turbine_class not in REFERENCE_WIND_SPEED:
-        raise ValueError(f"turbine_class: expected one of I, II, III, found {turbine_class!r}")
+    extreme_1_year = extreme_wind_speed(turbine_class, 1)
+    sigma_1 = ntm_standard_deviation(hub_speed, turbulence_class)
+    return min(1.35 * (extreme_1_year - hub_speed), 3.3 * sigma_1 / _size_reduction(rotor_diameter, hub_height))
+
+
+def _size_reduction(rotor_diameter: float, hub_height: float) -> float:
+    """1 + 0.1 D / Lambda_1, the rotor-size factor of the IEC 61400-1 Ed. 3 EOG and EDC magnitudes (§6.3.2.2,
+    §6.3.2.4)."""
     if not rotor_diameter > 0.0:
         raise ValueError(f"rotor_diameter: expected > 0 m, found {rotor_diameter}")
-    sigma_1 = ntm_standard_deviation(hub_speed, turbulence_class)
-    extreme_1_year = 0.8 * 1.4 * REFERENCE_WIND_SPEED[turbine_class]
-    return min(1.35 * (extreme_1_year - hub_speed),
-               3.3 * sigma_1 / (1.0 + 0.1 * rotor_diameter / longitudinal_length_scale(hub_height)))
+    return 1.0 + 0.1 * rotor_diameter / longitudinal_length_scale(hub_height)
 
 
 class ExtremeOperatingGust:

@@ -5,13 +5,16 @@ from typing import Callable
 
 from hawt_plant.bts import read_bts
 from hawt_plant.gusts import ExtremeOperatingGust, WindStep
+from hawt_plant.iec_extreme import (ExtremeWindShear, extreme_coherent_gust, extreme_direction_change,
+                                    steady_extreme_wind)
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbulence import TurbulenceSpec, cached_turbulence, rotor_grid_size
 from hawt_plant.wind_field import WindField
 
 __all__ = ["WIND_KINDS", "InflowSettings", "make_wind"]
 
-WIND_KINDS = ("steady", "turbulent", "bts", "step", "eog")
+WIND_KINDS = ("steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal", "ewm50",
+              "ewm1")
 
 
 @dataclass(frozen=True)
@@ -21,20 +24,28 @@ class InflowSettings:
     Attributes
     ----------
     kind : str
-        ``steady`` (power-law shear), ``turbulent`` (IEC NTM Kaimal field, generated with
+        ``steady`` (power-law shear), ``turbulent`` (IEC NTM or ETM Kaimal field, generated with
         pyconturb and cached), ``bts`` (a TurbSim full-field file), ``step`` (hub speed
-        stepping from ``wind_speed`` to ``step_speed`` at ``step_time``) or ``eog`` (IEC extreme
-        operating gust starting at ``step_time``).
+        stepping from ``wind_speed`` to ``step_speed`` at ``step_time``), or one of IEC 61400-1's
+        extreme wind conditions starting at ``step_time``: ``eog`` (extreme operating gust),
+        ``edc`` (extreme direction change), ``ecd`` (extreme coherent gust with direction change),
+        ``ews_vertical`` and ``ews_horizontal`` (extreme wind shear); or ``ewm50`` and ``ewm1``
+        (the steady extreme wind model of ``turbine_class``, 50-year and 1-year).
     wind_speed : float
-        Mean hub-height speed [m/s] (ignored for ``bts``: the file's own).
+        Mean hub-height speed [m/s] (ignored for ``bts``: the file's own; and for ``ewm50``, ``ewm1``: the class's).
     shear_exponent : float
         Power-law exponent alpha [-].
     hub_height : float
         Hub height the speed refers to [m].
     rotor_radius : float
-        Tip radius of the rotor [m]: a turbulent field's grid covers it (:func:`~hawt_plant.turbulence.rotor_grid_size`).
+        Tip radius R of the rotor [m]: a turbulent field's grid covers it
+        (:func:`~hawt_plant.turbulence.rotor_grid_size`); the EOG, EDC and EWS take D = 2 R.
     turbulence_class : str
         IEC turbulence category A, B or C.
+    turbulence_model : str
+        ``NTM`` or ``ETM``, the sigma_1 of a turbulent field.
+    turbine_class : str
+        IEC wind turbine class I, II or III (V_ref): the ETM's V_ave, the EOG's V_e1, the EWM's speed.
     seed : int
         Seed of the turbulent field.
     field_duration : float
@@ -43,6 +54,8 @@ class InflowSettings:
         Path of the ``.bts`` file.
     step_speed, step_time : float
         Speed after the step [m/s]; time of the step or the gust start [s].
+    gust_sign : int
+        +1 or -1: the sign of the EDC and ECD direction change and of the EWS shear.
     """
 
     kind: str = "steady"
@@ -51,11 +64,14 @@ class InflowSettings:
     hub_height: float = 90.0
     rotor_radius: float = 63.0
     turbulence_class: str = "B"
+    turbulence_model: str = "NTM"
+    turbine_class: str = "I"
     seed: int = 0
     field_duration: float = 600.0
     bts_file: str = ""
     step_speed: float = 14.0
     step_time: float = 20.0
+    gust_sign: int = 1
 
 
 def make_wind(settings: InflowSettings, progress: Callable[[str], None] = lambda _: None) -> WindField:
@@ -70,12 +86,25 @@ def make_wind(settings: InflowSettings, progress: Callable[[str], None] = lambda
         width, height = rotor_grid_size(settings.rotor_radius, settings.hub_height)
         return cached_turbulence(TurbulenceSpec(
             mean_speed=settings.wind_speed, turbulence_class=settings.turbulence_class, seed=settings.seed,
-            duration=settings.field_duration, grid_width=width, grid_height=height, **common), progress=progress)
+            duration=settings.field_duration, grid_width=width, grid_height=height,
+            turbulence_model=settings.turbulence_model, turbine_class=settings.turbine_class, **common),
+            progress=progress)
     if settings.kind == "bts":
         if not Path(settings.bts_file).is_file():
             raise ValueError(f"bts_file: {settings.bts_file!r} does not exist")
         return read_bts(settings.bts_file)
     if settings.kind == "step":
         return WindStep(settings.wind_speed, settings.step_speed, settings.step_time, **common)
-    return ExtremeOperatingGust(settings.wind_speed, settings.step_time, turbulence_class=settings.turbulence_class,
-                                **common)
+    if settings.kind in ("ewm50", "ewm1"):
+        return steady_extreme_wind(settings.turbine_class, int(settings.kind.removeprefix("ewm")),
+                                   hub_height=settings.hub_height)
+    if settings.kind == "ecd":
+        return extreme_coherent_gust(settings.wind_speed, settings.step_time, sign=settings.gust_sign, **common)
+    rotor = dict(turbulence_class=settings.turbulence_class, rotor_diameter=2.0 * settings.rotor_radius, **common)
+    if settings.kind == "eog":
+        return ExtremeOperatingGust(settings.wind_speed, settings.step_time, turbine_class=settings.turbine_class,
+                                    **rotor)
+    if settings.kind == "edc":
+        return extreme_direction_change(settings.wind_speed, settings.step_time, sign=settings.gust_sign, **rotor)
+    return ExtremeWindShear(settings.wind_speed, settings.step_time, orientation=settings.kind.removeprefix("ews_"),
+                            sign=settings.gust_sign, **rotor)

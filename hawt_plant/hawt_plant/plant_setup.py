@@ -17,6 +17,7 @@ from typing import Any, Callable, Mapping, Tuple
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.turbulence import REFERENCE_WIND_SPEED, TURBULENCE_MODELS
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
@@ -43,20 +44,31 @@ PARAMETERS = (
     ParameterSpec("mode", "lockstep", "timing mode", choices=("lockstep", "realtime"), read_only=True),
     ParameterSpec("duration", 0.0, "simulated time after which the plant stops (0: run until stopped)", "s",
                   minimum=0.0, maximum=MAX_DURATION, read_only=True),
-    ParameterSpec("wind_type", "steady", "inflow model", choices=WIND_KINDS, read_only=True),
-    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s", minimum=3.0, maximum=30.0,
+    ParameterSpec("wind_type", "steady", "inflow model: steady, turbulent, bts, a step, or an IEC 61400-1 extreme "
+                  "condition: eog, edc (direction change), ecd (coherent gust with direction change), ews_vertical, "
+                  "ews_horizontal (wind shear), ewm50, ewm1 (steady extreme wind of wind_class)", choices=WIND_KINDS,
                   read_only=True),
+    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed (ewm50, ewm1: the wind class's instead)", "m/s",
+                  minimum=3.0, maximum=30.0, read_only=True),
     ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=0.99,
                   read_only=True),
     ParameterSpec("turbulence_class", "B", "IEC turbulence category", choices=("A", "B", "C"), read_only=True),
+    ParameterSpec("turbulence_model", "NTM", "wind_type turbulent: IEC normal or extreme turbulence model (the ETM's "
+                  "sigma_1 grows with wind_class's annual mean speed)", choices=TURBULENCE_MODELS, read_only=True),
+    ParameterSpec("wind_class", "I", "IEC wind turbine class, its reference speed V_ref 50, 42.5 or 37.5 m/s: the "
+                  "ETM's annual mean speed, the EOG's 1-year and the EWM's extreme wind",
+                  choices=tuple(REFERENCE_WIND_SPEED), read_only=True),
     ParameterSpec("seed", 0, "seed of the turbulent field", minimum=0, maximum=2**31 - 1, read_only=True),
     ParameterSpec("field_duration", 600.0, "length of the turbulent field (wraps after)", "s", minimum=10.0,
                   maximum=7200.0, read_only=True),
     ParameterSpec("bts_file", "", "TurbSim .bts file for wind_type bts", read_only=True),
     ParameterSpec("step_speed", 14.0, "wind_type step: hub speed after the step", "m/s", minimum=0.0,
                   maximum=40.0, read_only=True),
-    ParameterSpec("step_time", 20.0, "wind_type step/eog: time of the step or gust start", "s", minimum=0.0,
-                  maximum=MAX_DURATION, read_only=True),
+    ParameterSpec("step_time", 20.0, "wind_type step, eog, edc, ecd, ews_*: time of the step or gust start", "s",
+                  minimum=0.0, maximum=MAX_DURATION, read_only=True),
+    ParameterSpec("gust_sign", 1, "wind_type edc, ecd: +1 turns the wind towards +y (left looking downwind), -1 "
+                  "towards -y; ews_vertical, ews_horizontal: +1 faster above the hub or at +y, -1 the opposite",
+                  minimum=-1, maximum=1, choices=(1, -1), read_only=True),
     _aerodynamic_option("tower_shadow", "tower shadow on the blade elements: potential flow (and, behind the "
                         "tower of a downwind rotor, Powles' wake)"),
     _aerodynamic_option("tower_drag", "aerodynamic drag on the tower (AeroDyn TwrAero)"),
@@ -139,9 +151,10 @@ def make_plant(values: Mapping[str, Any], progress: Callable[[str], None] = lamb
     wind = make_wind(InflowSettings(
         kind=v["wind_type"], wind_speed=v["wind_speed"], shear_exponent=v["shear_exponent"],
         hub_height=turbine.hub_height, rotor_radius=turbine.rotor.tip_radius,
-        turbulence_class=v["turbulence_class"], seed=v["seed"],
-        field_duration=max(v["field_duration"], v["duration"]), bts_file=v["bts_file"],
-        step_speed=v["step_speed"], step_time=v["step_time"]), progress)
+        turbulence_class=v["turbulence_class"], turbulence_model=v["turbulence_model"],
+        turbine_class=v["wind_class"], seed=v["seed"], field_duration=max(v["field_duration"], v["duration"]),
+        bts_file=v["bts_file"], step_speed=v["step_speed"], step_time=v["step_time"], gust_sign=v["gust_sign"]),
+        progress)
     options = aerodynamic_options(turbine, v)
     model = TurbineModel(turbine, wind, ModelConfig(
         dt=v["dt"], torque_disturbance=v["torque_disturbance"],

@@ -1,4 +1,4 @@
-"""Turbulent full-field inflow: IEC 61400-1 NTM boxes from pyconturb, and their fast sampling.
+"""Turbulent full-field inflow: IEC 61400-1 NTM and ETM boxes from pyconturb, and their fast sampling.
 
 A turbulent field is a regular grid in the rotor plane (lateral ``y``, vertical
 ``z``) holding the three velocity components over time. :class:`TurbulentWind`
@@ -27,11 +27,14 @@ from threadpoolctl import threadpool_limits
 
 __all__ = [
     "REFERENCE_TURBULENCE_INTENSITY",
+    "REFERENCE_WIND_SPEED",
+    "TURBULENCE_MODELS",
     "TurbulenceSpec",
     "TurbulentWind",
     "cached_turbulence",
     "rotor_grid_size",
     "default_cache_dir",
+    "etm_standard_deviation",
     "generate_turbulence",
     "longitudinal_length_scale",
     "ntm_standard_deviation",
@@ -41,8 +44,15 @@ __all__ = [
 #: intensity at 15 m/s); anchor_windcontrol.md §3.7, pyconturb ``iec_sig``.
 REFERENCE_TURBULENCE_INTENSITY = MappingProxyType({"A": 0.16, "B": 0.14, "C": 0.12})
 
+#: V_ref of the IEC 61400-1 Ed. 3 wind turbine classes [m/s] (anchor_windcontrol.md §3.7).
+REFERENCE_WIND_SPEED = MappingProxyType({"I": 50.0, "II": 42.5, "III": 37.5})
+
+#: The turbulence models of IEC 61400-1 Ed. 3: normal (§6.3.1.3) and extreme (§6.3.2.3).
+TURBULENCE_MODELS = ("NTM", "ETM")
+
 _CACHE_FORMAT = 2  # bump when the cached array layout or the generation procedure changes
 _FREQUENCY_CHUNK = 64  # frequencies per pyconturb coherence chunk: speed vs. memory (~8 MB at 11x11)
+_COMPONENT_SIGMA_RATIOS = np.array([1.0, 0.8, 0.5])  # sigma_k / sigma_1 of u, v, w, IEC 61400-1 Ed. 3 Annex B
 _ZERO = np.array(0.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
 
 
@@ -76,6 +86,42 @@ def ntm_standard_deviation(hub_speed: float, turbulence_class: str) -> float:
     if not hub_speed > 0.0:
         raise ValueError(f"hub_speed: expected > 0 m/s, found {hub_speed}")
     return REFERENCE_TURBULENCE_INTENSITY[turbulence_class] * (0.75 * hub_speed + 5.6)
+
+
+def etm_standard_deviation(hub_speed: float, turbulence_class: str, turbine_class: str) -> float:
+    """Longitudinal turbulence standard deviation of the extreme turbulence model [m/s].
+
+    Parameters
+    ----------
+    hub_speed : float
+        10-min mean wind speed at hub height V_hub [m/s], > 0.
+    turbulence_class : str
+        IEC turbulence category, ``"A"``, ``"B"`` or ``"C"`` (I_ref).
+    turbine_class : str
+        IEC wind turbine class, ``"I"``, ``"II"`` or ``"III"``: the annual mean speed at hub height
+        V_ave = 0.2 V_ref (IEC 61400-1 Ed. 3 eq. 9).
+
+    Returns
+    -------
+    float
+        sigma_1 = c I_ref (0.072 (V_ave / c + 3) (V_hub / c - 4) + 10), c = 2 m/s.
+
+    Notes
+    -----
+    IEC 61400-1 Ed. 3 §6.3.2.3 eq. 19 (ETM), checked against NREL WEIS's IEC case generator (its ETM turbulence
+    intensity is this sigma_1 / V_hub). Ed. 4 (2019) keeps the equation.
+
+    Examples
+    --------
+    >>> round(etm_standard_deviation(18.0, "B", "I"), 4)  # 2 * 0.14 * (0.072 * 8 * 5 + 10)
+    3.6064
+    """
+    ntm_standard_deviation(hub_speed, turbulence_class)  # checks both
+    if turbine_class not in REFERENCE_WIND_SPEED:
+        raise ValueError(f"turbine_class: expected one of I, II, III, found {turbine_class!r}")
+    c, annual_mean = 2.0, 0.2 * REFERENCE_WIND_SPEED[turbine_class]
+    return c * REFERENCE_TURBULENCE_INTENSITY[turbulence_class] * (
+        0.072 * (annual_mean / c + 3.0) * (hub_speed / c - 4.0) + 10.0)
 
 
 def longitudinal_length_scale(hub_height: float) -> float:
@@ -140,9 +186,14 @@ class TurbulenceSpec:
         Number of grid points laterally and vertically (odd puts a node on the hub).
     scale_to_hub_sigma : bool
         Scale the turbulence of each component, uniformly over the grid, so that
-        the hub node has exactly the NTM standard deviations sigma_1, 0.8 sigma_1,
+        the hub node has exactly the standard deviations sigma_1, 0.8 sigma_1,
         0.5 sigma_1 (TurbSim ``ScaleIEC = 1``); needs odd n_y and n_z. Without it,
         the 10-min hub sigma of a coherent grid scatters by ~10 % between seeds.
+    turbulence_model : str
+        ``"NTM"`` (sigma_1 of :func:`ntm_standard_deviation`) or ``"ETM"`` (of :func:`etm_standard_deviation`).
+    turbine_class : str
+        IEC wind turbine class ``"I"``, ``"II"`` or ``"III"``, whose V_ref sets the ETM's V_ave; the NTM ignores it.
+        Neither enters an NTM field's cache key, so NTM fields cached before the ETM existed are found again.
     """
 
     mean_speed: float
@@ -157,9 +208,13 @@ class TurbulenceSpec:
     n_y: int = 11
     n_z: int = 11
     scale_to_hub_sigma: bool = True
+    turbulence_model: str = "NTM"
+    turbine_class: str = "I"
 
     def __post_init__(self) -> None:
-        ntm_standard_deviation(self.mean_speed, self.turbulence_class)
+        if self.turbulence_model not in TURBULENCE_MODELS:
+            raise ValueError(f"turbulence_model: expected one of NTM, ETM, found {self.turbulence_model!r}")
+        etm_standard_deviation(self.mean_speed, self.turbulence_class, self.turbine_class)  # checks all three
         longitudinal_length_scale(self.hub_height)
         if not 0 <= self.seed < 2**32:
             raise ValueError(f"seed: expected 0 <= seed < 2**32, found {self.seed}")
@@ -177,6 +232,13 @@ class TurbulenceSpec:
         if self.grid_width < 0.0 or not 0.0 <= self.grid_height < 2.0 * self.hub_height:
             raise ValueError(f"grid_height: expected a grid above ground, in [0, 2 hub_height), "
                              f"found width {self.grid_width} m, height {self.grid_height} m")
+
+    @property
+    def sigma_1(self) -> float:
+        """Longitudinal standard deviation sigma_1 of the field's turbulence model at hub height [m/s]."""
+        if self.turbulence_model == "ETM":
+            return etm_standard_deviation(self.mean_speed, self.turbulence_class, self.turbine_class)
+        return ntm_standard_deviation(self.mean_speed, self.turbulence_class)
 
     @property
     def n_t(self) -> int:
@@ -402,7 +464,7 @@ def _kaimal_with_hub_length_scale(f: np.ndarray, spat_df: "pandas.DataFrame", z_
 
 
 def generate_turbulence(spec: TurbulenceSpec, progress: Callable[[str], None] = lambda _: None) -> TurbulentWind:
-    """Generate an IEC 61400-1 NTM turbulent field with pyconturb (slow: no cache).
+    """Generate an IEC 61400-1 NTM or ETM turbulent field with pyconturb (slow: no cache).
 
     Parameters
     ----------
@@ -419,11 +481,12 @@ def generate_turbulence(spec: TurbulenceSpec, progress: Callable[[str], None] = 
     Notes
     -----
     pyconturb ``gen_turb`` (Veers' method): Kaimal spectra for u, v, w with
+    the spec's sigma_1 (:attr:`TurbulenceSpec.sigma_1`, NTM or ETM),
     sigma_2 = 0.8 sigma_1, sigma_3 = 0.5 sigma_1 and length scales 8.1, 2.7,
     0.66 Lambda_1, IEC exponential coherence exp(-12 sqrt((f r / V_hub)^2 +
     (0.12 r / L_c)^2)), L_c = 8.1 Lambda_1, on u only (v and w uncorrelated
     between points), mean profile V_hub (z / z_hub)^alpha on u (Fratini (2019)
-    eq. 2.2); IEC 61400-1 Ed. 3 §6.3.1.3 and Annex B. pyconturb gives every
+    eq. 2.2); IEC 61400-1 Ed. 3 §6.3.1.3 (§6.3.2.3 for the ETM) and Annex B. pyconturb gives every
     point the target variance in expectation; ``spec.scale_to_hub_sigma`` makes
     it exact at the hub. Each component is generated by its own ``gen_turb``
     call, seeded from ``numpy.random.SeedSequence(spec.seed)``. pyconturb seeds
@@ -450,7 +513,7 @@ def generate_turbulence(spec: TurbulenceSpec, progress: Callable[[str], None] = 
                     series = pyconturb.gen_turb(
                         spat_df, T=spec.duration, nt=spec.n_t, u_ref=spec.mean_speed, z_ref=spec.hub_height,
                         alpha=spec.shear_exponent, turb_class=spec.turbulence_class, seed=int(seed),
-                        spec_func=_kaimal_with_hub_length_scale,
+                        spec_func=_kaimal_with_hub_length_scale, sig_func=_iec_sigma, sigma_1=spec.sigma_1,
                         l_c=8.1 * longitudinal_length_scale(spec.hub_height), nf_chunk=_FREQUENCY_CHUNK)
             iy = np.abs(spat_df.loc["y"].to_numpy(dtype=float)[:, None] - grid_y).argmin(axis=1)
             iz = np.abs(spat_df.loc["z"].to_numpy(dtype=float)[:, None] - grid_z).argmin(axis=1)
@@ -458,8 +521,14 @@ def generate_turbulence(spec: TurbulenceSpec, progress: Callable[[str], None] = 
     finally:
         np.random.set_state(global_state)
     if spec.scale_to_hub_sigma:
-        velocity = _scaled_to_hub_sigma(velocity, ntm_standard_deviation(spec.mean_speed, spec.turbulence_class))
+        velocity = _scaled_to_hub_sigma(velocity, spec.sigma_1)
     return _wind_from_spec(spec, velocity)
+
+
+def _iec_sigma(spat_df: "pandas.DataFrame", *, sigma_1: float, **_) -> np.ndarray:
+    """pyconturb's ``iec_sig`` for any sigma_1 [m/s]: sigma_1, 0.8 sigma_1, 0.5 sigma_1 for the points of component
+    k = 0, 1, 2 (u, v, w) of ``spat_df``, IEC 61400-1 Ed. 3 Annex B; shape (n_sp,)."""
+    return sigma_1 * _COMPONENT_SIGMA_RATIOS[spat_df.loc["k"].to_numpy(dtype=int)]
 
 
 def _scaled_to_hub_sigma(velocity: np.ndarray, sigma_1: float) -> np.ndarray:
@@ -471,7 +540,7 @@ def _scaled_to_hub_sigma(velocity: np.ndarray, sigma_1: float) -> np.ndarray:
     mean = velocity.mean(axis=0)
     fluctuation = velocity - mean
     hub = fluctuation[:, velocity.shape[1] // 2, velocity.shape[2] // 2, :]
-    factor = sigma_1 * np.array([1.0, 0.8, 0.5]) / hub.std(axis=0)
+    factor = sigma_1 * _COMPONENT_SIGMA_RATIOS / hub.std(axis=0)
     return (mean + fluctuation * factor).astype(np.float32)
 
 
@@ -492,8 +561,12 @@ def default_cache_dir() -> Path:
 
 
 def _cache_key(spec: TurbulenceSpec) -> str:
-    """Hash of every parameter that determines the field, and of the generator version."""
-    identity = {**dataclasses.asdict(spec), "generator": "pyconturb", "generator_version":
+    """Hash of every parameter that determines the field, and of the generator version. An NTM spec hashes without
+    ``turbulence_model`` and ``turbine_class`` (the NTM does not depend on the turbine class), as before the ETM."""
+    fields = dataclasses.asdict(spec)
+    if spec.turbulence_model == "NTM":
+        del fields["turbulence_model"], fields["turbine_class"]
+    identity = {**fields, "generator": "pyconturb", "generator_version":
                 importlib.metadata.version("pyconturb"), "cache_format": _CACHE_FORMAT}
     return hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:32]
 
