@@ -19,12 +19,15 @@ import threading
 import time
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
 from hawt_analysis.summary import summarize
 from hawt_tools.openfast_case import CaseInputs, WrittenCase, deck_hub_height, output_of, run_openfast, write_case
+
+if TYPE_CHECKING:
+    from hawt_tools.in_process import InProcessRun
 
 __all__ = ["Check", "Figure", "DEFAULT_CASES", "FIGURES", "LOAD_PATHS", "STEADY_CHECKS", "TURBULENT_CHECKS", "ValidationCase", "CaseResult",
            "case_figures", "compare_figures", "parse_case", "run_case", "write_report"]
@@ -250,34 +253,29 @@ def _turbulent_fields(case: ValidationCase, turbine, folder: Path, deck_hub_heig
     return path, raised_path
 
 
-def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, openfast: Path, out: Path,
-             parameters: Sequence[str] = (), progress: Callable[[str], None] = print) -> CaseResult:
-    """Run ``case`` in OpenFAST (in a thread) and in hawt (here) at once, then analyse both over the same window.
-
-    ``graph_path`` is the ``validation`` graph; ``parameters`` are more ``-p NODE.PARAM:=VALUE`` for hawt's side.
-    """
-    from hawt_analysis.openfast_output import openfast_channel_names, read_openfast_output
-    from hawt_bag.plant_run import load_plant_run
-    from hawt_bag.reader import BagReader
+def prepare_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, folder: Path,
+                 parameters: Sequence[str] = ()) -> Tuple[InProcessRun, WrittenCase]:
+    """Both sides of ``case``, ready to run: hawt's ``validation`` graph (``graph_path``) built in process at step 0,
+    and OpenFAST's inputs written into ``folder`` from the turbine's ``deck``, started at that same operating point,
+    with the same ROSCO library and DISCON.IN and the same wind (a turbulent case's field as ``.bts`` files in
+    ``folder``). ``parameters`` are more ``-p NODE.PARAM:=VALUE`` for hawt's side."""
+    from hawt_analysis.openfast_output import openfast_channel_names
     from hawt_controllers.rosco_input import rosco_files, write_private_input
     from hawt_controllers.tunings import tuning_file
     from hawt_tools.graph_file import load_graph
-    from hawt_tools.in_process import build_run, step_run
+    from hawt_tools.in_process import build_run
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_graph_parameters
 
-    from hawt_plant.plant_setup import aerodynamics_line
     from hawt_plant.turbine import turbine_from
 
-    folder = out / "openfast" / case.name
     folder.mkdir(parents=True, exist_ok=True)
-    (out / "hawt").mkdir(parents=True, exist_ok=True)
     bts, openfast_bts = _turbulent_fields(case, turbine_from(turbine), folder, deck_hub_height(deck)) \
         if case.turbulent else (None, None)
     arguments, overrides = _hawt_overrides(case, turbine, bts)
     graph = load_graph(graph_path, arguments, package_prefix)
     plan = parse_overrides(graph, list(overrides) + list(parameters))
-    run = build_run(graph, plan)  # at step 0, the operating point both sides start from; stepped below
+    run = build_run(graph, plan)  # at step 0, the operating point both sides start from
     check_graph_parameters(graph, plan)
     output = run.output
     discon = write_private_input(tuning_file(turbine, "discon"), folder / "DISCON.IN", {})
@@ -288,7 +286,26 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
         discon_library=rosco_files()[0], discon_input=discon,
         channels=openfast_channel_names(run.description.blades),
         bts_file=openfast_bts)
-    written: WrittenCase = write_case(deck, folder, case.name, inputs)
+    return run, write_case(deck, folder, case.name, inputs)
+
+
+def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, openfast: Path, out: Path,
+             parameters: Sequence[str] = (), progress: Callable[[str], None] = print) -> CaseResult:
+    """Run ``case`` (:func:`prepare_case`) in OpenFAST (in a thread) and in hawt (here) at once, then analyse both
+    over the same window.
+
+    ``graph_path`` is the ``validation`` graph; ``parameters`` are more ``-p NODE.PARAM:=VALUE`` for hawt's side.
+    """
+    from hawt_analysis.openfast_output import read_openfast_output
+    from hawt_bag.plant_run import load_plant_run
+    from hawt_bag.reader import BagReader
+    from hawt_tools.in_process import step_run
+
+    from hawt_plant.plant_setup import aerodynamics_line
+
+    (out / "hawt").mkdir(parents=True, exist_ok=True)
+    run, written = prepare_case(case, turbine, graph_path, deck, out / "openfast" / case.name, parameters)
+    output = run.output
 
     failure: List[BaseException] = []
     walls: Dict[str, float] = {}
@@ -330,8 +347,9 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     rows = compare_figures(case_figures(hawt_channels), case_figures(openfast_channels), checks)
     settings = {"plant": f"{aerodynamics_line(run.turbine, run.plant_values)}, dt {run.plant_values['dt']} s",
                 "hub_height_openfast": written.hub_height, "hub_height_hawt": run.turbine.hub_height,
-                "initial": {"rotor_speed_rpm": inputs.rotor_speed * 30 / math.pi,
-                            "pitch_deg": [math.degrees(p) for p in inputs.pitch], "tower_top_m": inputs.tower_top}}
+                "initial": {"rotor_speed_rpm": float(output.rotor_speed) * 30 / math.pi,
+                            "pitch_deg": [math.degrees(p) for p in output.pitch],
+                            "tower_top_m": (float(output.tower_top_fa_disp), float(output.tower_top_ss_disp))}}
     return CaseResult(case, rows, hawt_channels, openfast_channels, bag, output_of(written.fst), written.changed,
                       walls["hawt"], walls["openfast"], settings)
 
