@@ -82,17 +82,15 @@ RUN: Dict[str, List[Line]] = {
              replace=(("/path/libctrl.so", "{rosco_library}"), ("/path/ctrl.IN", "{rosco_input}"))),
     ],
     "ROSCO's IPC graph": [Line("./hawt launch rosco_ipc", add=SHORT)],
-    "switching graph": [  # 6 s: the analysis's harmonics need a whole revolution (5 s)
-        Line("./hawt launch switching --mode realtime --record bags/switching.mcap", add="duration:=6"),
-        Line("./hawt analyze bags/switching.mcap"),
-    ],
 }
 """Each block's lines that run, in the order they run in one folder."""
 
-ROS_GRAPHS = {"ROSCO's IPC graph", "switching graph"}
+ROS_GRAPHS = {"ROSCO's IPC graph"}
 """The blocks that start a ROS graph, one process per node (marker ``ros``)."""
 
 BESIDE_SWITCHING = "acts on the switching graph that the block's first line runs, from another shell while it runs"
+"""The switching graph's lines: tests/hawt_controllers/test_switching_realtime.py runs the graph in real time with
+--record, switches it as most of them do (not ipc_h4, blade_sine, the lifecycle line) and analyses its bag."""
 PARSED = {
     "./hawt demo": "two graphs of 60 s (baseline and ipc), one process per node: over a minute on two cores",
     "./hawt test": "the whole suite, which this test is part of",
@@ -103,6 +101,10 @@ PARSED = {
     "./hawt campaign campaigns/dlc12.yaml -o dlc12": "a design-load-case campaign of 600 s cases on Dask "
                                                       "(tests/hawt_tools/test_campaign.py runs small ones)",
     "./hawt campaign campaigns/dlc12.yaml -o dlc12 --scheduler tcp://HOST:8786": "needs Dask workers at HOST",
+    "./hawt launch switching --mode realtime --record bags/switching.mcap":
+        "ten processes in real time, a third of this file's time on two cores for what "
+        "tests/hawt_controllers/test_switching_realtime.py runs already",
+    "./hawt analyze bags/switching.mcap": "needs the bag of the switching graph's run, the block's first line",
     "./hawt switch --activate ipc_h1": BESIDE_SWITCHING,
     "./hawt switch --activate ipc_h2": BESIDE_SWITCHING,
     "./hawt switch --activate ipc_h1_retuned --deactivate ipc_h1": BESIDE_SWITCHING,
