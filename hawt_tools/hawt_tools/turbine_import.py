@@ -315,7 +315,7 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
     aerodynamics, airfoils = _blade_aerodynamics(deck, ad, ad_blade, length, files)
     torsion = _torsion_frequency(ed, blade, files)
     base = _number(ed, "TowerBsHt", files["ed"])
-    substructure = _monopile(deck, main, base, files) if base else ""
+    substructure = _monopile(deck, main, base, files) if base else "on the ground"
     structure = _blade_structure(blade, length, files["blade"])
     nacelle = _nacelle(ed, files["ed"])
     top_mass = (_number(ed, "HubMass", files["ed"]) + nacelle["mass"].value
@@ -625,8 +625,8 @@ def _monopile(deck: _Deck, main: Mapping[str, Any], base: float, files: Dict[str
 def _tower(ed: Mapping[str, Any], tower: Mapping[str, Any], ad: Mapping[str, Any], files: Mapping[str, str],
            substructure: _Monopile | str, top_mass: float, gravity: float) -> Dict[str, Sourced]:
     """The tower: on the ground (TowerBsHt = 0), on a rigid base at TowerBsHt, or on the deck's monopile as a
-    flexible base (``substructure``, :func:`_monopile`; a string says why the base is rigid). ``top_mass`` [kg] is
-    the rotor's and nacelle's, for a flexible base's first modes."""
+    flexible base (``substructure``, :func:`_monopile`; a string says why the base is rigid, or that the tower
+    stands on the ground). ``top_mass`` [kg] is the rotor's and nacelle's, for a flexible base's first modes."""
     ed_file, file, ad_file = files["ed"], files["tower"], files["ad"]
     base = _number(ed, "TowerBsHt", ed_file)
     top = _number(ed, "TowerHt", ed_file)
@@ -669,17 +669,16 @@ def _tower(ed: Mapping[str, Any], tower: Mapping[str, Any], ad: Mapping[str, Any
                                          "joint and 1 mm below TowerBsHt (the last member's top section), then "
                                          f"TowerBsHt + {file} HtFract x (TowerHt - TowerBsHt); over the length from "
                                          "the clamp to TowerHt")
-    monopile = "below TowerBsHt"
     section["mass_density"] = Sourced(np.concatenate((substructure.mass_density, mass)),
-                                      f"{sub_file} MatDens x pi/4 (XsecD^2 - (XsecD - 2 XsecT)^2) {monopile}, then "
-                                      f"{file} TMassDen x AdjTwMa (= {factors['AdjTwMa']:g})")
+                                      f"{sub_file} MatDens x pi/4 (XsecD^2 - (XsecD - 2 XsecT)^2) below TowerBsHt, "
+                                      f"then {file} TMassDen x AdjTwMa (= {factors['AdjTwMa']:g})")
     for key, values, name, factor in (("fa", fa, "TwFAStif x AdjFASt x FAStTunr(1)", fa_factor),
                                       ("ss", ss, "TwSSStif x AdjSSSt x SSStTunr(1)", ss_factor)):
         stiffness = np.concatenate((substructure.stiffness, values))
         shape, frequency = beam_first_mode(section["height_fraction"].value, section["mass_density"].value,
                                            stiffness, length, top_mass, gravity)
         section[f"{key}_stiffness"] = Sourced(stiffness, f"{sub_file} YoungE x pi/64 (XsecD^4 - (XsecD - 2 XsecT)^4) "
-                                                         f"{monopile}, then {file} {name} (= {factor:g})")
+                                                         f"below TowerBsHt, then {file} {name} (= {factor:g})")
         section[f"{key}_mode_shape"] = Sourced(shape, f"the first mode of the monopile and tower as one beam with the "
                                                       f"rotor and nacelle's {top_mass:.6g} kg on top, {frequency:.4f} "
                                                       "Hz (hawt_plant.modal.beam_first_mode; the deck's "

@@ -92,7 +92,8 @@ def test_nrel_5mw_limits_and_rated_values(turbine):
     assert turbine.drivetrain.gearbox_ratio == 97.0
 
 
-@pytest.mark.parametrize("base, clamp, kind", [(None, None, "ground"), (15.0, None, "rigid"), (15.0, -30.0, "flexible")])
+@pytest.mark.parametrize("base, clamp, kind", [(None, None, "ground"), (15.0, None, "rigid"),
+                                               (15.0, -30.0, "flexible")])
 def test_the_tower_stands_on_the_ground_a_rigid_base_or_a_flexible_one(editable_copy, base, clamp, kind):
     """Without base_height the tower is clamped on the ground; with it alone, on a rigid base that high; with a
     clamp_height below it, on a flexible base (its beam reaches down to the clamp)."""
