@@ -89,9 +89,28 @@ build_workspace() {
   echo "$want" > "$WS/.hawt-build"
 }
 
+# libhawt_discon.so, the DISCON library whose controller is a hawt graph (issue 33), built with the
+# machine's C compiler into ros2_ws/lib; its stamp is the source's digest, which hawt_tools.discon_bridge
+# checks before it names the library, so a library older than its source is never used.
+build_discon_bridge() {
+  local want have="" source="hawt_tools/discon_bridge/hawt_discon.c" lib="$WS/lib/libhawt_discon.so" cc="${CC:-cc}"
+  want="$(digest "$source")"
+  [ -f "$WS/lib/.hawt-discon" ] && have="$(cat "$WS/lib/.hawt-discon")"
+  [ "$want" = "$have" ] && [ -f "$lib" ] && return 0
+  command -v "$cc" >/dev/null || fail "no C compiler $cc on PATH (needed for libhawt_discon.so); install one with: apt-get install gcc"
+  say "building libhawt_discon.so with $cc (ros2_ws/lib/)"
+  mkdir -p "$WS/lib"
+  rm -f "$lib" "$WS/lib/.hawt-discon"
+  "$cc" -O2 -fPIC -shared -Wall -Wextra -Werror -o "$lib.tmp" "$ROOT/$source" -lm > "$WS/lib/discon-build.log" 2>&1 \
+    || { local code=$?; fail "$cc could not build libhawt_discon.so from $source: $(grep -m1 -i error "$WS/lib/discon-build.log" || echo "exit status $code") (full log: ros2_ws/lib/discon-build.log)"; }
+  mv "$lib.tmp" "$lib"
+  echo "$want" > "$WS/lib/.hawt-discon"
+}
+
 mkdir -p "$WS"
 # Every top-level folder with a package.xml is a package of the workspace.
 mapfile -t PACKAGES < <(cd "$ROOT" && ls -d */package.xml | xargs -n1 dirname)
 install_python_packages
 install_nodeps_packages
 build_workspace
+build_discon_bridge

@@ -38,9 +38,15 @@ from hawt_plant.safety_system import command_rejection, protection_event
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
 
-__all__ = ["InProcessRun", "build_run", "plant_parameters", "RunRecord", "write_run", "run_graph", "step_run"]
+__all__ = ["InProcessRun", "PlantFactory", "build_run", "plant_node", "plant_parameters", "RunRecord", "write_run",
+           "run_graph", "step_run"]
 
 Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
+PlantFactory = Callable[[Mapping[str, Any], Callable[[str], None]], Tuple[Any, Any, Any]]
+"""What builds the plant from the plant node's parameter values (and a progress callback): the turbine, a model
+whose ``step(pitch, generator_torque)`` applies a step's command and returns the next step's output, and the
+output of step 0. :func:`hawt_plant.plant_setup.make_plant` by default; the DISCON bridge
+(hawt_tools.discon_bridge) gives one whose outputs are a simulator's measurements."""
 
 
 @dataclass
@@ -78,10 +84,10 @@ class InProcessRun:
     def __init__(self, namespace: str, plant_values: Mapping[str, Any], assembler_values: Mapping[str, Any],
                  controllers: Sequence[Tuple[str, type, Mapping[str, Any]]],
                  schedule: Sequence[str] = (), ramp_time: float = 0.0,
-                 progress: Callable[[str], None] = lambda _: None) -> None:
+                 progress: Callable[[str], None] = lambda _: None, plant: Optional[PlantFactory] = None) -> None:
         self.namespace = namespace
         self.plant_values = dict(plant_values)
-        self.turbine, self.model, self.output = make_plant(plant_values, progress)
+        self.turbine, self.model, self.output = (plant or make_plant)(plant_values, progress)
         self.description = self.turbine.description(plant_values["dt"])
         self.actuator = self.turbine.pitch_actuator
         self.safety = make_safety_system(self.turbine, plant_values)
@@ -263,12 +269,17 @@ def _node_kind(graph: Graph, spec: NodeSpec) -> Tuple[str, Optional[type]]:
                      "core the in-process runner can step (plant, mbc, controller_manager or a controller)")
 
 
-def plant_parameters(graph: Graph, overrides: Overrides = ()) -> Dict[str, Any]:
-    """The parameters the graph's plant node gets (what a campaign's wind preparation builds the plant from)."""
+def plant_node(graph: Graph) -> NodeSpec:
+    """The graph's one plant node (a GraphError if it has none or several)."""
     plants = [spec for spec in graph.nodes if _node_kind(graph, spec)[0] == "plant"]
     if len(plants) != 1:
         raise GraphError(f"{graph.path}: expected exactly one plant node, found {len(plants)}")
-    return _node_values(graph, plants[0], PLANT_PARAMETERS, overrides)
+    return plants[0]
+
+
+def plant_parameters(graph: Graph, overrides: Overrides = ()) -> Dict[str, Any]:
+    """The parameters the graph's plant node gets (what a campaign's wind preparation builds the plant from)."""
+    return _node_values(graph, plant_node(graph), PLANT_PARAMETERS, overrides)
 
 
 def _node_values(graph: Graph, spec: NodeSpec, table, overrides: Overrides) -> Dict[str, Any]:
@@ -279,10 +290,11 @@ def _node_values(graph: Graph, spec: NodeSpec, table, overrides: Overrides) -> D
         raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r}: {error}") from None
 
 
-def build_run(graph: Graph, overrides: Overrides = (), progress: Callable[[str], None] = lambda _: None
-              ) -> InProcessRun:
+def build_run(graph: Graph, overrides: Overrides = (), progress: Callable[[str], None] = lambda _: None,
+              plant: Optional[PlantFactory] = None) -> InProcessRun:
     """The cores of ``graph`` with the parameters each node would get; ``progress`` gets the lines of a turbulent
-    field's generation, if the plant's field is not in the cache yet.
+    field's generation, if the plant's field is not in the cache yet. ``plant`` builds the plant instead of
+    :func:`~hawt_plant.plant_setup.make_plant` (:data:`PlantFactory`).
 
     Raises
     ------
@@ -314,7 +326,7 @@ def build_run(graph: Graph, overrides: Overrides = (), progress: Callable[[str],
     try:
         return InProcessRun(plant_spec.full_namespace.rstrip("/"), values(plant_spec, PLANT_PARAMETERS),
                             values(assembler_spec, ASSEMBLER_PARAMETERS), controllers, schedule, ramp_time,
-                            progress)
+                            progress, plant)
     except SwitchRefused as refusal:
         raise GraphError(f"{graph.path}: controller_manager schedule: {refusal}") from None
 

@@ -1,0 +1,421 @@
+"""The DISCON bridge (issue 33): a hawt graph as the controller of any simulator that calls a DISCON library.
+
+``libhawt_discon.so`` (``hawt_tools/discon_bridge/hawt_discon.c``, built by ``scripts/setup.sh``) is a Bladed-style
+DISCON library. OpenFAST's ServoDyn (or Bladed, HAWC2, QBlade, hawt's own ``discon`` host) loads it and calls
+``DISCON`` once per communication interval; each call sends the swap array's records 1-129 over a Unix domain
+socket to this bridge, which steps the graph's cores once in process and answers that step's commands: pitch
+per blade (records 42-44), collective pitch (45, the blades' mean) and generator torque (47).
+
+The bridge is the graph's plant. :func:`serve` builds the graph with the in-process runner
+(:func:`hawt_tools.in_process.build_run`) and a :class:`BridgeModel` in place of hawt's turbine model: the plant's
+output of step k is what the simulator measured at call k (:func:`measurements`), and the model's ``step`` sends
+the command of step k back and waits for call k + 1. Everything else (controllers, schedule, loop assembly, the
+turbine's limits, the plant's protection) is the runner's, so the graph runs as ``hawt run`` runs it.
+
+**The bridge file** (``accINFILE``, ``key = value`` lines, ``#`` comments)::
+
+    socket = /tmp/hawt-bridge.sock      # where the bridge listens (required; at most 107 characters)
+    graph = ipc                         # a graph file or an installed graph's name (required)
+    arguments = wind_speed:=18          # the graph's launch arguments, NAME:=VALUE, space-separated
+    parameters = cpc.kp:=0.01           # more NODE.PARAM:=VALUE, space-separated (as -p)
+    timeout = 10                        # [s] the library's bound on waiting for the bridge (default 10)
+    record = run.mcap                   # write the graph's topics to this bag at the last call (optional)
+
+The library reads ``socket`` and ``timeout``; the bridge reads the rest. The plant's ``dt`` is the simulator's
+communication interval (record 3); the turbine is the graph's plant's (its limits, gearbox and blades; the
+simulator's blade count, record 61, must be the same).
+
+**What the plant output has.** From the simulator: time (2), azimuth (60), rotor speed (21), generator speed (20)
+and torque (23), electrical power (15), hub wind speed (27), measured pitch (4, 33, 34), blade-root out-of-plane
+(30-32) and in-plane (69-71) moments, tower-top fore-aft and side-side acceleration (53, 54), hub tilt and yaw
+moments (75, 76). Not in the interface, so NaN (:data:`MISSING_FIELDS`): aerodynamic torque and thrust, tower-top
+displacements, tower-base and yaw-bearing moments, the blade-effective wind. A controller that reads one of them
+gets NaN and refuses the step as on any plant (``update_or_hold``).
+
+**The channel.** A Unix domain socket of type ``SOCK_SEQPACKET``: one message per call and per answer, message
+boundaries kept (no framing code on either side), and a peer that dies is seen at once as a closed connection on
+both sides, which shared memory with a semaphore would have to detect with a separate liveness check. Both ends
+are on one machine, the messages are small (1.5 kB, 1.1 kB), and the cost of the round trip is measured by
+``./hawt bench bridge``.
+
+**Failure.** A bad bridge file, a graph that cannot be built (one line, :class:`BridgeError`) or a simulator
+that does not match the graph's turbine is answered with ``fail < 0`` and that line, which the library puts in
+``avcMSG`` with ``aviFAIL = -1``; the bridge then stops (``hawt bridge``: exit 2). The library's own safety
+(no answer within the timeout, a bridge that died) is in the C file's notes.
+"""
+from __future__ import annotations
+
+import os
+import shlex
+import socket
+import struct
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+
+from hawt_controllers.discon_library import Record
+from hawt_plant.model import TurbineOutput
+
+__all__ = ["BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "MISSING_FIELDS", "REQUEST", "REPLY",
+           "SENT_RECORDS", "bridge_library", "listen", "measurements", "read_bridge_file", "serve"]
+
+SENT_RECORDS = 129
+"""Records 1-129 of the swap array go to the bridge with every call."""
+REQUEST = struct.Struct(f"<4si{SENT_RECORDS}f1024s")
+"""The library's message: magic ``HWB1``, status, records 1-129 (float32), the bridge file's path (first call)."""
+REPLY = struct.Struct("<4si3fffff1024s")
+"""The bridge's answer: magic ``HWR1``, fail (0 or -1), pitch of blades 1-3, collective pitch [rad], generator
+torque [N*m], the turbine's largest pitch angle [rad] and rate [rad/s] (the library's safe commands), message."""
+MISSING_FIELDS = ("aero_torque", "rotor_thrust", "tower_top_fa_disp", "tower_top_ss_disp", "tower_base_fa_moment",
+                  "tower_base_ss_moment", "yaw_bearing_tilt_moment", "yaw_bearing_yaw_moment", "effective_wind_mean",
+                  "effective_wind_cos", "effective_wind_sin")
+"""The plant output's fields that the DISCON interface does not carry: NaN in every step of a bridged run."""
+_KEYS = ("socket", "graph", "arguments", "parameters", "timeout", "record")
+_PITCH = (Record.PITCH_1, Record.PITCH_2, Record.PITCH_3)
+
+
+class BridgeError(ValueError):
+    """A bridge file, graph or simulator the bridge cannot run with; one line naming what is wrong."""
+
+
+class BridgeClosed(RuntimeError):
+    """The simulator closed the connection before its last call (it stopped or died)."""
+
+
+def bridge_library() -> Path:
+    """``libhawt_discon.so`` as ``scripts/setup.sh`` built it, checked against its source.
+
+    Raises
+    ------
+    BridgeError
+        Not built, or built from another version of ``hawt_discon.c`` (run ``scripts/setup.sh``, which
+        ``./hawt`` does): a stale library is never used.
+    """
+    import hashlib
+
+    root = Path(__file__).resolve().parents[2]
+    source = "hawt_tools/discon_bridge/hawt_discon.c"
+    library, stamp = root / "ros2_ws" / "lib" / "libhawt_discon.so", root / "ros2_ws" / "lib" / ".hawt-discon"
+    if not library.is_file() or not stamp.is_file():
+        raise BridgeError(f"{library}: not built (run scripts/setup.sh)")
+    # scripts/setup.sh's digest: sha256sum of the source, its line hashed again, the first 16 hex digits
+    line = f"{hashlib.sha256((root / source).read_bytes()).hexdigest()}  {source}\n"
+    if hashlib.sha256(line.encode()).hexdigest()[:16] != stamp.read_text().strip():
+        raise BridgeError(f"{library} was built from another version of {source} (run scripts/setup.sh)")
+    return library
+
+
+@dataclass(frozen=True)
+class BridgeFile:
+    """A bridge file's settings (module notes)."""
+
+    path: Path
+    socket: str
+    graph: str
+    arguments: Tuple[str, ...] = ()
+    parameters: Tuple[str, ...] = ()
+    timeout: float = 10.0
+    record: Optional[Path] = None
+
+
+def read_bridge_file(path: Path) -> BridgeFile:
+    """Read a bridge file; a :class:`BridgeError` naming the file (and line) for anything wrong."""
+    path = Path(path)
+    try:
+        lines = path.read_text().splitlines()
+    except (OSError, UnicodeDecodeError) as error:
+        raise BridgeError(f"hawt bridge file {path}: cannot read it: {getattr(error, 'strerror', None) or error}") \
+            from None
+    found: Dict[str, str] = {}
+    for number, line in enumerate(lines, start=1):
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        key, sep, value = (part.strip() for part in text.partition("="))
+        if not sep or key not in _KEYS:
+            raise BridgeError(f"hawt bridge file {path}:{number}: expected KEY = VALUE with KEY one of "
+                              f"{', '.join(_KEYS)}, found {text!r}")
+        found[key] = value
+    for key in ("socket", "graph"):
+        if not found.get(key):
+            raise BridgeError(f"hawt bridge file {path}: no {key} = ... line")
+    if len(found["socket"].encode()) > 107:
+        raise BridgeError(f"hawt bridge file {path}: socket: a path of at most 107 characters")
+    try:
+        timeout = float(found.get("timeout", 10.0))
+    except ValueError:
+        timeout = -1.0
+    if not timeout > 0:
+        raise BridgeError(f"hawt bridge file {path}: timeout: expected seconds > 0, found {found['timeout']}")
+    folder = path.resolve().parent
+    record = found.get("record")
+    return BridgeFile(path, found["socket"], found["graph"], tuple(shlex.split(found.get("arguments", ""))),
+                      tuple(shlex.split(found.get("parameters", ""))), timeout,
+                      (folder / record) if record else None)
+
+
+def measurements(swap: np.ndarray, blades: int) -> TurbineOutput:
+    """The plant output of one call: records 1-129 (``swap[r - 1]``, float32) in hawt's fields, SI, as float64;
+    :data:`MISSING_FIELDS` NaN."""
+    s = np.asarray(swap, dtype=np.float64)
+
+    def blade(first: int) -> np.ndarray:
+        return s[first - 1:first - 1 + blades].copy()
+
+    nan = float("nan")
+    return TurbineOutput(
+        time=float(s[Record.TIME - 1]), azimuth=float(s[Record.AZIMUTH - 1]) % (2 * np.pi),
+        rotor_speed=float(s[Record.ROTOR_SPEED - 1]), root_moment_oop=blade(Record.ROOT_MOOP_1),
+        root_moment_ip=blade(Record.ROOT_MIP_1), pitch=np.array([s[r - 1] for r in _PITCH[:blades]]),
+        generator_speed=float(s[Record.GENERATOR_SPEED - 1]), generator_torque=float(s[Record.GENERATOR_TORQUE - 1]),
+        electrical_power=float(s[Record.ELECTRICAL_POWER - 1]), hub_wind_speed=float(s[Record.HUB_WIND_SPEED - 1]),
+        tower_top_fa_accel=float(s[Record.TOWER_TOP_FA_ACCEL - 1]),
+        tower_top_ss_accel=float(s[Record.TOWER_TOP_SS_ACCEL - 1]),
+        hub_tilt_moment=float(s[Record.HUB_TILT_MOMENT - 1]), hub_yaw_moment=float(s[Record.HUB_YAW_MOMENT - 1]),
+        **{name: nan for name in MISSING_FIELDS})
+
+
+def _reply(pitch: Sequence[float] = (0.0, 0.0, 0.0), torque: float = 0.0, limits: Tuple[float, float] = (0.0, 0.0),
+           fail: int = 0, message: str = "") -> bytes:
+    padded = list(pitch) + [0.0] * (3 - len(pitch))
+    collective = float(np.mean(pitch)) if len(pitch) else 0.0
+    return REPLY.pack(b"HWR1", fail, *padded, collective, torque, *limits, message.encode()[:1023])
+
+
+class BridgeModel:
+    """The plant model of a bridged run: each ``step`` answers the simulator's call and returns its next one.
+
+    Parameters
+    ----------
+    connection : socket.socket
+        The library's connection (``SOCK_SEQPACKET``), its first call already read.
+    blades : int
+        B of the graph's turbine.
+    limits : (float, float)
+        The turbine's largest pitch angle [rad] and rate [rad/s], sent with every answer.
+    individual : bool
+        The simulator reads the blades' own demands (record 28 = 1); if not, a step whose blades' commands differ
+        fails (the simulator would apply only their mean).
+    """
+
+    def __init__(self, connection: socket.socket, blades: int, limits: Tuple[float, float], individual: bool) -> None:
+        self.connection = connection
+        self.blades = blades
+        self.limits = limits
+        self.individual = individual
+        self.finished = False
+        self.calls = 1
+        self.dt = 0.0
+
+    def step(self, pitch: np.ndarray, generator_torque: float) -> TurbineOutput:
+        """Answer the current call with ``pitch`` [rad] per blade and ``generator_torque`` [N*m]; the measurements
+        of the next call. After the last call (status -1, answered with the same command) :attr:`finished` is set
+        and its measurements are returned.
+
+        Raises
+        ------
+        BridgeClosed
+            The simulator closed the connection.
+        BridgeError
+            Commands that differ between blades for a simulator that pitches collectively.
+        """
+        pitch = np.asarray(pitch, dtype=float)
+        if not self.individual and np.ptp(pitch) > 0:
+            message = (f"the graph commands individual pitch ({np.degrees(np.ptp(pitch)):.3g} deg between blades at "
+                       f"call {self.calls}), but the simulator pitches collectively: set record 28 (ServoDyn "
+                       "Ptch_Cntrl = 1)")
+            self._send(_reply(fail=-1, message=message))
+            raise BridgeError(message)
+        self._send(_reply(tuple(pitch), float(generator_torque), self.limits))
+        status, swap = self.receive()
+        self.calls += 1
+        if status < 0:
+            self._send(_reply(tuple(pitch), float(generator_torque), self.limits))
+            self.finished = True
+        return measurements(swap, self.blades)
+
+    def receive(self) -> Tuple[int, np.ndarray]:
+        """The next call's status and records 1-129 (also the first call's, with the bridge file's path)."""
+        data = self.connection.recv(REQUEST.size + 1)
+        if not data:
+            raise BridgeClosed(f"the simulator closed the connection after {self.calls} calls, before its last call")
+        return parse_request(data)[:2]
+
+    def _send(self, data: bytes) -> None:
+        try:
+            self.connection.sendall(data)
+        except OSError as error:
+            raise BridgeClosed(f"the simulator's connection failed after {self.calls} calls: {error}") from None
+
+
+def parse_request(data: bytes) -> Tuple[int, np.ndarray, str]:
+    """A library message: status, records 1-129, the bridge file's path ("" after the first call)."""
+    if len(data) != REQUEST.size or data[:4] != b"HWB1":
+        raise BridgeError(f"a message that is not libhawt_discon's ({len(data)} bytes)")
+    magic, status, *rest = REQUEST.unpack(data)
+    path = rest[-1].split(b"\0", 1)[0].decode(errors="replace")
+    return status, np.asarray(rest[:-1], dtype=np.float32), path
+
+
+def listen(path: str) -> socket.socket:
+    """A listening ``SOCK_SEQPACKET`` socket at ``path`` (a stale socket file there is replaced)."""
+    try:
+        os.unlink(path)
+    except FileNotFoundError:
+        pass
+    server = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+    try:
+        server.bind(path)
+    except OSError as error:
+        server.close()
+        raise BridgeError(f"socket {path}: cannot listen there: {error.strerror}") from None
+    server.listen(1)
+    return server
+
+
+@dataclass
+class BridgeRun:
+    """What :func:`serve` did: the run (at its last step), the calls answered, the bag written if any."""
+
+    run: Any
+    calls: int
+    record: Optional[Path] = None
+    events: List[dict] = field(default_factory=list)
+
+
+def _round_dt(dt32: float) -> float:
+    """The communication interval as the simulator set it: record 3 is float32 (0.00625 arrives 0.0062500000931)."""
+    return float(f"{dt32:.7g}")
+
+
+def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int, swap: np.ndarray,
+                      infile: str, progress: Callable[[str], None] = lambda _: None):
+    """The graph of ``bridge`` built on the simulator's first call (status, records, its bridge file path), with
+    a :class:`BridgeModel` on ``connection`` as its plant. A :class:`BridgeError` for anything that cannot run."""
+    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import GraphError, load_graph
+    from hawt_tools.in_process import build_run, plant_node
+    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
+
+    from hawt_core.parameter_table import ParameterError
+    from hawt_plant.turbine import nrel_5mw, turbine_from
+
+    if status != 0:
+        raise BridgeError(f"the simulator's first call has status {status}, not 0 (a first call)")
+    if infile and Path(infile).exists() and not os.path.samefile(infile, bridge.path):
+        raise BridgeError(f"the simulator's bridge file {infile} is not this bridge's ({bridge.path})")
+    dt = _round_dt(float(swap[Record.DT - 1]))
+    blades = int(round(float(swap[Record.BLADES - 1])))
+    individual = int(round(float(swap[Record.PITCH_CONTROL - 1]))) == 1
+    try:
+        arguments = {}
+        for word in bridge.arguments:
+            name, sep, value = word.partition(":=")
+            if not sep or not name:
+                raise GraphError(f"arguments: {word!r}: expected NAME:=VALUE")
+            arguments[name] = value
+        graph = load_graph(find_graph(bridge.graph), arguments, package_prefix)
+        overrides = dict(parse_overrides(graph, bridge.parameters))
+        plant = plant_node(graph)
+        overrides[plant.label] = list(overrides.get(plant.label, ())) + [("dt", dt)]
+        check_against_plant(graph, check_graph_parameters(graph, overrides))
+
+        def bridge_plant(values: Mapping[str, Any], _progress: Callable[[str], None]):
+            turbine = turbine_from(values["turbine_file"]) if values["turbine_file"] else nrel_5mw()
+            if blades != turbine.rotor.number_of_blades:
+                raise BridgeError(f"the simulator has {blades} blades (record 61), the graph's turbine "
+                                  f"{turbine.name} {turbine.rotor.number_of_blades}")
+            actuator = turbine.pitch_actuator
+            model = BridgeModel(connection, turbine.rotor.number_of_blades, (actuator.max_angle, actuator.max_rate), individual)
+            return turbine, model, measurements(swap, turbine.rotor.number_of_blades)
+
+        return build_run(graph, overrides, progress, bridge_plant)
+    except (GraphError, ParameterError) as error:
+        raise BridgeError(f"hawt bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
+
+
+def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
+          progress: Callable[[str], None] = lambda _: None) -> BridgeRun:
+    """Serve one simulator run: accept the library's connection, build the graph on its first call, step it once
+    per call, end at the last call (status -1), write the bag if the file asks for one.
+
+    ``server`` is a socket from :func:`listen` (default: listen at the file's ``socket``).
+
+    Raises
+    ------
+    BridgeError
+        A graph or simulator the bridge cannot run with (also sent to the library, which fails with it).
+    BridgeClosed
+        The simulator went away before its last call.
+    """
+    import time
+
+    from hawt_tools.in_process import RunRecord, write_run
+
+    server = server or listen(bridge.socket)
+    try:
+        connection, _ = server.accept()
+    finally:
+        server.close()
+        try:
+            os.unlink(bridge.socket)
+        except FileNotFoundError:
+            pass
+    with connection:
+        data = connection.recv(REQUEST.size + 1)
+        if not data:
+            raise BridgeClosed("the simulator closed the connection before its first call")
+        try:
+            status, swap, infile = parse_request(data)
+            run = build_bridged_run(bridge, connection, status, swap, infile, progress)
+        except BridgeError as error:
+            connection.sendall(_reply(fail=-1, message=str(error)))
+            raise
+        model: BridgeModel = run.model
+        progress(f"{run.turbine.name}: bridged, dt {run.description.dt:g} s, {model.blades} blades, "
+                 f"{'individual' if model.individual else 'collective'} pitch; fields without a measurement: "
+                 f"{', '.join(MISSING_FIELDS)}")
+        book = RunRecord() if bridge.record is not None else None
+        start = time.monotonic()
+        while not model.finished:
+            run.step(book)
+    run.events.append({"step": run.step_index, "source": "bridge", "level": 20, "kind": "finished",
+                       "detail": f"finished {model.calls} DISCON calls ({run.output.time:g} s simulated) in "
+                                 f"{time.monotonic() - start:.1f} s wall, bridged"})
+    if bridge.record is not None:
+        write_run(run, book, bridge.record)
+    return BridgeRun(run, model.calls, bridge.record, run.events)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m hawt_tools.discon_bridge FILE``: serve one simulator run of the bridge file FILE.
+
+    Exit 0 after the simulator's last call, 2 with one line for a bad bridge file, graph or simulator, 1 with
+    one line when the simulator went away.
+    """
+    import sys
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    if len(args) != 1:
+        print("usage: python -m hawt_tools.discon_bridge BRIDGE_FILE", file=sys.stderr)
+        return 2
+    try:
+        bridge = read_bridge_file(Path(args[0]))
+        server = listen(bridge.socket)
+        print(f"hawt bridge: listening on {bridge.socket} for {bridge.graph}", file=sys.stderr, flush=True)
+        result = serve(bridge, server, lambda line: print(f"hawt bridge: {line}", file=sys.stderr, flush=True))
+    except BridgeError as error:
+        print(f"hawt bridge: {error}", file=sys.stderr)
+        return 2
+    except BridgeClosed as error:
+        print(f"hawt bridge: {error}", file=sys.stderr)
+        return 1
+    print(result.events[-1]["detail"] + (f"; recorded into {result.record}" if result.record else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
