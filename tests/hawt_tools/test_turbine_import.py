@@ -22,7 +22,7 @@ from hawt_controllers.tunings import TuningError, tuning_file
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import load_turbine, nrel_5mw, nrel_5mw_two_bladed_downwind, turbine_from
-from hawt_plant.turbine_summary import turbine_summary
+from hawt_plant.turbine_summary import format_summary, turbine_summary
 from hawt_tools.cli import main
 from hawt_tools.turbine_import import RIGID_TORSION_FREQUENCY, node_widths, import_deck, write_turbine
 
@@ -350,8 +350,13 @@ def test_the_iea_15mw_stands_on_its_monopile_as_a_flexible_base_at_the_decks_hei
     TowerBsHt = 15 m): the plant's tower is one beam from -30 m to the top, the hub at the deck's 150 m. Its first
     modes are that beam's: 0.182 Hz, against 0.17 Hz in the IEA 15 MW report (Gaertner et al. 2020) and 0.181 Hz
     from WISDEM's current model (IEA-15-240-RWT issue 247); well below 2P at rated speed (0.252 Hz), where the
-    tower clamped at its base (0.256 Hz) stood. The beam's mass below the base is the monopile's steel."""
+    tower clamped at its base (0.256 Hz) stood. The beam's mass below the base is the monopile's steel. The import's
+    approximations and the summary say what the tower stands on."""
     turbine = load_turbine(imported_deck(IEA_15MW) / "turbine.yaml")
+    assert "#   - the tower stands on the deck's monopile, a flexible base (IEA-15-240-RWT-Monopile_SubDyn.dat: 18 " \
+        "members from -30 m, clamped, to TowerBsHt = 15 m)" in (imported_deck(IEA_15MW) / "turbine.yaml").read_text()
+    assert "the tower stands on a flexible base: its substructure, from its clamp at -30 m to the tower's base at " \
+        "15 m" in format_summary(turbine_summary(turbine))
     tower = turbine.tower
     assert (tower.base_kind, tower.base_height, tower.clamp_height) == ("flexible", 15.0, -30.0)
     assert turbine.hub_height == pytest.approx(150.0, abs=0.05)
