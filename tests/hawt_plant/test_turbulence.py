@@ -1,4 +1,4 @@
-"""Specification of hawt_plant.turbulence: IEC NTM fields from pyconturb, their cache and sampling."""
+"""Specification of hawt_plant.turbulence: IEC NTM and ETM fields from pyconturb, their cache and sampling."""
 
 import numpy as np
 import pytest
@@ -7,8 +7,9 @@ from scipy.interpolate import RegularGridInterpolator
 
 from hawt_plant import turbulence
 from hawt_plant.inflow import InflowSettings, make_wind
-from hawt_plant.turbulence import (TurbulenceSpec, TurbulentWind, cached_turbulence, generate_turbulence,
-                                   longitudinal_length_scale, ntm_standard_deviation, rotor_grid_size)
+from hawt_plant.turbulence import (TurbulenceSpec, TurbulentWind, cached_turbulence, etm_standard_deviation,
+                                   generate_turbulence, longitudinal_length_scale, ntm_standard_deviation,
+                                   rotor_grid_size)
 
 RATED_SPEED = 11.4  # NREL 5 MW rated wind speed [m/s]
 
@@ -38,6 +39,42 @@ def unscaled_fields() -> list[np.ndarray]:
 def test_ntm_sigma_is_iref_times_0_75_v_plus_5_6(turbulence_class, sigma):
     """sigma_1 = I_ref (0.75 V_hub + 5.6) with I_ref 0.16/0.14/0.12 (IEC 61400-1 NTM), at 10 m/s."""
     assert ntm_standard_deviation(10.0, turbulence_class) == pytest.approx(sigma)
+
+
+@pytest.mark.parametrize("hub_speed, turbulence_class, i_ref, turbine_class, reference_speed", [
+    (18.0, "B", 0.14, "I", 50.0), (11.4, "A", 0.16, "II", 42.5), (25.0, "C", 0.12, "III", 37.5)])
+def test_etm_sigma_is_c_iref_times_0_072_v_ave_v_hub_term_plus_10(hub_speed, turbulence_class, i_ref, turbine_class,
+                                                                   reference_speed):
+    """sigma_1 = c I_ref (0.072 (V_ave / c + 3) (V_hub / c - 4) + 10), c = 2 m/s, V_ave = 0.2 V_ref (IEC 61400-1
+    Ed. 3 eq. 19 and eq. 9); 3.606 m/s at 18 m/s in class IB, against the NTM's 2.674 m/s."""
+    v_ave = 0.2 * reference_speed
+    expected = 2.0 * i_ref * (0.072 * (v_ave / 2.0 + 3.0) * (hub_speed / 2.0 - 4.0) + 10.0)
+    assert etm_standard_deviation(hub_speed, turbulence_class, turbine_class) == pytest.approx(expected, rel=1e-12)
+    assert etm_standard_deviation(18.0, "B", "I") == pytest.approx(3.6064)
+
+
+def test_an_etm_field_is_the_ntm_field_of_its_seed_with_the_etm_sigma():
+    """Same seed and grid: the ETM field's fluctuations are the NTM field's times sigma_ETM / sigma_NTM (pyconturb's
+    spectra take sigma_1 from the spec), the mean is the same, and the hub node has the ETM's sigma_1 (1, 0.8, 0.5)."""
+    ntm = generate_turbulence(_small_spec(seed=5)).velocity_grid
+    etm = generate_turbulence(_small_spec(seed=5, turbulence_model="ETM", turbine_class="II")).velocity_grid
+    ratio = etm_standard_deviation(RATED_SPEED, "A", "II") / ntm_standard_deviation(RATED_SPEED, "A")
+    np.testing.assert_allclose(etm.mean(axis=0), ntm.mean(axis=0), atol=1e-4)
+    np.testing.assert_allclose(etm - etm.mean(axis=0), (ntm - ntm.mean(axis=0)) * ratio, atol=1e-4)
+    np.testing.assert_allclose(etm[:, 1, 1].std(axis=0), ratio * ntm_standard_deviation(RATED_SPEED, "A") *
+                               np.array([1.0, 0.8, 0.5]), rtol=1e-5)
+
+
+def test_ntm_specs_keep_the_cache_keys_they_had_before_the_etm():
+    """The hashes of NTM specs are those of the code before turbulence_model and turbine_class existed (commit
+    be3b513; pyconturb 2.7.4 and cache format 2, whose change changes every key), so their cached fields are found
+    again; an NTM spec's turbine class does not change its key, the ETM's does."""
+    assert turbulence._cache_key(TurbulenceSpec(18.0, "B", seed=1)) == "cc0017dfe02ac3b8011435bbafdfd97b"
+    assert turbulence._cache_key(TurbulenceSpec(RATED_SPEED, turbine_class="III")) == \
+        "136b62c9f95b676df52b42ad144b75a1"
+    etm = {turbulence._cache_key(TurbulenceSpec(18.0, "B", seed=1, turbulence_model="ETM", turbine_class=name))
+           for name in ("I", "II")}
+    assert len(etm) == 2 and "cc0017dfe02ac3b8011435bbafdfd97b" not in etm
 
 
 def test_length_scale_is_0_7_z_up_to_60_m_and_42_m_above():
@@ -197,6 +234,8 @@ def test_default_grid_covers_the_nrel_5mw_rotor():
     ({"grid_height": 200.0}, "grid_height"),
     ({"n_y": 4}, "odd"),
     ({"mean_speed": 0.0}, "hub_speed"),
+    ({"turbulence_model": "EWM"}, "turbulence_model"),
+    ({"turbulence_model": "ETM", "turbine_class": "IV"}, "turbine_class"),
 ])
 def test_invalid_spec_is_rejected_naming_the_argument(changes, message):
     """Bad parameters raise a ValueError that says which one."""
