@@ -126,7 +126,7 @@ def read_bridge_file(path: Path) -> BridgeFile:
     try:
         lines = path.read_text().splitlines()
     except (OSError, UnicodeDecodeError) as error:
-        raise BridgeError(f"hawt bridge file {path}: cannot read it: {getattr(error, 'strerror', None) or error}") \
+        raise BridgeError(f"bridge file {path}: cannot read it: {getattr(error, 'strerror', None) or error}") \
             from None
     found: Dict[str, str] = {}
     for number, line in enumerate(lines, start=1):
@@ -135,20 +135,20 @@ def read_bridge_file(path: Path) -> BridgeFile:
             continue
         key, sep, value = (part.strip() for part in text.partition("="))
         if not sep or key not in _KEYS:
-            raise BridgeError(f"hawt bridge file {path}:{number}: expected KEY = VALUE with KEY one of "
+            raise BridgeError(f"bridge file {path}:{number}: expected KEY = VALUE with KEY one of "
                               f"{', '.join(_KEYS)}, found {text!r}")
         found[key] = value
-    for key in ("socket", "graph"):
+    for key, what in (("socket", "PATH line (where the hawt bridge listens)"), ("graph", "GRAPH line")):
         if not found.get(key):
-            raise BridgeError(f"hawt bridge file {path}: no {key} = ... line")
+            raise BridgeError(f"bridge file {path}: no {key} = {what}")
     if len(found["socket"].encode()) > 107:
-        raise BridgeError(f"hawt bridge file {path}: socket: a path of at most 107 characters")
+        raise BridgeError(f"bridge file {path}: socket: a path of at most 107 characters")
     try:
         timeout = float(found.get("timeout", 10.0))
     except ValueError:
         timeout = -1.0
     if not timeout > 0:
-        raise BridgeError(f"hawt bridge file {path}: timeout: expected seconds > 0, found {found['timeout']}")
+        raise BridgeError(f"bridge file {path}: timeout: expected seconds > 0, found {found['timeout']}")
     folder = path.resolve().parent
     record = found.get("record")
     return BridgeFile(path, found["socket"], found["graph"], tuple(shlex.split(found.get("arguments", ""))),
@@ -334,7 +334,7 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
 
         return build_run(graph, overrides, progress, bridge_plant)
     except (GraphError, ParameterError) as error:
-        raise BridgeError(f"hawt bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
+        raise BridgeError(f"bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
 
 
 def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,

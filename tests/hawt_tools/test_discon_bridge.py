@@ -1,0 +1,236 @@
+"""libhawt_discon.so and hawt_tools.discon_bridge: a graph as a DISCON library, driven by hawt's own DISCON host.
+
+The host is hawt_controllers.discon_library (ctypes, float32 swap array, a private loaded copy per instance);
+the bridge is a separate process (``python -m hawt_tools.discon_bridge FILE``), as it is beside OpenFAST.
+"""
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hawt_controllers.discon_library import DisconFailure, DisconInputs, DisconLibrary
+from hawt_tools.cli import find_graph
+from hawt_tools.discon_bridge import (MISSING_FIELDS, BridgeError, bridge_library, measurements,
+                                      read_bridge_file)
+from hawt_tools.graph_file import load_graph
+from hawt_tools.in_process import RunRecord, build_run
+from hawt_tools.launcher import package_prefix
+
+STEPS = 600
+"""Calls per run: 6 s at the graphs' 100 Hz."""
+
+
+def _graph(name):
+    return load_graph(find_graph(name), {}, package_prefix)
+
+
+def _bridge_file(folder: Path, graph: str = "baseline", extra: str = "") -> Path:
+    path = folder / "bridge.txt"
+    path.write_text(f"# test bridge\nsocket = {folder / 'bridge.sock'}\ngraph = {graph}\ntimeout = 5\n{extra}")
+    return path
+
+
+def _start_bridge(path: Path) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "hawt_tools.discon_bridge", str(path)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def _listening(bridge: subprocess.Popen) -> subprocess.Popen:
+    """Wait for the bridge's first line, which it prints once it listens."""
+    line = bridge.stderr.readline()
+    assert "listening on" in line, line
+    return bridge
+
+
+def _host(path: Path, run, individual: bool = False) -> DisconLibrary:
+    d = run.description
+    return DisconLibrary(bridge_library(), path, d.blades, d.dt, (d.min_pitch, d.max_pitch, d.max_pitch_rate),
+                         individual_pitch=individual)
+
+
+def _inputs(o) -> DisconInputs:
+    return DisconInputs(o.time, o.pitch, o.generator_speed, o.rotor_speed, o.generator_torque, o.electrical_power,
+                        o.aero_torque * o.rotor_speed, o.hub_wind_speed, o.root_moment_oop, o.root_moment_ip,
+                        o.azimuth, o.tower_top_fa_accel, o.tower_top_ss_accel, o.hub_tilt_moment, o.hub_yaw_moment)
+
+
+class _Replay:
+    """A plant model that returns given outputs one by one (the in-process reference on the host's inputs)."""
+
+    def __init__(self, outputs):
+        self.outputs = iter(outputs)
+
+    def step(self, pitch, torque):
+        return next(self.outputs)
+
+
+@pytest.fixture(scope="module", params=["baseline", "ipc"])
+def bridged(request, tmp_path_factory):
+    """``hawt run GRAPH`` (in process, 18 m/s sheared) for STEPS steps, then the same measurements through the
+    library and the bridge: the run's outputs and commands, the host's demands and what the library sent."""
+    name = request.param
+    run = build_run(_graph(name))
+    book, outputs = RunRecord(), []
+    for _ in range(STEPS):
+        outputs.append(run.output)
+        run.step(book)
+    folder = tmp_path_factory.mktemp(name)
+    path = _bridge_file(folder, name)
+    bridge = _start_bridge(path)
+    host = _host(path, run, individual=name == "ipc")
+    demands, sent = [], []
+    for output in outputs:
+        demands.append(host.step(_inputs(output)))
+        sent.append(host.swap[:129].copy())
+    host.close()
+    out, err = bridge.communicate(timeout=60)
+    return {"name": name, "run": run, "outputs": outputs, "commands": book.rows["control/pitch_command"],
+            "demands": demands, "sent": sent, "bridge": (bridge.returncode, out, err)}
+
+
+def test_the_bridge_ends_cleanly_at_the_last_call(bridged):
+    """Status -1 ends the bridge's run: exit 0, every call answered (STEPS and the last)."""
+    code, out, err = bridged["bridge"]
+    assert code == 0, err
+    assert f"finished {STEPS + 1} DISCON calls" in out
+
+
+def test_commands_equal_the_graph_in_process_on_the_same_measurements_bit_for_bit(bridged):
+    """The graph stepped in process on the float32 measurements the library sent gives, rounded to float32, the
+    library's demands bit for bit: pitch per blade, collective and torque."""
+    blades = bridged["run"].description.blades
+    seen = [measurements(swap, blades) for swap in bridged["sent"]]
+    reference = build_run(_graph(bridged["name"]), plant=lambda values, progress: (
+        _turbine(values), _Replay(seen[1:] + seen[-1:]), seen[0]))
+    book = RunRecord()
+    for _ in range(STEPS):
+        reference.step(book)
+    for k, (row, demand) in enumerate(zip(book.rows["control/pitch_command"], bridged["demands"])):
+        pitch = np.asarray(row["pitch"], dtype=np.float32)
+        assert np.array_equal(np.asarray(demand.pitch, dtype=np.float32), pitch), k
+        assert np.float32(demand.collective) == np.float32(np.mean(row["pitch"])), k
+        assert np.float32(demand.generator_torque) == np.float32(row["generator_torque"]), k
+
+
+def _turbine(values):
+    from hawt_plant.turbine import nrel_5mw, turbine_from
+
+    return turbine_from(values["turbine_file"]) if values["turbine_file"] else nrel_5mw()
+
+
+def test_commands_equal_hawt_run_to_float32_precision(bridged):
+    """Against ``hawt run`` on the float64 measurements: the same commands but for the float32 rounding of the
+    swap array (inputs and outputs), which the controllers' filters carry on: within 1e-6 rad and 1e-5 relative."""
+    commands, demands = bridged["commands"], bridged["demands"]
+    pitch = np.array([c["pitch"] for c in commands])
+    torque = np.array([c["generator_torque"] for c in commands])
+    assert np.max(np.abs(np.array([d.pitch for d in demands]) - pitch)) < 1e-6
+    assert np.max(np.abs(np.array([d.generator_torque for d in demands]) - torque) / np.abs(torque)) < 1e-5
+    if bridged["name"] == "ipc":
+        assert np.ptp(pitch, axis=1).max() > np.radians(0.1), "the ipc graph pitches the blades apart"
+
+
+def test_fields_the_interface_lacks_are_nan():
+    """The plant output of a call has NaN exactly where the DISCON interface has no record."""
+    swap = np.arange(1, 130, dtype=np.float32)
+    output = measurements(swap, 3)
+    for name in MISSING_FIELDS:
+        assert np.isnan(getattr(output, name)), name
+    assert output.rotor_speed == 21 and list(output.root_moment_oop) == [30, 31, 32] and list(output.pitch) == [4, 33, 34]
+
+
+def _steady_run():
+    run = build_run(_graph("baseline"))
+    return run, run.output
+
+
+def test_a_bridge_killed_mid_run_makes_the_library_fail_with_a_message(tmp_path):
+    """SIGKILL of the bridge after 50 calls: the next call fails (aviFAIL < 0) naming the gone bridge, and the swap
+    array holds the safe commands: the last pitch one step towards feather, the last torque held."""
+    run, output = _steady_run()
+    path = _bridge_file(tmp_path)
+    bridge = _start_bridge(path)
+    host = _host(path, run)
+    for _ in range(50):
+        last = host.step(_inputs(output))
+    bridge.kill()
+    bridge.wait()
+    with pytest.raises(DisconFailure, match="hawt bridge on .* is gone"):
+        host.step(_inputs(output))
+    rate, dt = run.turbine.pitch_actuator.max_rate, run.description.dt
+    assert np.allclose(host.swap[41:44], np.float32(last.pitch[0] + rate * dt), rtol=0, atol=1e-6)
+    assert host.swap[46] == np.float32(last.generator_torque)
+
+
+def test_a_bridge_that_stops_answering_makes_the_library_fail_after_the_timeout(tmp_path):
+    """A stopped bridge (SIGSTOP) does not answer: the call returns after the file's timeout with aviFAIL < 0."""
+    run, output = _steady_run()
+    path = _bridge_file(tmp_path)
+    path.write_text(path.read_text().replace("timeout = 5", "timeout = 0.5"))
+    bridge = _listening(_start_bridge(path))
+    host = _host(path, run)
+    try:
+        host.step(_inputs(output))
+        os.kill(bridge.pid, signal.SIGSTOP)
+        with pytest.raises(DisconFailure, match="did not answer within the timeout"):
+            host.step(_inputs(output))
+    finally:
+        bridge.kill()
+        bridge.wait()
+
+
+def test_no_bridge_listening_is_a_failure_not_a_hang(tmp_path):
+    """Without a bridge the first call fails after the timeout, saying where it looked and how to start one."""
+    run, output = _steady_run()
+    path = _bridge_file(tmp_path)
+    path.write_text(path.read_text().replace("timeout = 5", "timeout = 0.2"))
+    with pytest.raises(DisconFailure, match="no hawt bridge answers on .*bridge.sock within 0.2 s"):
+        _host(path, run).step(_inputs(output))
+
+
+@pytest.mark.parametrize("text, message", [
+    ("graph = baseline\n", "no socket = PATH line"),
+    ("socket = /tmp/x.sock\ngraph = baseline\ntimeout = soon\n", "timeout: expected seconds > 0, found soon"),
+])
+def test_a_bad_bridge_file_is_one_line_on_both_sides(tmp_path, text, message):
+    """The library fails with the file's fault; the bridge refuses the same file with one line and exit 2."""
+    run, output = _steady_run()
+    path = tmp_path / "bridge.txt"
+    path.write_text(text)
+    with pytest.raises(DisconFailure, match=message):
+        _host(path, run).step(_inputs(output))
+    bridge = _start_bridge(path)
+    _, err = bridge.communicate(timeout=60)
+    assert bridge.returncode == 2
+    assert err.count("\n") == 1 and message in err
+
+
+@pytest.mark.parametrize("extra, message", [
+    ("parameters = cpc.no_such_gain:=1\n", "no_such_gain"),
+    ("arguments = wind_speed:=fast\n", "wind_speed"),
+])
+def test_a_graph_error_is_one_line_exit_2_and_the_library_fails_with_it(tmp_path, extra, message):
+    """A graph the bridge cannot build: the bridge says why in one line and exits 2; the library's first call fails
+    with the same line."""
+    run, output = _steady_run()
+    path = _bridge_file(tmp_path, "baseline", extra)
+    bridge = _start_bridge(path)
+    with pytest.raises(DisconFailure, match=message) as failure:
+        _host(path, run).step(_inputs(output))
+    _, err = bridge.communicate(timeout=60)
+    assert bridge.returncode == 2
+    last = err.strip().splitlines()[-1]
+    assert last.startswith("hawt bridge: ") and message in last
+    assert last[len("hawt bridge: "):] in str(failure.value)
+
+
+def test_read_bridge_file_names_the_line_of_an_unknown_key(tmp_path):
+    """An unknown key is refused with the file and line."""
+    path = tmp_path / "b.txt"
+    path.write_text("socket = /tmp/s\ngraph = baseline\nsocke = x\n")
+    with pytest.raises(BridgeError, match=r"b.txt:3: expected KEY = VALUE"):
+        read_bridge_file(path)
