@@ -127,7 +127,7 @@ def extreme_wind_speed(turbine_class: str, recurrence_period: int) -> float:
 
     Notes
     -----
-    IEC 61400-1 Ed. 3 §6.3.2.1 (EWM, steady model); Ed. 4 (2019) keeps both equations.
+    IEC 61400-1 Ed. 3 §6.3.2.1 (EWM, steady model); Ashes' documentation of Ed. 4 (2019) quotes the same.
 
     Examples
     --------

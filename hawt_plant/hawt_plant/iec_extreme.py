@@ -14,7 +14,9 @@ time t - x / V_hub. A direction theta turns the horizontal wind about the vertic
 
 The equations are IEC 61400-1 Ed. 3's (2005); the standard was not accessible, so they are checked against NREL
 WEIS's IEC wind generators (``IEC_CoherentGusts`` and its DLC case generator, whose comments number the
-equations). Ashes' documentation of IEC 61400-1 Ed. 4 (2019) gives the same EWM and EDC equations.
+equations). Ed. 4 (2019) lists as its technical changes new classes for tropical cyclones and high turbulence, a
+Weibull distribution of the NTM's sigma and updated load cases, none of these conditions; Ashes' documentation of
+Ed. 4 quotes the same EWM and EDC equations.
 """
 import math
 

@@ -17,10 +17,10 @@ from typing import Any, Callable, Mapping, Tuple
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
-from hawt_plant.turbulence import REFERENCE_WIND_SPEED, TURBULENCE_MODELS
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
+from hawt_plant.turbulence import REFERENCE_WIND_SPEED, TURBULENCE_MODELS
 
 __all__ = ["PARAMETERS", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant",
            "make_safety_system"]
@@ -56,7 +56,7 @@ PARAMETERS = (
     ParameterSpec("turbulence_model", "NTM", "wind_type turbulent: IEC normal or extreme turbulence model (the ETM's "
                   "sigma_1 grows with wind_class's annual mean speed)", choices=TURBULENCE_MODELS, read_only=True),
     ParameterSpec("wind_class", "I", "IEC wind turbine class, its reference speed V_ref 50, 42.5 or 37.5 m/s: the "
-                  "ETM's annual mean speed, the EOG's 1-year and the EWM's extreme wind",
+                  "ETM's annual mean speed, the EOG's 1-year extreme wind and the EWM's",
                   choices=tuple(REFERENCE_WIND_SPEED), read_only=True),
     ParameterSpec("seed", 0, "seed of the turbulent field", minimum=0, maximum=2**31 - 1, read_only=True),
     ParameterSpec("field_duration", 600.0, "length of the turbulent field (wraps after)", "s", minimum=10.0,

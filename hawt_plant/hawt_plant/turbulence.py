@@ -109,7 +109,7 @@ def etm_standard_deviation(hub_speed: float, turbulence_class: str, turbine_clas
     Notes
     -----
     IEC 61400-1 Ed. 3 §6.3.2.3 eq. 19 (ETM), checked against NREL WEIS's IEC case generator (its ETM turbulence
-    intensity is this sigma_1 / V_hub). Ed. 4 (2019) keeps the equation.
+    intensity is this sigma_1 / V_hub). Ed. 4 (2019) lists no change to the ETM among its technical changes.
 
     Examples
     --------
