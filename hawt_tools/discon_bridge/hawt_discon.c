@@ -9,9 +9,11 @@
  * (records 42-44), collective pitch (45) and generator torque (47). The bridge steps the graph named in the
  * bridge file (accINFILE); hawt_tools/hawt_tools/discon_bridge.py is the other end and documents the file.
  *
- * The library reads two keys of the bridge file: `socket` (where the bridge listens) and `timeout` (seconds,
- * default 10: how long a call waits for the bridge to listen or to answer). Status 0 (first call) connects
- * and sends the file's path; status -1 (last call) ends the bridge's run and closes the connection.
+ * The library reads three keys of the bridge file: `socket` (where the bridge listens), `start_timeout`
+ * (seconds, default 60: how long the first call waits for the bridge to listen and to answer, while it builds
+ * the graph) and `timeout` (seconds, default 10: how long every later call waits for its answer). Status 0
+ * (first call) connects and sends the file's path; status -1 (last call) ends the bridge's run and closes the
+ * connection.
  *
  * Safety. Whatever goes wrong (a bad bridge file, no bridge listening, no answer within the timeout, a bridge
  * that died or refused the graph), the call sets aviFAIL = -1 with a one-line message in avcMSG and returns
@@ -63,6 +65,7 @@ enum {
 #define MESSAGE_CHARS 1024
 #define MAX_BLADES 3
 #define DEFAULT_TIMEOUT 10.0          /* [s] */
+#define DEFAULT_START_TIMEOUT 60.0    /* [s] */
 #define DEFAULT_FEATHER_ANGLE 1.5707963 /* [rad], 90 deg */
 #define DEFAULT_FEATHER_RATE 0.13962634 /* [rad/s], 8 deg/s */
 
@@ -88,7 +91,8 @@ struct reply {
 static struct {
     int fd;                    /* connection to the bridge, -1 before the first call and after the last */
     int failed;                /* set by the first failure: from then on, safe commands only */
-    double timeout;            /* [s] */
+    double timeout;            /* [s] bound on waiting for an answer */
+    double start_timeout;      /* [s] bound on waiting for the bridge to listen and answer the first call */
     char socket_path[sizeof(((struct sockaddr_un *)0)->sun_path)];
     float pitch[MAX_BLADES];   /* last pitch command per blade [rad] */
     float torque;              /* last generator torque command [N*m] */
@@ -124,12 +128,13 @@ __attribute__((format(printf, 1, 2))) static void fail(const char *format, ...)
     bridge.fd = -1;
 }
 
-/* Read `socket` and `timeout` from the bridge file (`key = value` lines, # comments); 0 on success. */
+/* Read `socket`, `timeout` and `start_timeout` from the bridge file (`key = value` lines, # comments); 0 on success. */
 static int read_bridge_file(const char *path)
 {
     FILE *file = fopen(path, "r");
     char line[2048];
     bridge.timeout = DEFAULT_TIMEOUT;
+    bridge.start_timeout = DEFAULT_START_TIMEOUT;
     bridge.socket_path[0] = '\0';
     if (!file) {
         fail("hawt bridge file %s: cannot read it: %s", path, strerror(errno));
@@ -153,14 +158,15 @@ static int read_bridge_file(const char *path)
                 return -1;
             }
             strcpy(bridge.socket_path, value);
-        } else if (strcmp(key, "timeout") == 0) {
+        } else if (strcmp(key, "timeout") == 0 || strcmp(key, "start_timeout") == 0) {
             char *end;
-            bridge.timeout = strtod(value, &end);
-            if (*end != '\0' || !(bridge.timeout > 0)) {
+            double seconds = strtod(value, &end);
+            if (*end != '\0' || !(seconds > 0)) {
                 fclose(file);
-                fail("hawt bridge file %s: timeout: expected seconds > 0, found %s", path, value);
+                fail("hawt bridge file %s: %s: expected seconds > 0, found %s", path, key, value);
                 return -1;
             }
+            *(strcmp(key, "timeout") == 0 ? &bridge.timeout : &bridge.start_timeout) = seconds;
         }
     }
     fclose(file);
@@ -171,11 +177,11 @@ static int read_bridge_file(const char *path)
     return 0;
 }
 
-/* Connect to the bridge, waiting up to the timeout for it to listen; 0 on success. */
+/* Connect to the bridge, waiting up to the start timeout for it to listen; 0 on success. */
 static int connect_bridge(void)
 {
     struct sockaddr_un address = {.sun_family = AF_UNIX};
-    double deadline = now() + bridge.timeout;
+    double deadline = now() + bridge.start_timeout;
     strcpy(address.sun_path, bridge.socket_path);
     for (;;) {
         int fd = socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
@@ -191,14 +197,14 @@ static int connect_bridge(void)
         close(fd);
         if ((error != ENOENT && error != ECONNREFUSED) || now() > deadline) {
             fail("no hawt bridge answers on %s within %g s (start it with: hawt bridge FILE)",
-                 bridge.socket_path, bridge.timeout);
+                 bridge.socket_path, bridge.start_timeout);
             return -1;
         }
         usleep(10000); /* the bridge is not listening yet: try again in 10 ms, until the deadline */
     }
 }
 
-/* Send this call's records, wait for the answer within the timeout; 0 on success. */
+/* Send this call's records, wait for the answer within the (start) timeout; 0 on success. */
 static int exchange(const float *avrSWAP, const char *infile, struct reply *answer)
 {
     struct request request = {.magic = {'H', 'W', 'B', '1'}, .status = (int32_t)lroundf(SWAP(R_STATUS))};
@@ -211,12 +217,13 @@ static int exchange(const float *avrSWAP, const char *infile, struct reply *answ
         return -1;
     }
     struct pollfd ready = {.fd = bridge.fd, .events = POLLIN};
+    double timeout = request.status == 0 ? bridge.start_timeout : bridge.timeout;
     int polled;
     do
-        polled = poll(&ready, 1, (int)ceil(bridge.timeout * 1000));
+        polled = poll(&ready, 1, (int)ceil(timeout * 1000));
     while (polled < 0 && errno == EINTR);
     if (polled == 0) {
-        fail("the hawt bridge on %s did not answer within the timeout at t = %g s", bridge.socket_path,
+        fail("the hawt bridge on %s did not answer within %g s at t = %g s", bridge.socket_path, timeout,
              (double)SWAP(R_TIME));
         return -1;
     }

@@ -15,13 +15,14 @@ turbine's limits, the plant's protection) is the runner's, so the graph runs as 
 **The bridge file** (``accINFILE``, ``key = value`` lines, ``#`` comments)::
 
     socket = /tmp/hawt-bridge.sock      # where the bridge listens (required; at most 107 characters)
-    graph = ipc                         # a graph file or an installed graph's name (required)
+    graph = ipc                         # a graph file (relative to this file's folder) or an installed graph's name
     arguments = wind_speed:=18          # the graph's launch arguments, NAME:=VALUE, space-separated
     parameters = cpc.kp:=0.01           # more NODE.PARAM:=VALUE, space-separated (as -p)
-    timeout = 10                        # [s] the library's bound on waiting for the bridge (default 10)
+    timeout = 10                        # [s] the library's bound on waiting for an answer (default 10)
+    start_timeout = 60                  # [s] and for the bridge to listen and answer the first call (default 60)
     record = run.mcap                   # write the graph's topics to this bag at the last call (optional)
 
-The library reads ``socket`` and ``timeout``; the bridge reads the rest. The plant's ``dt`` is the simulator's
+The library reads ``socket``, ``timeout`` and ``start_timeout``; the bridge reads the rest (and checks them all). The plant's ``dt`` is the simulator's
 communication interval (record 3); the turbine is the graph's plant's (its limits, gearbox and blades; the
 simulator's blade count, record 61, must be the same).
 
@@ -72,7 +73,7 @@ MISSING_FIELDS = ("aero_torque", "rotor_thrust", "tower_top_fa_disp", "tower_top
                   "tower_base_ss_moment", "yaw_bearing_tilt_moment", "yaw_bearing_yaw_moment", "effective_wind_mean",
                   "effective_wind_cos", "effective_wind_sin")
 """The plant output's fields that the DISCON interface does not carry: NaN in every step of a bridged run."""
-_KEYS = ("socket", "graph", "arguments", "parameters", "timeout", "record")
+_KEYS = ("socket", "graph", "arguments", "parameters", "timeout", "start_timeout", "record")
 _PITCH = (Record.PITCH_1, Record.PITCH_2, Record.PITCH_3)
 
 
@@ -117,6 +118,7 @@ class BridgeFile:
     arguments: Tuple[str, ...] = ()
     parameters: Tuple[str, ...] = ()
     timeout: float = 10.0
+    start_timeout: float = 60.0
     record: Optional[Path] = None
 
 
@@ -143,16 +145,18 @@ def read_bridge_file(path: Path) -> BridgeFile:
             raise BridgeError(f"bridge file {path}: no {key} = {what}")
     if len(found["socket"].encode()) > 107:
         raise BridgeError(f"bridge file {path}: socket: a path of at most 107 characters")
-    try:
-        timeout = float(found.get("timeout", 10.0))
-    except ValueError:
-        timeout = -1.0
-    if not timeout > 0:
-        raise BridgeError(f"bridge file {path}: timeout: expected seconds > 0, found {found['timeout']}")
+    seconds = {}
+    for key, default in (("timeout", 10.0), ("start_timeout", 60.0)):
+        try:
+            seconds[key] = float(found.get(key, default))
+        except ValueError:
+            seconds[key] = -1.0
+        if not seconds[key] > 0:
+            raise BridgeError(f"bridge file {path}: {key}: expected seconds > 0, found {found[key]}")
     folder = path.resolve().parent
     record = found.get("record")
     return BridgeFile(path, found["socket"], found["graph"], tuple(shlex.split(found.get("arguments", ""))),
-                      tuple(shlex.split(found.get("parameters", ""))), timeout,
+                      tuple(shlex.split(found.get("parameters", ""))), seconds["timeout"], seconds["start_timeout"],
                       (folder / record) if record else None)
 
 
@@ -290,11 +294,27 @@ def _round_dt(dt32: float) -> float:
     return float(f"{dt32:.7g}")
 
 
+def _graph_file(bridge: BridgeFile) -> Path:
+    """The graph a bridge file names: a file beside the bridge file (or a path relative to its folder), else an
+    installed graph's name (whatever folders the bridge's working directory has)."""
+    from hawt_tools.cli import _GRAPH_PACKAGES, find_graph
+    from hawt_tools.launcher import package_prefix
+
+    local = bridge.path.resolve().parent / bridge.graph
+    if local.is_file() or Path(bridge.graph).suffix in (".yaml", ".yml") or "/" in bridge.graph:
+        return local
+    for package in _GRAPH_PACKAGES:
+        prefix = package_prefix(package)
+        candidate = Path(prefix or "") / "share" / package / "launch" / f"{bridge.graph}.yaml"
+        if prefix and candidate.is_file():
+            return candidate
+    return find_graph(bridge.graph)  # a GraphError naming the graphs there are
+
+
 def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int, swap: np.ndarray,
                       infile: str, progress: Callable[[str], None] = lambda _: None):
     """The graph of ``bridge`` built on the simulator's first call (status, records, its bridge file path), with
     a :class:`BridgeModel` on ``connection`` as its plant. A :class:`BridgeError` for anything that cannot run."""
-    from hawt_tools.cli import find_graph
     from hawt_tools.graph_file import GraphError, load_graph
     from hawt_tools.in_process import build_run, plant_node
     from hawt_tools.launcher import package_prefix, parse_overrides
@@ -317,7 +337,7 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
             if not sep or not name:
                 raise GraphError(f"arguments: {word!r}: expected NAME:=VALUE")
             arguments[name] = value
-        graph = load_graph(find_graph(bridge.graph), arguments, package_prefix)
+        graph = load_graph(_graph_file(bridge), arguments, package_prefix)
         overrides = dict(parse_overrides(graph, bridge.parameters))
         plant = plant_node(graph)
         overrides[plant.label] = list(overrides.get(plant.label, ())) + [("dt", dt)]
