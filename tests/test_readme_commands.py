@@ -60,7 +60,7 @@ RUN: Dict[str, List[Line]] = {
         Line("./hawt design cpc --turbine iea15 --natural-frequency 0.2 --damping 1.0"),
         # one operating point of the five, and the design's rate budget still leaves 2P and 3P inactive
         Line("./hawt design ipc --turbine iea15 --measured", add="--wind-speeds 18"),
-        Line("./hawt run ipc turbine:=iea15 wind_type:=turbulent ipc_h2:=false ipc_h3:=false --record iea15-ipc1.mcap",
+        Line("./hawt run ipc turbine:=iea15 wind_type:=turbulent --record iea15-ipc1.mcap",
              add=f"{SHORT} {FIELD}"),
     ],
     "LQG IPC": [

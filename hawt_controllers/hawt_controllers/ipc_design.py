@@ -377,13 +377,12 @@ def _budget_summary(budgets: Sequence[RateBudget], active: Sequence[int], inacti
     if not inactive:
         return f"rate budget: {names} take {100 * fits:.0f} % together, {limit}: all active"
     first = budgets[len(active)]
-    flags = " ".join(f"ipc_h{n}:=false" for n in inactive)
     return ((f"rate budget: {names} take{'s' if len(active) == 1 else ''} {100 * fits:.0f} %, {limit}; "
              f"h{first.harmonic} would bring it to {100 * (fits + first.share):.0f} %: " if active else
              f"rate budget: h{first.harmonic} alone takes {100 * first.share:.0f} %, not {limit}: ")
-            + ", ".join(f"h{n}" for n in inactive) + " written inactive (active: false; hawt switch --activate "
-            f"ipc_h{first.harmonic} brings one in). The ipc graph's ipc_hN arguments set active over the file: "
-            f"start it with {flags}")
+            + ", ".join(f"h{n}" for n in inactive) + " written inactive (active: false, which the graphs' ipc_hN "
+            f"arguments do not override; -p ipc_h{first.harmonic}.active:=true starts one active, hawt switch "
+            f"--activate ipc_h{first.harmonic} brings one in)")
 
 
 @dataclass(frozen=True)

@@ -11,10 +11,14 @@ from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbulence import TurbulenceSpec, cached_turbulence, rotor_grid_size
 from hawt_plant.wind_field import WindField
 
-__all__ = ["WIND_KINDS", "InflowSettings", "make_wind"]
+__all__ = ["OPERATING_WIND_KINDS", "PARKED_WIND_KINDS", "WIND_KINDS", "InflowSettings", "make_wind"]
 
-WIND_KINDS = ("steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal", "ewm50",
-              "ewm1")
+OPERATING_WIND_KINDS = ("steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal")
+"""The winds an operating rotor runs in: the plant's ``wind_type`` choices."""
+PARKED_WIND_KINDS = ("ewm50", "ewm1")
+"""The steady extreme wind model's, for a parked or idling rotor (IEC DLC 6.x), which the plant does not model yet:
+the operating point has no pitch for rated power at 56-70 m/s."""
+WIND_KINDS = OPERATING_WIND_KINDS + PARKED_WIND_KINDS
 
 
 @dataclass(frozen=True)

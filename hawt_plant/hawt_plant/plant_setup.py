@@ -16,7 +16,7 @@ from typing import Any, Callable, Mapping, Tuple
 
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
-from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.inflow import OPERATING_WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
@@ -46,9 +46,8 @@ PARAMETERS = (
                   minimum=0.0, maximum=MAX_DURATION, read_only=True),
     ParameterSpec("wind_type", "steady", "inflow model: steady, turbulent, bts, a step, or an IEC 61400-1 extreme "
                   "condition: eog, edc (direction change), ecd (coherent gust with direction change), ews_vertical, "
-                  "ews_horizontal (wind shear), ewm50, ewm1 (steady extreme wind of wind_class)", choices=WIND_KINDS,
-                  read_only=True),
-    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed (ewm50, ewm1: the wind class's instead)", "m/s",
+                  "ews_horizontal (wind shear)", choices=OPERATING_WIND_KINDS, read_only=True),
+    ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s",
                   minimum=3.0, maximum=30.0, read_only=True),
     ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=0.99,
                   read_only=True),

@@ -62,7 +62,7 @@ def test_on_the_nrel_5mw_1p_2p_and_3p_fit_the_budget_and_the_design_leaves_them_
 
 def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_inactive(capsys):
     """The NREL 5 MW with a 2.8 °/s actuator (the IEA 15 MW's shares): 1P takes 78 %, 1P+2P would take 94 %; 2P
-    and 3P keep their design but are written inactive, and the design says how to start the ipc graph."""
+    and 3P keep their design but are written inactive, and the design says how to start one anyway."""
     turbine = nrel_5mw()
     slow = replace(turbine, pitch_actuator=replace(turbine.pitch_actuator, max_rate=math.radians(2.8)))
     nodes = _design(slow)
@@ -70,5 +70,5 @@ def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_in
     assert nodes["/**/ipc_h3"]["ros__parameters"]["integral_gain"] > 0.0
     assert capsys.readouterr().out.splitlines()[-1] == (
         "rate budget: h1 takes 78 %, within 85 % of the actuator's 2.8 deg/s; h2 would bring it to 94 %: h2, h3 "
-        "written inactive (active: false; hawt switch --activate ipc_h2 brings one in). The ipc graph's ipc_hN "
-        "arguments set active over the file: start it with ipc_h2:=false ipc_h3:=false")
+        "written inactive (active: false, which the graphs' ipc_hN arguments do not override; -p "
+        "ipc_h2.active:=true starts one active, hawt switch --activate ipc_h2 brings one in)")

@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from hawt_core.parameter_table import ParameterError
+from hawt_core.parameter_table import ParameterError, resolve_values
 from hawt_plant.gusts import ExtremeOperatingGust
 from hawt_plant.iec_extreme import DirectionChange, ExtremeWindShear
-from hawt_plant.inflow import WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.inflow import OPERATING_WIND_KINDS, WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.plant_setup import PARAMETERS
 from hawt_plant.shear_wind import PowerLawWind
 
@@ -20,10 +20,15 @@ def _hub(wind, t: float) -> np.ndarray:
     return wind.velocity(t, *HUB)[:, 0]
 
 
-def test_the_plant_offers_every_wind_kind_and_the_iec_extreme_conditions():
-    """wind_type takes every kind make_wind builds: the earlier five and the IEC EDC, ECD, EWS (both) and EWM (both)."""
-    assert ROWS["wind_type"].choices == WIND_KINDS == (
-        "steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal", "ewm50", "ewm1")
+def test_the_plant_offers_every_operating_wind_kind_and_refuses_the_parked_rotors_in_one_line():
+    """wind_type takes every kind make_wind builds for an operating rotor: the earlier five and the IEC EDC, ECD and
+    EWS (both). The EWM's (50- and 1-year) are a parked or idling rotor's, which the plant does not model: refused
+    with the choices, before anything is built."""
+    assert ROWS["wind_type"].choices == OPERATING_WIND_KINDS == (
+        "steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal")
+    assert WIND_KINDS == OPERATING_WIND_KINDS + ("ewm50", "ewm1")
+    with pytest.raises(ParameterError, match="wind_type"):
+        resolve_values(PARAMETERS, {"wind_type": "ewm50"})
 
 
 @pytest.mark.parametrize("name, bad", [("gust_sign", 0), ("gust_sign", 2), ("wind_class", "IV"),
