@@ -855,8 +855,8 @@ def _tower(s: _Section) -> Tower:
             raise s.error(key, f"coefficients add up to {modes[key].sum():.4f}, expected 1 (unit top value)")
     elevation = s.array("outline_elevation", increasing=True)
     height = s.number("height", low=0.0)
-    base = s.number("base_height", low=0.0, high=height, strict=False, default=0.0)
-    if base == height:
+    base = s.number("base_height", low=0.0, strict=False, default=0.0)
+    if base >= height:
         raise s.error("base_height", f"expected a value below the tower top (height {height:g}), found {base:g}")
     return Tower(
         height=height,
@@ -872,7 +872,7 @@ def _tower(s: _Section) -> Tower:
         outline_diameter=s.array("outline_diameter", length=elevation.size, positive=True),
         drag_coefficient=s.number("drag_coefficient", low=0.0, strict=False, default=1.0),
         base_height=base,
-        clamp_height=s.number("clamp_height", high=base, strict=False, default=base),
+        clamp_height=s.number("clamp_height", high=base, default=base),
     )
 
 
