@@ -29,24 +29,40 @@ __all__ = ["main", "find_graph"]
 _GRAPH_PACKAGES = ("hawt_tools", "hawt_plant", "hawt_controllers")
 
 
+def installed_graphs() -> Dict[str, Path]:
+    """The installed graph files by name: each ``<name>.yaml`` of a hawt package's ``launch`` folder."""
+    from hawt_tools.launcher import package_prefix
+
+    graphs: Dict[str, Path] = {}
+    for package in _GRAPH_PACKAGES:
+        prefix = package_prefix(package)
+        folder = Path(prefix) / "share" / package / "launch" if prefix else None
+        if folder and folder.is_dir():
+            graphs.update((p.stem, p) for p in sorted(folder.glob("*.yaml")) if p.stem not in graphs)
+    return graphs
+
+
 def find_graph(name: str) -> Path:
     """A graph file: the path itself if it exists, else ``<name>.yaml`` in a hawt package's ``launch`` folder."""
     path = Path(name)
     if path.exists() or path.suffix in (".yaml", ".yml"):
         return path
-    from hawt_tools.launcher import package_prefix
-
-    known = []
-    for package in _GRAPH_PACKAGES:
-        prefix = package_prefix(package)
-        folder = Path(prefix) / "share" / package / "launch" if prefix else None
-        if folder and folder.is_dir():
-            candidate = folder / f"{name}.yaml"
-            if candidate.is_file():
-                return candidate
-            known += sorted(p.stem for p in folder.glob("*.yaml"))
+    graphs = installed_graphs()
+    if name in graphs:
+        return graphs[name]
     raise GraphError(f"{name}: no such graph file, and no installed graph of that name"
-                     + (did_you_mean(name, known) if known else ""))
+                     + (did_you_mean(name, sorted(graphs)) if graphs else ""))
+
+
+def graph_summary(path: Path) -> str:
+    """What a graph file says it is: the first sentence of its leading comment ('' without one)."""
+    lines = []
+    for line in Path(path).read_text().splitlines():
+        if not line.startswith("#") or line.startswith("#  "):
+            break
+        lines.append(line.lstrip("# ").strip())
+    text = " ".join(lines)
+    return text.split(". ")[0].split(": ", 1)[-1].rstrip(".").strip()
 
 
 def _launch_arguments(words: List[str]) -> Dict[str, str]:
@@ -328,7 +344,21 @@ def _compare_campaigns(args: argparse.Namespace, only_folders: bool) -> int:
 def _cmd_list(args: argparse.Namespace) -> int:
     from hawt_tools.graph_info import snapshot
 
-    print(snapshot(settle=args.settle).text())
+    found = snapshot(settle=args.settle)
+    if found.nodes:
+        print(found.text())
+        return 0
+    print(f"no running graph found (ROS_DOMAIN_ID={os.environ.get('ROS_DOMAIN_ID', '0')}); the graphs that can be "
+          "started (hawt graph list, hawt graph show GRAPH):\n  " + ", ".join(installed_graphs()))
+    return 0
+
+
+def _cmd_graph_list(args: argparse.Namespace) -> int:
+    """The installed graph files, each with what its leading comment says it is; starts and discovers nothing."""
+    graphs = installed_graphs()
+    width = max(map(len, graphs), default=0)
+    for name, path in graphs.items():
+        print(f"{name:<{width}}  {graph_summary(path)}")
     return 0
 
 
@@ -927,8 +957,13 @@ def _parser() -> argparse.ArgumentParser:
     recover.add_argument("-o", "--output", metavar="OUT.mcap", help="default: FILE.recovered.mcap")
     recover.set_defaults(run=_cmd_bag_recover)
 
-    graph = commands.add_parser("graph", help="what a graph file declares (show)")
+    graph = commands.add_parser("graph", help="the installed graph files (list) and what one declares (show)")
     graph_commands = graph.add_subparsers(dest="graph_action", required=True, metavar="ACTION")
+    graph_list = graph_commands.add_parser(
+        "list", help="the installed graph files, each with what it is (offline: nothing runs)",
+        description="List the graphs installed with hawt's packages by name, each with the first sentence of its "
+                    "file's comment. Starts and discovers nothing; hawt list shows a running graph.")
+    graph_list.set_defaults(run=_cmd_graph_list)
     graph_show = graph_commands.add_parser(
         "show", help="a graph's launch arguments with defaults, its nodes and parameter files, its programs",
         description="List a graph file's launch arguments (NAME:=VALUE) with their defaults and descriptions, "

@@ -1,7 +1,7 @@
 """``hawt graph show`` lists what a graph declares without starting it: arguments with defaults, nodes, parameters."""
 from pathlib import Path
 
-from hawt_tools.cli import main
+from hawt_tools.cli import graph_summary, main
 from hawt_tools.graph_file import ArgumentSpec, declared_arguments
 
 
@@ -33,3 +33,23 @@ def test_declared_arguments_keep_default_and_description_as_written(tmp_path: Pa
     graph.write_text('launch:\n- arg: {name: gain, default: "2.5", description: loop gain}\n'
                      '- arg: {name: out}\n- node: {pkg: hawt_tools, exec: relay}\n')
     assert declared_arguments(graph) == (ArgumentSpec("gain", "2.5", "loop gain"), ArgumentSpec("out", None))
+
+
+def test_graph_list_names_every_installed_graph_with_what_its_comment_says_offline(capsys):
+    """hawt graph list starts and discovers nothing: each installed graph, one per line, with the first sentence of its
+    file's comment; each name is one that hawt graph show takes."""
+    assert main(["graph", "list"]) == 0
+    rows = dict(line.split(None, 1) for line in capsys.readouterr().out.splitlines())
+    assert {"baseline", "ipc", "lqg", "rosco", "validation"} <= rows.keys()
+    assert rows["baseline"].startswith("the NREL 5 MW plant with its collective pitch and torque controller")
+    assert all(summary and not summary.startswith("#") for summary in rows.values())
+    assert all(main(["graph", "show", name]) == 0 for name in rows)
+
+
+def test_graph_summary_is_the_first_sentence_of_the_leading_comment_after_its_title(tmp_path: Path):
+    graph = tmp_path / "graph.yaml"
+    graph.write_text("# Relay graph: two nodes passing loads. The second doubles them;\n# more text.\n"
+                     "#   ./hawt launch graph.yaml\nlaunch: []\n")
+    assert graph_summary(graph) == "two nodes passing loads"
+    graph.write_text("launch: []\n")
+    assert graph_summary(graph) == ""
