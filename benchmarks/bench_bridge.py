@@ -8,7 +8,8 @@ Measured one after the other on this machine:
 - with ``$HAWT_OPENFAST`` (``../shared/tools/openfast/`` has one; its README says how to install it): OpenFAST on the
   NREL 5 MW deck (the inputs ``hawt validate`` writes, steady 18 m/s, shear 0.2) with ServoDyn's DLL_FileName
   pointed at libhawt_discon.so for the ``baseline`` and the ``ipc`` graph, and with ROSCO: mean rotor speed and
-  power against rated, the blade-root out-of-plane 1P, and OpenFAST's wall time (bridge against ROSCO).
+  power against rated, the blade-root out-of-plane 1P, and OpenFAST's wall time (bridge against ROSCO); then the
+  ``ipc`` run again with its bridge SIGKILLed at t = 10 s: how long OpenFAST takes to stop, and what it says.
 
 Usage: ./hawt bench bridge [--duration S] [--calls N] [--keep DIR]
 """
@@ -147,6 +148,33 @@ def openfast_bridged(executable: Path, folder: Path, graph: str, duration: float
     return wall, output_of(written.fst)
 
 
+def openfast_bridge_killed(executable: Path, folder: Path, duration: float, at: float = 10.0) -> tuple:
+    """OpenFAST with the ``ipc`` bridge SIGKILLed once OpenFAST reports ``at`` s: OpenFAST's last lines (its
+    error, the library's message) and the wall time [s] from the kill to OpenFAST's exit."""
+    from hawt_tools.discon_bridge import bridge_library
+    from hawt_tools.openfast_case import OpenFastFailed, run_openfast
+
+    path = _bridge_file(folder, "ipc_killed").parent / "ipc_killed.bridge"
+    path.write_text(_bridge_file(folder, "ipc").read_text().replace("ipc.sock", "ipc_killed.sock"))
+    written = write_openfast_case(folder, "ipc_killed", duration, bridge_library(), path)
+    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", str(path)])
+    killed = []
+
+    def progress(t: float, total: float) -> None:
+        if t >= at and not killed:
+            bridge.kill()
+            killed.append(time.monotonic())
+
+    try:
+        run_openfast(executable, written.fst, progress)
+    except OpenFastFailed as failure:
+        return str(failure).split("): ", 1)[-1], time.monotonic() - killed[0] if killed else float("nan")
+    finally:
+        bridge.kill()
+        bridge.wait()
+    sys.exit("bench bridge: OpenFAST ran to the end with its bridge killed")
+
+
 def openfast_rosco(executable: Path, folder: Path, duration: float) -> tuple:
     """OpenFAST with ROSCO (the rosco wheel's library and the NREL 5 MW DISCON.IN): wall time [s] and output file."""
     from hawt_controllers.rosco_input import rosco_files, write_private_input
@@ -219,6 +247,9 @@ def main() -> None:
         for name in ("baseline", "ipc"):
             print(f"OpenFAST speed with the {name} bridge / with ROSCO: {runs['rosco'][0] / runs[name][0]:.2f} "
                   "(target >= 0.5)")
+        lines, after = openfast_bridge_killed(executable, folder, args.duration)
+        print(f"ipc bridge SIGKILLed at t = 10 s: OpenFAST exited {after:.2f} s later (the library fails at the next "
+              f"call; OpenFAST's exit pauses 3 s); its last lines: {lines}")
     print("load average (1, 5, 15 min): {:.2f} {:.2f} {:.2f} on {} CPUs".format(*os.getloadavg(), os.cpu_count()))
 
 

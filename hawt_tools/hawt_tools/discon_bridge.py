@@ -85,8 +85,9 @@ class BridgeClosed(RuntimeError):
     """The simulator closed the connection before its last call (it stopped or died)."""
 
 
-def bridge_library() -> Path:
-    """``libhawt_discon.so`` as ``scripts/setup.sh`` built it, checked against its source.
+def bridge_library(root: Optional[Path] = None) -> Path:
+    """``libhawt_discon.so`` as ``scripts/setup.sh`` built it, checked against its source; ``root`` is the
+    repository (default: this file's).
 
     Raises
     ------
@@ -96,7 +97,7 @@ def bridge_library() -> Path:
     """
     import hashlib
 
-    root = Path(__file__).resolve().parents[2]
+    root = Path(root) if root is not None else Path(__file__).resolve().parents[2]
     source = "hawt_tools/discon_bridge/hawt_discon.c"
     library, stamp = root / "ros2_ws" / "lib" / "libhawt_discon.so", root / "ros2_ws" / "lib" / ".hawt-discon"
     if not library.is_file() or not stamp.is_file():

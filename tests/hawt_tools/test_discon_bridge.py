@@ -236,3 +236,23 @@ def test_read_bridge_file_names_the_line_of_an_unknown_key(tmp_path):
     path.write_text("socket = /tmp/s\ngraph = baseline\nsocke = x\n")
     with pytest.raises(BridgeError, match=r"b.txt:3: expected KEY = VALUE"):
         read_bridge_file(path)
+
+
+def test_a_library_older_than_its_source_is_never_used(tmp_path):
+    """bridge_library refuses a library whose stamp is not its source's digest, and one not built."""
+    import shutil
+
+    built = bridge_library()
+    root = built.parents[2]
+    source = tmp_path / "hawt_tools" / "discon_bridge" / "hawt_discon.c"
+    source.parent.mkdir(parents=True)
+    shutil.copy(root / "hawt_tools" / "discon_bridge" / "hawt_discon.c", source)
+    with pytest.raises(BridgeError, match="not built"):
+        bridge_library(tmp_path)
+    (tmp_path / "ros2_ws" / "lib").mkdir(parents=True)
+    for name in ("libhawt_discon.so", ".hawt-discon"):
+        shutil.copy(built.parent / name, tmp_path / "ros2_ws" / "lib" / name)
+    assert bridge_library(tmp_path) == tmp_path / "ros2_ws" / "lib" / "libhawt_discon.so"
+    source.write_text(source.read_text() + "/* changed */\n")
+    with pytest.raises(BridgeError, match="built from another version of hawt_tools/discon_bridge/hawt_discon.c"):
+        bridge_library(tmp_path)
