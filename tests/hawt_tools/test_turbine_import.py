@@ -348,9 +348,11 @@ def test_other_decks_import_load_and_a_plant_steps_on_them(imported_deck, deck, 
 def test_the_iea_15mw_stands_on_its_monopile_as_a_flexible_base_at_the_decks_heights(imported_deck):
     """The monopile deck's tower stands on SubDyn's monopile (clamped at the mudline, 30 m below the sea, up to
     TowerBsHt = 15 m): the plant's tower is one beam from -30 m to the top, the hub at the deck's 150 m. Its first
-    modes are that beam's: 0.182 Hz, against 0.17 Hz in the IEA 15 MW report (Gaertner et al. 2020) and 0.181 Hz
-    from WISDEM's current model (IEA-15-240-RWT issue 247); well below 2P at rated speed (0.252 Hz), where the
-    tower clamped at its base (0.256 Hz) stood. The beam's mass below the base is the monopile's steel. The import's
+    modes are that beam's: 0.182 Hz with the rotor and nacelle a point mass (the summary's), against 0.17 Hz in the
+    IEA 15 MW report (Gaertner et al. 2020) and 0.181 Hz from WISDEM's current model (IEA-15-240-RWT issue 247);
+    well below 2P at rated speed (0.252 Hz), where the tower clamped at its base (0.256 Hz) stood. (With their
+    rotary inertia the plant's fore-aft mode is at 0.172 Hz; OpenFAST v5 on the deck, parked, without aerodynamics
+    and water, rings at 0.174 Hz.) The beam's mass below the base is the monopile's steel. The import's
     approximations and the summary say what the tower stands on."""
     turbine = load_turbine(imported_deck(IEA_15MW) / "turbine.yaml")
     assert "#   - the tower stands on the deck's monopile, a flexible base (IEA-15-240-RWT-Monopile_SubDyn.dat: 18 " \
