@@ -187,6 +187,22 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_bridge(args: argparse.Namespace) -> int:
+    from hawt_tools.discon_bridge import BridgeClosed, BridgeError, run_bridge
+
+    def say(line: str) -> None:
+        print(f"hawt bridge: {line}", file=sys.stderr, flush=True)
+
+    try:
+        result = run_bridge(Path(args.file), args.graph, args.arguments, args.param, args.record, say, _progress)
+    except BridgeError as error:
+        raise GraphError(str(error)) from None
+    except BridgeClosed as error:
+        raise RuntimeError(str(error)) from None
+    print(result.events[-1]["detail"] + (f"; recorded into {result.record}" if result.record else ""))
+    return 0
+
+
 def _view_command(port: int, allow_parameter_sets: bool = False) -> List[str]:
     """The command line of hawt_tools' ``view`` executable serving on ``port`` (letting clients set parameters if
     asked)."""
@@ -890,6 +906,22 @@ def _parser() -> argparse.ArgumentParser:
                      help="override a parameter of one node (repeatable)")
     run.add_argument("--record", metavar="FILE.mcap", help="write the run's topics into this new bag")
     run.set_defaults(run=_cmd_run)
+
+    bridge = commands.add_parser(
+        "bridge", help="a graph as the controller of a simulator that calls libhawt_discon.so (OpenFAST's ServoDyn)",
+        description="Serve one simulator run: libhawt_discon.so (ros2_ws/lib/, ServoDyn's DLL_FileName) reads "
+                    "the bridge file (DLL_InFile) and sends each DISCON call over its socket; the graph steps in "
+                    "process with the call's measurements as its plant and answers that step's pitch and torque. "
+                    "Ends at the simulator's last call. See hawt_tools/discon_bridge.py for the file.")
+    bridge.add_argument("graph", nargs="?", metavar="GRAPH", help="graph file or installed graph (default: the "
+                        "bridge file's graph)")
+    bridge.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="launch arguments of the graph")
+    bridge.add_argument("--file", required=True, metavar="BRIDGE_FILE",
+                        help="the bridge file the simulator is given (its socket, timeouts, graph)")
+    bridge.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
+                        help="override a parameter of one node (repeatable)")
+    bridge.add_argument("--record", metavar="FILE.mcap", help="write the run's topics into this new bag")
+    bridge.set_defaults(run=_cmd_bridge)
 
     from hawt_bag.recorder import add_record_arguments
 

@@ -60,7 +60,7 @@ from hawt_controllers.discon_library import Record
 from hawt_plant.model import TurbineOutput
 
 __all__ = ["BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "MISSING_FIELDS", "REQUEST", "REPLY",
-           "SENT_RECORDS", "bridge_library", "listen", "measurements", "read_bridge_file", "serve"]
+           "SENT_RECORDS", "bridge_library", "listen", "measurements", "read_bridge_file", "run_bridge", "serve"]
 
 SENT_RECORDS = 129
 """Records 1-129 of the swap array go to the bridge with every call."""
@@ -123,8 +123,9 @@ class BridgeFile:
     record: Optional[Path] = None
 
 
-def read_bridge_file(path: Path) -> BridgeFile:
-    """Read a bridge file; a :class:`BridgeError` naming the file (and line) for anything wrong."""
+def read_bridge_file(path: Path, graph_required: bool = True) -> BridgeFile:
+    """Read a bridge file; a :class:`BridgeError` naming the file (and line) for anything wrong. Without
+    ``graph_required`` (the command line names the graph) the file may leave ``graph`` out."""
     path = Path(path)
     try:
         lines = path.read_text().splitlines()
@@ -142,7 +143,7 @@ def read_bridge_file(path: Path) -> BridgeFile:
                               f"{', '.join(_KEYS)}, found {text!r}")
         found[key] = value
     for key, what in (("socket", "PATH line (where the hawt bridge listens)"), ("graph", "GRAPH line")):
-        if not found.get(key):
+        if not found.get(key) and (key != "graph" or graph_required):
             raise BridgeError(f"bridge file {path}: no {key} = {what}")
     if len(found["socket"].encode()) > 107:
         raise BridgeError(f"bridge file {path}: socket: a path of at most 107 characters")
@@ -156,7 +157,7 @@ def read_bridge_file(path: Path) -> BridgeFile:
             raise BridgeError(f"bridge file {path}: {key}: expected seconds > 0, found {found[key]}")
     folder = path.resolve().parent
     record = found.get("record")
-    return BridgeFile(path, found["socket"], found["graph"], tuple(shlex.split(found.get("arguments", ""))),
+    return BridgeFile(path, found["socket"], found.get("graph", ""), tuple(shlex.split(found.get("arguments", ""))),
                       tuple(shlex.split(found.get("parameters", ""))), seconds["timeout"], seconds["start_timeout"],
                       (folder / record) if record else None)
 
@@ -298,18 +299,12 @@ def _round_dt(dt32: float) -> float:
 def _graph_file(bridge: BridgeFile) -> Path:
     """The graph a bridge file names: a file beside the bridge file (or a path relative to its folder), else an
     installed graph's name (whatever folders the bridge's working directory has)."""
-    from hawt_tools.cli import _GRAPH_PACKAGES, find_graph
-    from hawt_tools.launcher import package_prefix
+    from hawt_tools.cli import find_graph, installed_graphs
 
     local = bridge.path.resolve().parent / bridge.graph
     if local.is_file() or Path(bridge.graph).suffix in (".yaml", ".yml") or "/" in bridge.graph:
         return local
-    for package in _GRAPH_PACKAGES:
-        prefix = package_prefix(package)
-        candidate = Path(prefix or "") / "share" / package / "launch" / f"{bridge.graph}.yaml"
-        if prefix and candidate.is_file():
-            return candidate
-    return find_graph(bridge.graph)  # a GraphError naming the graphs there are
+    return installed_graphs().get(bridge.graph) or find_graph(bridge.graph)  # a GraphError naming those there are
 
 
 def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int, swap: np.ndarray,
@@ -411,8 +406,38 @@ def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
     return BridgeRun(run, model.calls, bridge.record, run.events)
 
 
+def run_bridge(path: Path, graph: Optional[str] = None, arguments: Sequence[str] = (),
+               parameters: Sequence[str] = (), record: Optional[Path] = None,
+               listening: Callable[[str], None] = lambda _: None,
+               progress: Callable[[str], None] = lambda _: None) -> BridgeRun:
+    """Serve one simulator run of the bridge file at ``path`` (what ``hawt bridge`` does).
+
+    ``graph`` with its launch ``arguments`` replaces the file's graph and arguments; ``parameters``
+    (``NODE.PARAM:=VALUE``) are added to the file's; ``record`` replaces the file's bag. ``listening`` gets a line
+    once the bridge listens (the simulator may start), ``progress`` the bridge's stage lines.
+
+    Raises
+    ------
+    BridgeError
+        The bridge file, the graph or the simulator (one line; also sent to the library if it called).
+    BridgeClosed
+        The simulator went away before its last call.
+    """
+    from dataclasses import replace
+
+    bridge = read_bridge_file(Path(path), graph_required=not graph)
+    if graph:
+        bridge = replace(bridge, graph=graph, arguments=tuple(arguments))
+    bridge = replace(bridge, parameters=bridge.parameters + tuple(parameters),
+                     record=Path(record) if record is not None else bridge.record)
+    server = listen(bridge.socket)
+    listening(f"listening on {bridge.socket} for {bridge.graph}")
+    return serve(bridge, server, progress)
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m hawt_tools.discon_bridge FILE``: serve one simulator run of the bridge file FILE.
+    """``python -m hawt_tools.discon_bridge FILE``: serve one simulator run of the bridge file FILE (as
+    ``hawt bridge --file FILE``).
 
     Exit 0 after the simulator's last call, 2 with one line for a bad bridge file, graph or simulator, 1 with
     one line when the simulator went away.
@@ -423,11 +448,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if len(args) != 1:
         print("usage: python -m hawt_tools.discon_bridge BRIDGE_FILE", file=sys.stderr)
         return 2
+
+    def say(line: str) -> None:
+        print(f"hawt bridge: {line}", file=sys.stderr, flush=True)
+
     try:
-        bridge = read_bridge_file(Path(args[0]))
-        server = listen(bridge.socket)
-        print(f"hawt bridge: listening on {bridge.socket} for {bridge.graph}", file=sys.stderr, flush=True)
-        result = serve(bridge, server, lambda line: print(f"hawt bridge: {line}", file=sys.stderr, flush=True))
+        result = run_bridge(Path(args[0]), listening=say, progress=say)
     except BridgeError as error:
         print(f"hawt bridge: {error}", file=sys.stderr)
         return 2

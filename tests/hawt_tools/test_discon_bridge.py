@@ -256,3 +256,31 @@ def test_a_library_older_than_its_source_is_never_used(tmp_path):
     source.write_text(source.read_text() + "/* changed */\n")
     with pytest.raises(BridgeError, match="built from another version of hawt_tools/discon_bridge/hawt_discon.c"):
         bridge_library(tmp_path)
+
+
+def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_path):
+    """``hawt bridge ipc NAME:=VALUE --file F --record B``: a file with only a socket serves the command line's
+    graph; at the last call the bag holds one plant/blade_loads and one control/pitch_command per answered call."""
+    from hawt_bag.plant_run import load_plant_run
+    from hawt_bag.reader import BagReader
+
+    run, output = _steady_run()
+    path = tmp_path / "bridge.txt"
+    path.write_text(f"socket = {tmp_path / 'b.sock'}\n")
+    bag = tmp_path / "bridged.mcap"
+    bridge = subprocess.Popen([sys.executable, "-m", "hawt_tools.cli", "bridge", "ipc", "wind_speed:=18", "--file",
+                               str(path), "--record", str(bag)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    _listening(bridge)
+    host = _host(path, run, individual=True)
+    for _ in range(200):
+        host.step(_inputs(output))
+    host.close()
+    out, err = bridge.communicate(timeout=60)
+    assert bridge.returncode == 0, err
+    assert "finished 201 DISCON calls" in out and str(bag) in out
+    with BagReader(bag) as reader:
+        recorded = load_plant_run(reader)
+    assert list(recorded.steps) == list(range(200))
+    assert {topic.rsplit("/", 2)[-2] + "/" + topic.rsplit("/", 1)[-1]: n for topic, n in recorded.counts.items()
+            if "events" not in topic} == {"plant/blade_loads": 200, "plant/state": 200, "control/pitch_command": 200}
