@@ -222,7 +222,8 @@ def _cmd_view(args: argparse.Namespace) -> int:
 
 
 def _cmd_record(args: argparse.Namespace) -> int:
-    from hawt_bag.recorder import options_from, record
+    from hawt_bag.record_options import options_from
+    from hawt_bag.recorder import record
 
     return record(options_from(args))
 
@@ -923,7 +924,7 @@ def _parser() -> argparse.ArgumentParser:
     bridge.add_argument("--record", metavar="FILE.mcap", help="write the run's topics into this new bag")
     bridge.set_defaults(run=_cmd_bridge)
 
-    from hawt_bag.recorder import add_record_arguments
+    from hawt_bag.record_options import add_record_arguments
 
     record = commands.add_parser("record", help="record topics of the running graph into an MCAP bag",
                                  description="Record all topics (or the chosen ones) into a new MCAP bag until "
