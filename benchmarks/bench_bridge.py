@@ -8,10 +8,13 @@ Measured one after the other on this machine:
 - with ``$HAWT_OPENFAST`` (``../shared/tools/openfast/`` has one; its README says how to install it): OpenFAST on the
   NREL 5 MW deck (the inputs ``hawt validate`` writes, steady 18 m/s, shear 0.2) with ServoDyn's DLL_FileName
   pointed at libhawt_discon.so for the ``baseline`` and the ``ipc`` graph, and with ROSCO: mean rotor speed and
-  power against rated, the blade-root out-of-plane 1P, and OpenFAST's wall time (bridge against ROSCO); then the
-  ``ipc`` run again with its bridge SIGKILLed at t = 10 s: how long OpenFAST takes to stop, and what it says.
+  power against rated, the blade-root out-of-plane 1P and DELs, and OpenFAST's wall time (bridge against ROSCO);
+  both graphs on hawt's plant beside them (in process), with the changes of ipc against baseline on both plants;
+- the same on the plant's own class B turbulent field at 18 m/s (seed 1) written as a TurbSim ``.bts`` that both
+  plants read (``--turbulent-duration``, the first 60 s not analysed);
+- the ``ipc`` run again with its bridge SIGKILLed at t = 10 s: how long OpenFAST takes to stop, and what it says.
 
-Usage: ./hawt bench bridge [--duration S] [--calls N] [--keep DIR]
+Usage: ./hawt bench bridge [--duration S] [--turbulent-duration S] [--calls N] [--keep DIR]
 """
 import argparse
 import os
@@ -26,7 +29,9 @@ import numpy as np
 CASE = {"wind_type": "steady", "wind_speed": "18", "shear_exponent": "0.2"}
 """Case "steady 18 m/s, shear 0.2": the graphs' arguments and OpenFAST's inflow."""
 ANALYSED = 60.0
-"""The last seconds of a run that are analysed [s]."""
+"""The last seconds of the steady case that are analysed [s]."""
+TURBULENT_START = 60.0
+"""The first seconds of the turbulent case that are not analysed [s] (the start rings)."""
 
 _ECHO = """
 import socket, sys
@@ -43,12 +48,12 @@ while True:
 """
 
 
-def _graph(name: str):
+def _graph(name: str, arguments: dict = None):
     from hawt_tools.cli import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.launcher import package_prefix
 
-    return load_graph(find_graph(name), dict(CASE), package_prefix)
+    return load_graph(find_graph(name), dict(arguments or CASE), package_prefix)
 
 
 def _inputs(o):
@@ -68,11 +73,12 @@ def _listening(command: list) -> subprocess.Popen:
     return process
 
 
-def _bridge_file(folder: Path, graph: str, record: str = "") -> Path:
-    path = folder / f"{graph}.bridge"
+def _bridge_file(folder: Path, graph: str, name: str = None) -> Path:
+    """A bridge file ``NAME.bridge`` in ``folder`` for ``graph`` on the steady case, its socket beside it."""
+    name = name or graph
+    path = folder / f"{name}.bridge"
     arguments = " ".join(f"{k}:={v}" for k, v in CASE.items())
-    path.write_text(f"socket = {folder / (graph + '.sock')}\ngraph = {graph}\narguments = {arguments}\n"
-                    f"timeout = 30\n{record}")
+    path.write_text(f"socket = {folder / (name + '.sock')}\ngraph = {graph}\narguments = {arguments}\ntimeout = 30\n")
     return path
 
 
@@ -115,29 +121,73 @@ def in_process_step(steps: int) -> float:
     return (time.perf_counter() - start) / steps
 
 
-def write_openfast_case(folder: Path, name: str, duration: float, library: Path, infile: Path):
-    """The NREL 5 MW deck for case steady 18 m/s, shear 0.2, with ``library`` and ``infile`` as ServoDyn's DLL and
-    its input, starting at the baseline graph's operating point of step 0 (as ``hawt validate`` does)."""
-    from hawt_analysis.openfast_output import openfast_channel_names
-    from hawt_tools.in_process import build_run
-    from hawt_tools.openfast_case import CaseInputs, deck_of, write_case
+class Case:
+    """A wind case on both plants: steady 18 m/s with shear 0.2, or the plant's own class B turbulent field at
+    18 m/s (seed ``seed``) written as a TurbSim ``.bts`` that OpenFAST and hawt's plant both read."""
 
-    output = build_run(_graph("baseline")).output
-    inputs = CaseInputs(
-        duration=duration, wind_speed=float(CASE["wind_speed"]), shear_exponent=float(CASE["shear_exponent"]),
-        rotor_speed=float(output.rotor_speed), pitch=tuple(float(p) for p in output.pitch),
-        azimuth=float(output.azimuth), tower_top=(float(output.tower_top_fa_disp), float(output.tower_top_ss_disp)),
-        discon_library=library, discon_input=infile, channels=openfast_channel_names(3))
-    return write_case(deck_of("nrel_5mw"), folder / name, name, inputs)
+    def __init__(self, folder: Path, duration: float, turbulent: bool = False, seed: int = 1) -> None:
+        self.duration, self.turbulent = duration, turbulent
+        self.name = f"turbulent-18-seed{seed}" if turbulent else "steady-18"
+        self.arguments, self.parameters, self.bts = dict(CASE), [], None
+        self.window = (duration - ANALYSED, duration) if not turbulent else (TURBULENT_START, duration)
+        if turbulent:
+            from hawt_plant.bts import write_bts
+            from hawt_plant.inflow import InflowSettings, make_wind
+            from hawt_plant.turbine import nrel_5mw
+            from hawt_tools.openfast_case import deck_hub_height, deck_of
+
+            turbine = nrel_5mw()
+            wind = make_wind(InflowSettings(kind="turbulent", wind_speed=18.0, shear_exponent=0.2,
+                                            hub_height=turbine.hub_height, rotor_radius=turbine.rotor.tip_radius,
+                                            turbulence_class="B", seed=seed, field_duration=max(600.0, duration)))
+            if abs(deck_hub_height(deck_of("nrel_5mw")) - wind.hub_height) > 1e-3:
+                sys.exit("bench bridge: the NREL 5 MW deck's hub is not the plant's")
+            self.bts = folder / f"{self.name}.bts"
+            write_bts(self.bts, wind, f"bench bridge: IEC Kaimal class B, 18 m/s, seed {seed}", tower=True)
+            self.arguments["wind_type"] = "bts"
+            self.parameters = [f"plant.bts_file:={self.bts}"]
+        self.arguments["duration"] = f"{duration:g}"
+
+    def bridge_file(self, folder: Path, graph: str) -> Path:
+        """The bridge file of ``graph`` on this case (its socket beside it)."""
+        name = f"{self.name}-{graph}"
+        path = folder / f"{name}.bridge"
+        arguments = " ".join(f"{k}:={v}" for k, v in self.arguments.items())
+        path.write_text(f"socket = {folder / (name + '.sock')}\ngraph = {graph}\narguments = {arguments}\n"
+                        f"parameters = {' '.join(self.parameters)}\ntimeout = 30\n")
+        return path
+
+    def hawt_run(self, graph: str):
+        """The graph built in process on hawt's plant for this case, at step 0."""
+        from hawt_tools.in_process import build_run
+        from hawt_tools.launcher import parse_overrides
+
+        built = _graph(graph, self.arguments)
+        return build_run(built, parse_overrides(built, self.parameters))
+
+    def write_openfast(self, folder: Path, name: str, library: Path, infile: Path):
+        """The NREL 5 MW deck for this case with ``library`` and ``infile`` as ServoDyn's DLL and its input, started
+        at the baseline graph's operating point of step 0 (as ``hawt validate`` does)."""
+        from hawt_analysis.openfast_output import openfast_channel_names
+        from hawt_tools.openfast_case import CaseInputs, deck_of, write_case
+
+        output = self.hawt_run("baseline").output
+        inputs = CaseInputs(
+            duration=self.duration, wind_speed=18.0, shear_exponent=0.2, rotor_speed=float(output.rotor_speed),
+            pitch=tuple(float(p) for p in output.pitch), azimuth=float(output.azimuth),
+            tower_top=(float(output.tower_top_fa_disp), float(output.tower_top_ss_disp)), discon_library=library,
+            discon_input=infile, channels=openfast_channel_names(3), bts_file=self.bts)
+        return write_case(deck_of("nrel_5mw"), folder / name, name, inputs)
 
 
-def openfast_bridged(executable: Path, folder: Path, graph: str, duration: float) -> tuple:
-    """OpenFAST with libhawt_discon.so and ``graph``: its wall time [s] and output file."""
+def openfast_bridged(executable: Path, folder: Path, case: Case, graph: str) -> tuple:
+    """OpenFAST with libhawt_discon.so and ``graph`` on ``case``: its wall time [s] and channels."""
+    from hawt_analysis.openfast_output import read_openfast_output
     from hawt_tools.discon_bridge import bridge_library
     from hawt_tools.openfast_case import output_of, run_openfast
 
-    path = _bridge_file(folder, graph)
-    written = write_openfast_case(folder, graph, duration, bridge_library(), path)
+    path = case.bridge_file(folder, graph)
+    written = case.write_openfast(folder, path.stem, bridge_library(), path)
     bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", str(path)])
     try:
         wall = run_openfast(executable, written.fst)
@@ -145,19 +195,50 @@ def openfast_bridged(executable: Path, folder: Path, graph: str, duration: float
         out, err = bridge.communicate(timeout=60)
     if bridge.returncode != 0:
         sys.exit(f"bench bridge: the {graph} bridge failed (exit {bridge.returncode}): {err[-2000:]}")
-    return wall, output_of(written.fst)
+    return wall, read_openfast_output(output_of(written.fst))
 
 
-def openfast_bridge_killed(executable: Path, folder: Path, duration: float, at: float = 10.0) -> tuple:
+def openfast_rosco(executable: Path, folder: Path, case: Case) -> tuple:
+    """OpenFAST with ROSCO (the rosco wheel's library and the NREL 5 MW DISCON.IN) on ``case``: wall time [s] and
+    channels."""
+    from hawt_analysis.openfast_output import read_openfast_output
+    from hawt_controllers.rosco_input import rosco_files, write_private_input
+    from hawt_controllers.tunings import tuning_file
+    from hawt_tools.openfast_case import output_of, run_openfast
+
+    name = f"{case.name}-rosco"
+    (folder / name).mkdir(parents=True, exist_ok=True)
+    discon = write_private_input(tuning_file("nrel_5mw", "discon"), folder / name / "DISCON.IN", {})
+    written = case.write_openfast(folder, name, rosco_files()[0], discon)
+    return run_openfast(executable, written.fst), read_openfast_output(output_of(written.fst))
+
+
+def hawt_plant(folder: Path, case: Case, graph: str) -> tuple:
+    """``hawt run GRAPH`` on ``case`` (hawt's plant, in process): wall time [s] and channels."""
+    from hawt_bag.plant_run import load_plant_run
+    from hawt_bag.reader import BagReader
+    from hawt_tools.in_process import step_run
+
+    bag = folder / f"{case.name}-{graph}-hawt.mcap"
+    bag.unlink(missing_ok=True)
+    start = time.monotonic()
+    step_run(case.hawt_run(graph), case.duration, bag)
+    wall = time.monotonic() - start
+    with BagReader(bag) as reader:
+        return wall, load_plant_run(reader).channels
+
+
+def openfast_bridge_killed(executable: Path, folder: Path, case: Case, at: float = 10.0) -> tuple:
     """OpenFAST with the ``ipc`` bridge SIGKILLed once OpenFAST reports ``at`` s: OpenFAST's last lines (its
     error, the library's message) and the wall time [s] from the kill to OpenFAST's exit."""
     from hawt_tools.discon_bridge import bridge_library
     from hawt_tools.openfast_case import OpenFastFailed, run_openfast
 
-    path = _bridge_file(folder, "ipc_killed").parent / "ipc_killed.bridge"
-    path.write_text(_bridge_file(folder, "ipc").read_text().replace("ipc.sock", "ipc_killed.sock"))
-    written = write_openfast_case(folder, "ipc_killed", duration, bridge_library(), path)
-    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", str(path)])
+    path = case.bridge_file(folder, "ipc")
+    killed_path = path.with_name(f"{path.stem}-killed.bridge")
+    killed_path.write_text(path.read_text().replace(".sock", "-killed.sock"))
+    written = case.write_openfast(folder, killed_path.stem, bridge_library(), killed_path)
+    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", str(killed_path)])
     killed = []
 
     def progress(t: float, total: float) -> None:
@@ -175,44 +256,74 @@ def openfast_bridge_killed(executable: Path, folder: Path, duration: float, at: 
     sys.exit("bench bridge: OpenFAST ran to the end with its bridge killed")
 
 
-def openfast_rosco(executable: Path, folder: Path, duration: float) -> tuple:
-    """OpenFAST with ROSCO (the rosco wheel's library and the NREL 5 MW DISCON.IN): wall time [s] and output file."""
-    from hawt_controllers.rosco_input import rosco_files, write_private_input
-    from hawt_controllers.tunings import tuning_file
-    from hawt_tools.openfast_case import output_of, run_openfast
+def figures(channels: dict, window: tuple) -> dict:
+    """Over ``window`` (start, end) [s]: mean rotor speed [rad/s] and power [W]; the blade-root out-of-plane 1P
+    amplitude [N*m], its DEL (m = 10) and the hub tilt, yaw and tower-base fore-aft DELs (m = 4) [N*m], blade means;
+    the largest spread of the blades' pitch [rad] and the pitch travel [rad per blade]."""
+    from hawt_analysis.summary import summarize
 
-    (folder / "rosco").mkdir(parents=True, exist_ok=True)
-    discon = write_private_input(tuning_file("nrel_5mw", "discon"), folder / "rosco" / "DISCON.IN", {})
-    written = write_openfast_case(folder, "rosco", duration, rosco_files()[0], discon)
-    return run_openfast(executable, written.fst), output_of(written.fst)
+    inside = (channels["time"] >= window[0] - 1e-9) & (channels["time"] <= window[1] + 1e-9)
+    s = summarize({k: np.asarray(v)[inside] for k, v in channels.items()})
+    blades = [k for k in s["del"] if k.startswith("root_moment_oop_")]
+    one_p = np.mean([s["harmonics"][k]["amplitude"][0] for k in blades])
+    return {"rotor_speed": s["rotor_speed"]["mean"], "power": s["power"]["mean"], "one_p": float(one_p),
+            "root_del": float(np.mean([s["del"][k]["value"] for k in blades])),
+            **{k: s["del"][k]["value"] for k in ("hub_tilt_moment", "hub_yaw_moment", "tower_base_fa_moment")},
+            "pitch_spread": float(np.max(np.ptp(np.asarray(channels["pitch"])[inside], axis=1))),
+            "travel": float(np.mean(s["pitch"]["travel_rad"]["per_blade"]))}
 
 
-def figures(outb: Path) -> dict:
-    """Mean rotor speed [rad/s] and power [W] and the blade-root out-of-plane 1P amplitude [N*m] (blade mean) over
-    the last :data:`ANALYSED` s."""
-    from hawt_analysis.harmonics import harmonic_amplitudes
-    from hawt_analysis.openfast_output import read_openfast_output
+def _line(label: str, wall: float, duration: float, f: dict, rated) -> str:
+    return (f"{label:34s} {wall:6.1f} s wall ({duration / wall:5.2f}x rt)  speed "
+            f"{f['rotor_speed'] / rated.rated_rotor_speed:.4f}  power {f['power'] / rated.rated_power:.4f}  "
+            f"1P {f['one_p'] / 1e6:6.3f}  root DEL {f['root_del'] / 1e6:6.3f}"
+            f"  tilt/yaw DEL {f['hub_tilt_moment'] / 1e6:5.3f}/{f['hub_yaw_moment'] / 1e6:5.3f}"
+            f"  tower fa DEL {f['tower_base_fa_moment'] / 1e6:6.3f}  pitch spread {np.degrees(f['pitch_spread']):5.2f} deg"
+            f", travel {np.degrees(f['travel']):6.1f} deg/blade")
 
-    channels = read_openfast_output(outb)
-    last = channels["time"] >= channels["time"][-1] - ANALYSED
-    one_p = harmonic_amplitudes(channels["root_moment_oop"][last], channels["azimuth"][last], (1,)).amplitude
-    pitch = channels["pitch"][last]
-    return {"rotor_speed": float(np.mean(channels["rotor_speed"][last])),
-            "power": float(np.mean(channels["electrical_power"][last])), "one_p": float(np.mean(one_p)),
-            "pitch_spread": float(np.max(np.ptp(pitch, axis=1)))}
+
+def compare(executable: Path, folder: Path, case: Case) -> dict:
+    """ROSCO, the baseline and the ipc graph on OpenFAST, and both graphs on hawt's plant, on ``case``; prints a line
+    each and the changes of ipc against baseline on both plants. Returns name -> (wall, figures)."""
+    from hawt_plant.turbine import nrel_5mw
+
+    rated = nrel_5mw().description(0.01)
+    print(f"{case.name}, {case.duration:g} s, analysed {case.window[0]:g}-{case.window[1]:g} s (speed and power: of "
+          "rated; moments MN*m, DELs m = 10 blade root, 4 steel):", flush=True)
+    runs = {}
+    for name in ("rosco", "baseline", "ipc", "hawt baseline", "hawt ipc"):
+        if name == "rosco":
+            wall, channels = openfast_rosco(executable, folder, case)
+        elif name.startswith("hawt "):
+            wall, channels = hawt_plant(folder, case, name.split()[1])
+        else:
+            wall, channels = openfast_bridged(executable, folder, case, name)
+        runs[name] = (wall, figures(channels, case.window))
+        label = name.replace("hawt ", "hawt's plant + ") if name.startswith("hawt") else f"OpenFAST + {name}"
+        print("  " + _line(label, wall, case.duration, runs[name][1], rated), flush=True)
+    for plant, prefix in (("OpenFAST", ""), ("hawt's plant", "hawt ")):
+        base, ipc = runs[prefix + "baseline"][1], runs[prefix + "ipc"][1]
+        changes = ", ".join(f"{label} {ipc[key] / base[key] - 1:+.1%}" for label, key in (
+            ("1P", "one_p"), ("root DEL", "root_del"), ("tilt DEL", "hub_tilt_moment"), ("yaw DEL", "hub_yaw_moment"),
+            ("tower fa DEL", "tower_base_fa_moment")))
+        print(f"  ipc against baseline on {plant}: {changes}", flush=True)
+    for name in ("baseline", "ipc"):
+        print(f"  OpenFAST speed with the {name} bridge / with ROSCO: {runs['rosco'][0] / runs[name][0]:.2f} "
+              "(target >= 0.5)", flush=True)
+    return runs
 
 
 def main() -> None:
-    from hawt_plant.turbine import nrel_5mw
-
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=120.0, help="simulated time of the OpenFAST case [s]")
+    parser.add_argument("--duration", type=float, default=120.0, help="simulated time of the steady case [s]")
+    parser.add_argument("--turbulent-duration", type=float, default=300.0,
+                        help="simulated time of the turbulent case [s] (0: leave it out)")
     parser.add_argument("--calls", type=int, default=5000, help="DISCON calls timed per host measurement")
     parser.add_argument("--keep", help="write the OpenFAST cases into this folder and keep them")
     args = parser.parse_args()
     # a socket path must stay under 108 characters: a short temporary folder
     with tempfile.TemporaryDirectory(prefix="hawt-bridge-") as temporary:
-        folder = Path(args.keep or temporary)
+        folder = Path(args.keep or temporary).resolve()
         folder.mkdir(parents=True, exist_ok=True)
         sockets = Path(temporary)
         echo = host_calls(sockets, args.calls, echo=True)
@@ -228,26 +339,13 @@ def main() -> None:
             print("OpenFAST: $HAWT_OPENFAST is not set (../shared/tools/openfast/install.sh DIR installs one)")
             return
         executable = Path(executable)
-        d = nrel_5mw().description(0.01)
-        runs = {}
-        for name in ("rosco", "baseline", "ipc"):
-            if name == "rosco":
-                wall, outb = openfast_rosco(executable, folder, args.duration)
-            else:
-                wall, outb = openfast_bridged(executable, folder, name, args.duration)
-            runs[name] = (wall, figures(outb))
-            f = runs[name][1]
-            print(f"OpenFAST + {name:8s} ({args.duration:g} s, steady 18 m/s, shear 0.2): {wall:6.1f} s wall "
-                  f"({args.duration / wall:.2f}x real time); last {ANALYSED:g} s: rotor speed "
-                  f"{f['rotor_speed'] / d.rated_rotor_speed:.4f} of rated, power {f['power'] / d.rated_power:.4f} of "
-                  f"rated, blade-root 1P {f['one_p'] / 1e6:.3f} MN*m, largest pitch spread "
-                  f"{np.degrees(f['pitch_spread']):.2f} deg", flush=True)
+        steady = Case(folder, args.duration)
+        runs = compare(executable, folder, steady)
         cut = 1 - runs["ipc"][1]["one_p"] / runs["baseline"][1]["one_p"]
-        print(f"blade-root 1P cut by ipc against baseline on OpenFAST: {cut:.1%} (target >= 90 %)")
-        for name in ("baseline", "ipc"):
-            print(f"OpenFAST speed with the {name} bridge / with ROSCO: {runs['rosco'][0] / runs[name][0]:.2f} "
-                  "(target >= 0.5)")
-        lines, after = openfast_bridge_killed(executable, folder, args.duration)
+        print(f"blade-root 1P cut by ipc against baseline on OpenFAST, {steady.name}: {cut:.1%} (target >= 90 %)")
+        if args.turbulent_duration > 0:
+            compare(executable, folder, Case(folder, args.turbulent_duration, turbulent=True))
+        lines, after = openfast_bridge_killed(executable, folder, steady)
         print(f"ipc bridge SIGKILLed at t = 10 s: OpenFAST exited {after:.2f} s later (the library fails at the next "
               f"call; OpenFAST's exit pauses 3 s); its last lines: {lines}")
     print("load average (1, 5, 15 min): {:.2f} {:.2f} {:.2f} on {} CPUs".format(*os.getloadavg(), os.cpu_count()))

@@ -10,7 +10,7 @@ The bridge is the graph's plant. :func:`serve` builds the graph with the in-proc
 (:func:`hawt_tools.in_process.build_run`) and a :class:`BridgeModel` in place of hawt's turbine model: the plant's
 output of step k is what the simulator measured at call k (:func:`measurements`), and the model's ``step`` sends
 the command of step k back and waits for call k + 1. Everything else (controllers, schedule, loop assembly, the
-turbine's limits, the plant's protection) is the runner's, so the graph runs as ``hawt run`` runs it.
+turbine's limits) is the runner's, so the graph runs as ``hawt run`` runs it.
 
 **The bridge file** (``accINFILE``, ``key = value`` lines, ``#`` comments)::
 
@@ -32,6 +32,13 @@ and torque (23), electrical power (15), hub wind speed (27), measured pitch (4, 
 moments (75, 76). Not in the interface, so NaN (:data:`MISSING_FIELDS`): aerodynamic torque and thrust, tower-top
 displacements, tower-base and yaw-bearing moments, the blade-effective wind. A controller that reads one of them
 gets NaN and refuses the step as on any plant (``update_or_hold``).
+
+**No plant protection.** The simulator is the plant, and its safety system is the simulator's: the bridge does not
+run hawt's plant protection (:class:`hawt_plant.safety_system.Protection`) on the simulator's measurements. Those
+are another plant's signals: OpenFAST extrapolates ServoDyn's pitch demand into ElastoDyn quadratically
+(``InterpOrder 2`` in the NREL 5 MW deck), so where the ipc graph's command turns at the pitch rate limit, the
+measured pitch jumps by up to 0.15 deg in one 6.25 ms step (17-29 deg/s), and the protection, whose trip level is
+8.8 deg/s, feathered the turbine 7.5 s into a turbulent run.
 
 **The channel.** A Unix domain socket of type ``SOCK_SEQPACKET``: one message per call and per answer, message
 boundaries kept (no framing code on either side), and a peer that dies is seen at once as a closed connection on
@@ -317,6 +324,7 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     from hawt_core.parameter_table import ParameterError
+    from hawt_plant.safety_system import SafetySystem
     from hawt_plant.turbine import nrel_5mw, turbine_from
 
     if status != 0:
@@ -348,9 +356,11 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
             model = BridgeModel(connection, turbine.rotor.number_of_blades, (actuator.max_angle, actuator.max_rate), individual)
             return turbine, model, measurements(swap, turbine.rotor.number_of_blades)
 
-        return build_run(graph, overrides, progress, bridge_plant)
+        run = build_run(graph, overrides, progress, bridge_plant)
     except (GraphError, ParameterError) as error:
         raise BridgeError(f"bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
+    run.safety = SafetySystem(run.safety.settings)  # no protection: the simulator is the plant (module notes)
+    return run
 
 
 def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
@@ -396,8 +406,13 @@ def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
                  f"{', '.join(MISSING_FIELDS)}")
         book = RunRecord() if bridge.record is not None else None
         start = time.monotonic()
+        reported = len(run.events)
         while not model.finished:
             run.step(book)
+            for event in run.events[reported:]:  # the plant's protection, as hawt run reports it
+                if event["level"] >= 30:
+                    progress(f"{event['kind']} at t={run.output.time:.2f} s: {event['detail']}")
+            reported = len(run.events)
     run.events.append({"step": run.step_index, "source": "bridge", "level": 20, "kind": "finished",
                        "detail": f"finished {model.calls} DISCON calls ({run.output.time:g} s simulated) in "
                                  f"{time.monotonic() - start:.1f} s wall, bridged"})
