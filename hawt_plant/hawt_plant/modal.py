@@ -85,14 +85,22 @@ class BladeModalProperties:
 class TowerModalProperties:
     """Integrals of one first tower bending mode (fore-aft or side-side), heights h above the ground.
 
+    The generalized mass and stiffness run over the whole beam, from its clamp; the moments that give the
+    tower-base loads run over the tower above its base h_b (``Tower.base_height``), about it.
+
     Attributes
     ----------
     modal_mass : float
         Tower's own generalized mass int mu phi^2 dh [kg] (phi = 1 at the top).
     modal_first_moment : float
-        int mu phi dh [kg].
+        int mu phi dh above the base [kg].
     modal_height_moment : float
-        int mu phi h dh [kg m].
+        int mu phi (h - h_b) dh above the base [kg m].
+    base_shape : float
+        phi at the base [-]: how far the tower's base moves per metre of tower-top motion (0 unless the base
+        is flexible).
+    mass_above_base : float
+        int mu dh above the base [kg].
     stiffness : float
         Generalized stiffness int EI phi''^2 dh - g int m_above phi'^2 dh [N/m], the top
         mass included in m_above.
@@ -108,6 +116,8 @@ class TowerModalProperties:
     stiffness: float
     top_slope: float
     damping_ratio: float
+    base_shape: float = 0.0
+    mass_above_base: float = 0.0
 
 
 def polynomial_mode(coefficients: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -258,8 +268,9 @@ def tower_modal_properties(turbine: Turbine, direction: str, top_mass: float) ->
     -----
     The integrals run over the tower's beam, from its clamp to its top (:class:`hawt_plant.turbine.Tower`):
     over a flexible base they include the substructure below the tower's base; a rigid base adds nothing. The
-    heights h are above the ground, so ``modal_height_moment`` is a moment about the ground (offshore: mean sea
-    level), where the plant takes its tower-base moments.
+    heights h are above the ground (offshore: mean sea level). The moments for the tower-base loads
+    (``modal_first_moment``, ``modal_height_moment``) run over the tower above its base, about the base, where the
+    plant takes its tower-base moments (OpenFAST's TwrBsMyt/Mxt point).
     """
     tower = turbine.tower
     if direction == "fa":
@@ -276,13 +287,21 @@ def tower_modal_properties(turbine: Turbine, direction: str, top_mass: float) ->
     trapezoid = np.trapezoid
     bending = trapezoid(ei * (d2 / length**2) ** 2, h)
     gravity = turbine.environment.gravity * trapezoid(mass_above * (d1 / length) ** 2, h)
+    base = tower.base_height
+    at_base = (base - tower.clamp_height) / length
+    x_above = np.linspace(at_base, 1.0, _GRID_POINTS)  # the grid itself for a tower on the ground or a rigid base
+    h_above = tower.clamp_height + x_above * length
+    mu_above, phi_above = np.interp(x_above, tower.height_fraction, tower.mass_density), \
+        polynomial_mode(coefficients, x_above)[0]
     return TowerModalProperties(
         modal_mass=float(trapezoid(mu * phi**2, h)),
-        modal_first_moment=float(trapezoid(mu * phi, h)),
-        modal_height_moment=float(trapezoid(mu * phi * h, h)),
+        modal_first_moment=float(trapezoid(mu_above * phi_above, h_above)),
+        modal_height_moment=float(trapezoid(mu_above * phi_above * (h_above - base), h_above)),
         stiffness=float(bending - gravity),
         top_slope=float(d1[-1] / length),
         damping_ratio=damping,
+        base_shape=float(phi_above[0]),
+        mass_above_base=float(trapezoid(mu_above, h_above)),
     )
 
 

@@ -587,6 +587,7 @@ class TurbineModel:
         fa = tower_modal_properties(t, "fa", rna_mass)
         ss = tower_modal_properties(t, "ss", rna_mass)
         self._fa, self._ss = fa, ss
+        self._base_height = t.tower.base_height
         sfa, sss = fa.top_slope, ss.top_slope
         self._slope_fa, self._slope_ss = sfa, sss
         xn, zn = nacelle.cm_downwind, nacelle.cm_above_tower_top
@@ -942,11 +943,15 @@ class TurbineModel:
         axes = features[rows["axes_by_component"]].reshape(3, 3 * b)
         fx, fy, fz = np.dot(axes, per_blade[5:8].reshape(3 * b)).tolist()
         ax, ay, az = self._apex
-        base_fa = tilt + az * fx - ax * fz
-        base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + ay * fz - az * fy
-        # Yaw bearing: the same rotor loads about the tower top; its yaw axis is inertial z.
         g = self._g
         x_top, y_top = self._tower.tolist()
+        fa, ss = self._fa, self._ss
+        # Tower-base moments about the tower's base (OpenFAST's TwrBsMyt/Mxt point): at base_height, moved by a
+        # flexible base with the mode (0 on the ground or a rigid base); loads of what stands above it.
+        zb, xb, yb = self._base_height, fa.base_shape * x_top, ss.base_shape * y_top
+        base_fa = tilt + (az - zb) * fx - (ax - xb) * fz
+        base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + (ay - yb) * fz - (az - zb) * fy
+        # Yaw bearing: the same rotor loads about the tower top; its yaw axis is inertial z.
         height = self._tower_height
         rx, ry, rz = ax - x_top, ay - y_top, az - height
         bearing_tilt = tilt + rz * fx - rx * fz
@@ -959,13 +964,14 @@ class TurbineModel:
             body_fx = -body_mass * x_acc * (1.0 + sfa * (bz - height))
             body_fy = -body_mass * y_acc * hy
             body_fz = -body_mass * (g - x_acc * sfa * (bx - x_top))
-            base_fa += bz * body_fx - bx * body_fz
-            base_ss += y_top * hy * body_fz - bz * body_fy
+            base_fa += (bz - zb) * body_fx - (bx - xb) * body_fz
+            base_ss += (y_top * hy - yb) * body_fz - (bz - zb) * body_fy
             bearing_tilt += (bz - height) * body_fx - (bx - x_top) * body_fz
             bearing_yaw += (bx - x_top) * body_fy - y_top * (hy - 1.0) * body_fx
-        fa, ss = self._fa, self._ss
-        base_fa += -x_acc * fa.modal_height_moment + g * x_top * fa.modal_first_moment
-        base_ss += y_acc * ss.modal_height_moment - g * y_top * ss.modal_first_moment
+        base_fa += -x_acc * fa.modal_height_moment + g * x_top * (fa.modal_first_moment - fa.base_shape *
+                                                                   fa.mass_above_base)
+        base_ss += y_acc * ss.modal_height_moment - g * y_top * (ss.modal_first_moment - ss.base_shape *
+                                                                  ss.mass_above_base)
         drag = self._tower_drag_loads
         base_fa += drag.base_fa_moment
         base_ss += drag.base_ss_moment

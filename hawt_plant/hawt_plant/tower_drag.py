@@ -50,7 +50,10 @@ class TowerDrag:
     Attributes
     ----------
     elevation : ndarray, shape (K,)
-        Node heights above the tower base [m], increasing.
+        Node heights above the ground [m], increasing.
+    lever : ndarray, shape (K,)
+        Node heights above the tower's base [m], 0 for a node below it (on the substructure): the arms of the
+        tower-base moments.
     coefficient : ndarray, shape (K,)
         1/2 rho Cd D_k w_k [kg/m]: the drag per squared relative speed of node k, w_k its trapezoidal
         weight [m].
@@ -59,6 +62,7 @@ class TowerDrag:
     """
 
     elevation: np.ndarray
+    lever: np.ndarray
     coefficient: np.ndarray
     fa_shape: np.ndarray
     ss_shape: np.ndarray
@@ -73,8 +77,8 @@ class TowerDrag:
         weight[1:] += spacing / 2.0
         coefficient = 0.5 * turbine.environment.air_density * tower.drag_coefficient * np.asarray(
             tower.outline_diameter, dtype=float) * weight
-        fraction = np.clip(elevation / tower.height, 0.0, 1.0)
-        return cls(elevation=elevation, coefficient=coefficient,
+        fraction = np.clip((elevation - tower.clamp_height) / tower.length, 0.0, 1.0)  # along the beam
+        return cls(elevation=elevation, lever=np.maximum(elevation - tower.base_height, 0.0), coefficient=coefficient,
                    fa_shape=polynomial_mode(tower.fa_mode_shape, fraction)[0],
                    ss_shape=polynomial_mode(tower.ss_mode_shape, fraction)[0])
 
@@ -86,5 +90,5 @@ class TowerDrag:
         scale = self.coefficient * np.sqrt(relative_u * relative_u + relative_v * relative_v)
         force_x, force_y = scale * relative_u, scale * relative_v
         return TowerDragLoads(fa_force=np.dot(force_x, self.fa_shape), ss_force=np.dot(force_y, self.ss_shape),
-                              base_fa_moment=np.dot(force_x, self.elevation),
-                              base_ss_moment=-np.dot(force_y, self.elevation))
+                              base_fa_moment=np.dot(force_x, self.lever),
+                              base_ss_moment=-np.dot(force_y, self.lever))

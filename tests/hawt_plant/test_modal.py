@@ -68,18 +68,35 @@ def test_gravity_softens_the_tower(turbine):
 
 
 def test_a_rigid_base_raises_the_tower_without_changing_its_mode(turbine):
-    """The same tower clamped on a rigid base 15 m high: its mode's mass, stiffness and top slope are unchanged, and
-    its height moment (about the ground, where the plant takes the tower-base moments) grows by 15 m times its
-    first moment."""
+    """The same tower clamped on a rigid base 15 m high: its mode is unchanged, and so are the moments about its base
+    (where the plant takes the tower-base moments), which does not move."""
     tower = turbine.tower
     raised = replace(turbine, tower=replace(tower, height=tower.height + 15.0, base_height=15.0, clamp_height=15.0))
     assert raised.tower.base_kind == "rigid" and turbine.tower.base_kind == "ground"
     top = 350_000.0
     ground, rigid = tower_modal_properties(turbine, "fa", top), tower_modal_properties(raised, "fa", top)
-    for name in ("modal_mass", "modal_first_moment", "stiffness", "top_slope"):
+    for name in ("modal_mass", "modal_first_moment", "modal_height_moment", "mass_above_base", "stiffness",
+                 "top_slope"):
         assert getattr(rigid, name) == pytest.approx(getattr(ground, name), rel=1e-12)
-    assert rigid.modal_height_moment == pytest.approx(ground.modal_height_moment + 15.0 * ground.modal_first_moment,
-                                                      rel=1e-12)
+    assert rigid.base_shape == ground.base_shape == 0.0
+
+
+def test_on_a_flexible_base_the_base_moments_cover_the_tower_above_its_base_which_moves_with_the_mode(turbine):
+    """The NREL 5 MW's tower with its lowest 20 m as a flexible base (clamp at 0, base at 20 m): the mass and the
+    moments for the tower-base loads are those of the tower above 20 m, about 20 m; the base moves phi(base)."""
+    tower, top = turbine.tower, 350_000.0
+    on_base = replace(turbine, tower=replace(tower, base_height=20.0))
+    assert on_base.tower.base_kind == "flexible"
+    whole, flexible = tower_modal_properties(turbine, "fa", top), tower_modal_properties(on_base, "fa", top)
+    h = np.linspace(20.0, tower.height, 20001)
+    x = h / tower.height
+    mu = np.interp(x, tower.height_fraction, tower.mass_density)
+    phi = polynomial_mode(tower.fa_mode_shape, x)[0]
+    assert flexible.mass_above_base == pytest.approx(np.trapezoid(mu, h), rel=1e-6)
+    assert flexible.modal_first_moment == pytest.approx(np.trapezoid(mu * phi, h), rel=1e-6)
+    assert flexible.modal_height_moment == pytest.approx(np.trapezoid(mu * phi * (h - 20.0), h), rel=1e-6)
+    assert flexible.base_shape == pytest.approx(polynomial_mode(tower.fa_mode_shape, np.array(20.0 / tower.height))[0])
+    assert flexible.modal_mass == whole.modal_mass and flexible.stiffness == whole.stiffness
 
 
 def test_the_beam_mode_is_the_best_shape_of_elastodyns_basis(turbine):

@@ -354,3 +354,21 @@ def test_importing_the_core_does_not_import_rclpy():
     code = ("import sys; import hawt_plant.model, hawt_plant.turbine, hawt_plant.shear_wind, "
             "hawt_plant.tower_shadow, hawt_plant.bem; assert 'rclpy' not in sys.modules")
     subprocess.run([sys.executable, "-c", code], check=True, env={"PYTHONPATH": ":".join(sys.path)})
+
+
+def test_tower_base_moments_are_taken_at_the_towers_base_whatever_stands_below_it(turbine):
+    """The same tower on a 20 m rigid base (ElastoDyn TowerBsHt) as on the ground, in uniform wind: every load
+    above the base is the same, so the tower-base moments (OpenFAST's TwrBsMyt/Mxt point) are too, within
+    round-off; only the heights above the ground differ."""
+    lift = 20.0
+    tower = turbine.tower
+    raised = replace(turbine, tower=replace(tower, height=tower.height + lift, base_height=lift, clamp_height=lift,
+                                            outline_elevation=np.asarray(tower.outline_elevation) + lift))
+    runs = []
+    for definition in (turbine, raised):
+        wind = PowerLawWind(18.0, hub_height=definition.hub_height, shear_exponent=0.0)
+        runs.append(simulate(TurbineModel(definition, wind, ModelConfig(dt=0.01)), 300))
+    assert raised.hub_height == pytest.approx(turbine.hub_height + lift)
+    for name in ("tower_base_fa_moment", "tower_base_ss_moment", "yaw_bearing_tilt_moment", "root_moment_oop"):
+        np.testing.assert_allclose(runs[1][name], runs[0][name], rtol=1e-9, atol=1e-3 * np.abs(runs[0][name]).max(),
+                                   err_msg=name)
