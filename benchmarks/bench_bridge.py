@@ -12,9 +12,11 @@ Measured one after the other on this machine:
   both graphs on hawt's plant beside them (in process), with the changes of ipc against baseline on both plants;
 - the same on the plant's own class B turbulent field at 18 m/s (seed 1) written as a TurbSim ``.bts`` that both
   plants read (``--turbulent-duration``, the first 60 s not analysed);
+- OpenFAST's wall time on the steady case with ROSCO, the baseline and the ipc bridge, run in turn ``--repeat``
+  times (the shortest of each: the machine is shared);
 - the ``ipc`` run again with its bridge SIGKILLed at t = 10 s: how long OpenFAST takes to stop, and what it says.
 
-Usage: ./hawt bench bridge [--duration S] [--turbulent-duration S] [--calls N] [--keep DIR]
+Usage: ./hawt bench bridge [--duration S] [--turbulent-duration S] [--repeat N] [--calls N] [--keep DIR]
 """
 import argparse
 import os
@@ -278,8 +280,8 @@ def _line(label: str, wall: float, duration: float, f: dict, rated) -> str:
             f"{f['rotor_speed'] / rated.rated_rotor_speed:.4f}  power {f['power'] / rated.rated_power:.4f}  "
             f"1P {f['one_p'] / 1e6:6.3f}  root DEL {f['root_del'] / 1e6:6.3f}"
             f"  tilt/yaw DEL {f['hub_tilt_moment'] / 1e6:5.3f}/{f['hub_yaw_moment'] / 1e6:5.3f}"
-            f"  tower fa DEL {f['tower_base_fa_moment'] / 1e6:6.3f}  pitch spread {np.degrees(f['pitch_spread']):5.2f} deg"
-            f", travel {np.degrees(f['travel']):6.1f} deg/blade")
+            f"  tower fa DEL {f['tower_base_fa_moment'] / 1e6:6.3f}"
+            f"  pitch spread {np.degrees(f['pitch_spread']):5.2f} deg, travel {np.degrees(f['travel']):6.1f} deg/blade")
 
 
 def compare(executable: Path, folder: Path, case: Case) -> dict:
@@ -313,12 +315,32 @@ def compare(executable: Path, folder: Path, case: Case) -> dict:
     return runs
 
 
+def speed(executable: Path, folder: Path, case: Case, repeat: int) -> None:
+    """OpenFAST's wall time on ``case`` with ROSCO, the baseline and the ipc bridge, run in turn ``repeat`` times;
+    prints the shortest of each and the ratios (the machine is shared: the shortest is the least disturbed)."""
+    walls = {"rosco": [], "baseline": [], "ipc": []}
+    for _ in range(repeat):
+        for name in walls:
+            run = openfast_rosco(executable, folder, case) if name == "rosco" else \
+                openfast_bridged(executable, folder, case, name)
+            walls[name].append(run[0])
+    best = {name: min(values) for name, values in walls.items()}
+    print(f"OpenFAST wall time on {case.name} ({case.duration:g} s), shortest of {repeat} runs in turn: " +
+          ", ".join(f"{name} {best[name]:.1f} s ({case.duration / best[name]:.2f}x rt; all: "
+                    f"{' '.join(f'{w:.1f}' for w in walls[name])})" for name in walls), flush=True)
+    for name in ("baseline", "ipc"):
+        print(f"  OpenFAST speed with the {name} bridge / with ROSCO: {best['rosco'] / best[name]:.2f} (target >= 0.5)",
+              flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=120.0, help="simulated time of the steady case [s]")
     parser.add_argument("--turbulent-duration", type=float, default=300.0,
                         help="simulated time of the turbulent case [s] (0: leave it out)")
     parser.add_argument("--calls", type=int, default=5000, help="DISCON calls timed per host measurement")
+    parser.add_argument("--repeat", type=int, default=3, help="runs in turn of OpenFAST with ROSCO, the baseline "
+                        "and the ipc bridge on the steady case for the speed figures (0: leave them out)")
     parser.add_argument("--keep", help="write the OpenFAST cases into this folder and keep them")
     args = parser.parse_args()
     # a socket path must stay under 108 characters: a short temporary folder
@@ -343,6 +365,8 @@ def main() -> None:
         runs = compare(executable, folder, steady)
         cut = 1 - runs["ipc"][1]["one_p"] / runs["baseline"][1]["one_p"]
         print(f"blade-root 1P cut by ipc against baseline on OpenFAST, {steady.name}: {cut:.1%} (target >= 90 %)")
+        if args.repeat > 0:
+            speed(executable, folder, steady, args.repeat)
         if args.turbulent_duration > 0:
             compare(executable, folder, Case(folder, args.turbulent_duration, turbulent=True))
         lines, after = openfast_bridge_killed(executable, folder, steady)
