@@ -15,6 +15,7 @@ __all__ = [
     "EOG_DURATION",
     "REFERENCE_WIND_SPEED",
     "ExtremeOperatingGust",
+    "TransientWind",
     "WindStep",
     "eog_amplitude",
     "extreme_wind_speed",
@@ -52,7 +53,32 @@ def _longitudinal(u: np.ndarray) -> np.ndarray:
     return velocity
 
 
-class WindStep:
+class TransientWind:
+    """What every transient field shares: the hub-height speed before it (also the convection speed: a transient
+    starting at t_0 reaches x at t_0 + x / V_hub), its start t_0, and the power-law profile it rides on,
+    u = V (z / z_hub)^alpha (Fratini (2019) eq. 2.2). A transient's own ``velocity`` adds what changes."""
+
+    def __init__(self, hub_speed: float, start_time: float, hub_height: float, shear_exponent: float) -> None:
+        _check_profile(hub_height, shear_exponent)
+        self._hub_speed, self._start_time = float(hub_speed), float(start_time)
+        self._hub_height, self._shear_exponent = float(hub_height), float(shear_exponent)
+
+    @property
+    def mean_speed(self) -> float:
+        """V_hub before the transient [m/s]."""
+        return self._hub_speed
+
+    @property
+    def hub_height(self) -> float:
+        """z_hub [m]."""
+        return self._hub_height
+
+    def _profile(self, z: np.ndarray) -> np.ndarray:
+        """(z / z_hub)^alpha."""
+        return _power_law_profile(z, self._hub_height, self._shear_exponent)
+
+
+class WindStep(TransientWind):
     """Hub speed stepping (or ramping) from one value to another, over power-law shear.
 
     Parameters
@@ -79,35 +105,23 @@ class WindStep:
                              f"found {speed_before}, {speed_after}")
         if not ramp_duration >= 0.0:
             raise ValueError(f"ramp_duration: expected >= 0 s, found {ramp_duration}")
-        _check_profile(hub_height, shear_exponent)
-        self._speed_before, self._speed_after = float(speed_before), float(speed_after)
-        self._step_time, self._ramp_duration = float(step_time), float(ramp_duration)
-        self._hub_height, self._shear_exponent = float(hub_height), float(shear_exponent)
-
-    @property
-    def mean_speed(self) -> float:
-        """Initial hub-height speed U_1 [m/s]."""
-        return self._speed_before
-
-    @property
-    def hub_height(self) -> float:
-        """Reference height of the speeds [m]."""
-        return self._hub_height
+        super().__init__(speed_before, step_time, hub_height, shear_exponent)
+        self._speed_after, self._ramp_duration = float(speed_after), float(ramp_duration)
 
     def hub_speed(self, t: np.ndarray | float) -> np.ndarray:
         """Hub-height speed at x = 0 [m/s], same shape as t [s]."""
-        elapsed = np.asarray(t, dtype=float) - self._step_time
+        elapsed = np.asarray(t, dtype=float) - self._start_time
         if self._ramp_duration > 0.0:
             fraction = np.clip(elapsed / self._ramp_duration, 0.0, 1.0)
         else:
             fraction = (elapsed >= 0.0).astype(float)
-        return self._speed_before + fraction * (self._speed_after - self._speed_before)
+        return self._hub_speed + fraction * (self._speed_after - self._hub_speed)
 
     def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Wind velocity (u, 0, 0) [m/s], shape ``(3,) + x.shape``, at points (x, y, z) [m] and time t [s]."""
         x, z = _check_points(x, y, z)
-        speed = self.hub_speed(t - x / self._speed_before)
-        return _longitudinal(speed * _power_law_profile(z, self._hub_height, self._shear_exponent))
+        speed = self.hub_speed(t - x / self._hub_speed)
+        return _longitudinal(speed * self._profile(z))
 
 
 def extreme_wind_speed(turbine_class: str, recurrence_period: int) -> float:
@@ -190,7 +204,7 @@ def _size_reduction(rotor_diameter: float, hub_height: float) -> float:
     return 1.0 + 0.1 * rotor_diameter / longitudinal_length_scale(hub_height)
 
 
-class ExtremeOperatingGust:
+class ExtremeOperatingGust(TransientWind):
     """IEC 61400-1 Ed. 3 extreme operating gust (EOG) over power-law shear.
 
     u(z, t) = V_hub (z / z_hub)^alpha - 0.37 V_gust sin(3 pi tau / T) (1 - cos(2 pi tau / T))
@@ -216,20 +230,8 @@ class ExtremeOperatingGust:
     def __init__(self, hub_speed: float, start_time: float, *, turbine_class: str = "I",
                  turbulence_class: str = "A", rotor_diameter: float = 126.0, hub_height: float = 90.0,
                  shear_exponent: float = 0.2) -> None:
-        _check_profile(hub_height, shear_exponent)
+        super().__init__(hub_speed, start_time, hub_height, shear_exponent)
         self._amplitude = eog_amplitude(hub_speed, turbine_class, turbulence_class, rotor_diameter, hub_height)
-        self._hub_speed, self._start_time = float(hub_speed), float(start_time)
-        self._hub_height, self._shear_exponent = float(hub_height), float(shear_exponent)
-
-    @property
-    def mean_speed(self) -> float:
-        """V_hub [m/s]."""
-        return self._hub_speed
-
-    @property
-    def hub_height(self) -> float:
-        """z_hub [m]."""
-        return self._hub_height
 
     @property
     def gust_amplitude(self) -> float:
@@ -246,5 +248,5 @@ class ExtremeOperatingGust:
     def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Wind velocity (u, 0, 0) [m/s], shape ``(3,) + x.shape``, at points (x, y, z) [m] and time t [s]."""
         x, z = _check_points(x, y, z)
-        mean = self._hub_speed * _power_law_profile(z, self._hub_height, self._shear_exponent)
+        mean = self._hub_speed * self._profile(z)
         return _longitudinal(mean + self.gust(t - x / self._hub_speed))

@@ -22,8 +22,7 @@ import math
 
 import numpy as np
 
-from hawt_plant.gusts import (_check_points, _check_profile, _power_law_profile, _size_reduction,
-                              extreme_wind_speed)
+from hawt_plant.gusts import TransientWind, _check_points, _size_reduction, extreme_wind_speed
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbulence import longitudinal_length_scale, ntm_standard_deviation
 
@@ -144,7 +143,7 @@ def ews_amplitude(hub_speed: float, turbulence_class: str, rotor_diameter: float
     return 2.5 + 0.2 * EWS_BETA * sigma_1 * (rotor_diameter / longitudinal_length_scale(hub_height)) ** 0.25
 
 
-class DirectionChange:
+class DirectionChange(TransientWind):
     """Power-law sheared wind whose speed rises by Delta V while its direction turns by Delta theta, both over T with
     the cosine ramp, then holding: the form of the IEC 61400-1 Ed. 3 EDC and ECD.
 
@@ -179,21 +178,9 @@ class DirectionChange:
             raise ValueError(f"direction_change: expected in [-pi, pi] rad, found {direction_change}")
         if not duration > 0.0:
             raise ValueError(f"duration: expected > 0 s, found {duration}")
-        _check_profile(hub_height, shear_exponent)
-        self._hub_speed, self._start_time = float(hub_speed), float(start_time)
+        super().__init__(hub_speed, start_time, hub_height, shear_exponent)
         self._speed_change, self._direction_change = float(speed_change), float(direction_change)
         self._duration = float(duration)
-        self._hub_height, self._shear_exponent = float(hub_height), float(shear_exponent)
-
-    @property
-    def mean_speed(self) -> float:
-        """V_hub before the change [m/s]."""
-        return self._hub_speed
-
-    @property
-    def hub_height(self) -> float:
-        """z_hub [m]."""
-        return self._hub_height
 
     @property
     def speed_change(self) -> float:
@@ -218,7 +205,7 @@ class DirectionChange:
         """Wind velocity (u, v, 0) [m/s], shape ``(3,) + x.shape``, at points (x, y, z) [m] and time t [s]."""
         x, z = _check_points(x, y, z)
         ramp = self._ramp(t - x / self._hub_speed)
-        speed = self._hub_speed * _power_law_profile(z, self._hub_height, self._shear_exponent) \
+        speed = self._hub_speed * self._profile(z) \
             + self._speed_change * ramp
         direction = self._direction_change * ramp
         velocity = np.zeros((3,) + x.shape)
@@ -272,7 +259,7 @@ def extreme_coherent_gust(hub_speed: float, start_time: float, *, sign: int = 1,
                            hub_height=hub_height, shear_exponent=shear_exponent)
 
 
-class ExtremeWindShear:
+class ExtremeWindShear(TransientWind):
     """IEC 61400-1 Ed. 3 extreme wind shear (EWS), vertical or horizontal, over power-law shear.
 
     u(y, z, t) = V_hub (z / z_hub)^alpha +- (d / D) A (1 - cos(2 pi tau / T)) for 0 <= tau <= T, the normal
@@ -303,21 +290,9 @@ class ExtremeWindShear:
         if orientation not in EWS_ORIENTATIONS:
             raise ValueError(f"orientation: expected vertical or horizontal, found {orientation!r}")
         _check_sign(sign)
-        _check_profile(hub_height, shear_exponent)
+        super().__init__(hub_speed, start_time, hub_height, shear_exponent)
         self._amplitude = ews_amplitude(hub_speed, turbulence_class, rotor_diameter, hub_height)
         self._orientation, self._sign, self._rotor_diameter = orientation, sign, float(rotor_diameter)
-        self._hub_speed, self._start_time = float(hub_speed), float(start_time)
-        self._hub_height, self._shear_exponent = float(hub_height), float(shear_exponent)
-
-    @property
-    def mean_speed(self) -> float:
-        """V_hub [m/s]."""
-        return self._hub_speed
-
-    @property
-    def hub_height(self) -> float:
-        """z_hub [m]."""
-        return self._hub_height
 
     @property
     def amplitude(self) -> float:
@@ -330,7 +305,7 @@ class ExtremeWindShear:
         offset = z - self._hub_height if self._orientation == "vertical" else np.asarray(y, dtype=float)
         pulse = cosine_pulse((t - x / self._hub_speed - self._start_time) / EWS_DURATION)
         velocity = np.zeros((3,) + x.shape)
-        velocity[0] = self._hub_speed * _power_law_profile(z, self._hub_height, self._shear_exponent) \
+        velocity[0] = self._hub_speed * self._profile(z) \
             + self._sign * offset / self._rotor_diameter * self._amplitude * pulse
         return velocity
 
