@@ -37,11 +37,11 @@ TURBULENT_START = 60.0
 
 _ECHO = """
 import socket, sys
-from hawt_tools.discon_bridge import REQUEST, _reply, listen
+from hawt_tools.discon_bridge import REQUEST, encode_reply, listen
 server = listen(sys.argv[1])
 print("listening", file=sys.stderr, flush=True)
 connection, _ = server.accept()
-reply = _reply((0.1, 0.1, 0.1), 43000.0, (1.57, 0.14))
+reply = encode_reply((0.1, 0.1, 0.1), 43000.0, (1.57, 0.14))
 while True:
     data = connection.recv(REQUEST.size + 1)
     if not data:

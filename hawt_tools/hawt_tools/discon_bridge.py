@@ -17,14 +17,14 @@ turbine's limits) is the runner's, so the graph runs as ``hawt run`` runs it.
     socket = /tmp/hawt-bridge.sock      # where the bridge listens (required; at most 107 characters)
     graph = ipc                         # a graph file (relative to this file's folder) or an installed graph's name
     arguments = wind_speed:=18          # the graph's launch arguments, NAME:=VALUE, space-separated
-    parameters = cpc.kp:=0.01           # more NODE.PARAM:=VALUE, space-separated (as -p)
+    parameters = ipc_h1.active:=false   # more NODE.PARAM:=VALUE, space-separated (as -p)
     timeout = 10                        # [s] the library's bound on waiting for an answer (default 10)
     start_timeout = 60                  # [s] and for the bridge to listen and answer the first call (default 60)
     record = run.mcap                   # write the graph's topics to this bag at the last call (optional)
 
-The library reads ``socket``, ``timeout`` and ``start_timeout``; the bridge reads the rest (and checks them all). The plant's ``dt`` is the simulator's
-communication interval (record 3); the turbine is the graph's plant's (its limits, gearbox and blades; the
-simulator's blade count, record 61, must be the same).
+The library reads ``socket``, ``timeout`` and ``start_timeout``; the bridge reads the rest (and checks them
+all). The plant's ``dt`` is the simulator's communication interval (record 3); the turbine is the graph's plant's
+(its limits, gearbox and blades; the simulator's blade count, record 61, must be the same).
 
 **What the plant output has.** From the simulator: time (2), azimuth (60), rotor speed (21), generator speed (20)
 and torque (23), electrical power (15), hub wind speed (27), measured pitch (4, 33, 34), blade-root out-of-plane
@@ -32,6 +32,10 @@ and torque (23), electrical power (15), hub wind speed (27), measured pitch (4, 
 moments (75, 76). Not in the interface, so NaN (:data:`MISSING_FIELDS`): aerodynamic torque and thrust, tower-top
 displacements, tower-base and yaw-bearing moments, the blade-effective wind. A controller that reads one of them
 gets NaN and refuses the step as on any plant (``update_or_hold``).
+
+**The start.** The graph's controllers start from the first call's measurements, as on any plant. OpenFAST's
+first call reports generator torque 0 (nothing was commanded yet), so the baseline graph's torque starts at 0 and
+reaches rated at cpc's torque rate limit (15 kN*m/s) within 2.9 s; ROSCO sets its torque from its own law at once.
 
 **No plant protection.** The simulator is the plant, and its safety system is the simulator's: the bridge does not
 run hawt's plant protection (:class:`hawt_plant.safety_system.Protection`) on the simulator's measurements. Those
@@ -66,8 +70,9 @@ import numpy as np
 from hawt_controllers.discon_library import Record
 from hawt_plant.model import TurbineOutput
 
-__all__ = ["BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "MISSING_FIELDS", "REQUEST", "REPLY",
-           "SENT_RECORDS", "bridge_library", "listen", "measurements", "read_bridge_file", "run_bridge", "serve"]
+__all__ = ["BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "BridgeRun", "MISSING_FIELDS", "REQUEST",
+           "REPLY", "SENT_RECORDS", "bridge_library", "build_bridged_run", "encode_reply", "listen", "measurements",
+           "parse_request", "read_bridge_file", "run_bridge", "serve"]
 
 SENT_RECORDS = 129
 """Records 1-129 of the swap array go to the bridge with every call."""
@@ -190,8 +195,10 @@ def measurements(swap: np.ndarray, blades: int) -> TurbineOutput:
         **{name: nan for name in MISSING_FIELDS})
 
 
-def _reply(pitch: Sequence[float] = (0.0, 0.0, 0.0), torque: float = 0.0, limits: Tuple[float, float] = (0.0, 0.0),
-           fail: int = 0, message: str = "") -> bytes:
+def encode_reply(pitch: Sequence[float] = (0.0, 0.0, 0.0), torque: float = 0.0,
+                 limits: Tuple[float, float] = (0.0, 0.0), fail: int = 0, message: str = "") -> bytes:
+    """A bridge answer (:data:`REPLY`): pitch per blade [rad] (their mean as the collective), generator torque
+    [N*m], the turbine's largest pitch angle and rate, ``fail`` (-1: the library fails with ``message``)."""
     padded = list(pitch) + [0.0] * (3 - len(pitch))
     collective = float(np.mean(pitch)) if len(pitch) else 0.0
     return REPLY.pack(b"HWR1", fail, *padded, collective, torque, *limits, message.encode()[:1023])
@@ -239,13 +246,13 @@ class BridgeModel:
             message = (f"the graph commands individual pitch ({np.degrees(np.ptp(pitch)):.3g} deg between blades at "
                        f"call {self.calls}), but the simulator pitches collectively: set record 28 (ServoDyn "
                        "Ptch_Cntrl = 1)")
-            self._send(_reply(fail=-1, message=message))
+            self._send(encode_reply(fail=-1, message=message))
             raise BridgeError(message)
-        self._send(_reply(tuple(pitch), float(generator_torque), self.limits))
+        self._send(encode_reply(tuple(pitch), float(generator_torque), self.limits))
         status, swap = self.receive()
         self.calls += 1
         if status < 0:
-            self._send(_reply(tuple(pitch), float(generator_torque), self.limits))
+            self._send(encode_reply(tuple(pitch), float(generator_torque), self.limits))
             self.finished = True
         return measurements(swap, self.blades)
 
@@ -353,7 +360,8 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
                 raise BridgeError(f"the simulator has {blades} blades (record 61), the graph's turbine "
                                   f"{turbine.name} {turbine.rotor.number_of_blades}")
             actuator = turbine.pitch_actuator
-            model = BridgeModel(connection, turbine.rotor.number_of_blades, (actuator.max_angle, actuator.max_rate), individual)
+            model = BridgeModel(connection, turbine.rotor.number_of_blades, (actuator.max_angle, actuator.max_rate),
+                                individual)
             return turbine, model, measurements(swap, turbine.rotor.number_of_blades)
 
         run = build_run(graph, overrides, progress, bridge_plant)
@@ -398,7 +406,7 @@ def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
             status, swap, infile = parse_request(data)
             run = build_bridged_run(bridge, connection, status, swap, infile, progress)
         except BridgeError as error:
-            connection.sendall(_reply(fail=-1, message=str(error)))
+            connection.sendall(encode_reply(fail=-1, message=str(error)))
             raise
         model: BridgeModel = run.model
         progress(f"{run.turbine.name}: bridged, dt {run.description.dt:g} s, {model.blades} blades, "

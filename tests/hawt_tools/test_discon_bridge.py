@@ -140,7 +140,8 @@ def test_fields_the_interface_lacks_are_nan():
     output = measurements(swap, 3)
     for name in MISSING_FIELDS:
         assert np.isnan(getattr(output, name)), name
-    assert output.rotor_speed == 21 and list(output.root_moment_oop) == [30, 31, 32] and list(output.pitch) == [4, 33, 34]
+    assert output.rotor_speed == 21 and list(output.root_moment_oop) == [30, 31, 32]
+    assert list(output.pitch) == [4, 33, 34] and list(output.root_moment_ip) == [69, 70, 71]
 
 
 def _steady_run():
@@ -284,3 +285,17 @@ def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_p
     assert list(recorded.steps) == list(range(200))
     assert {topic.rsplit("/", 2)[-2] + "/" + topic.rsplit("/", 1)[-1]: n for topic, n in recorded.counts.items()
             if "events" not in topic} == {"plant/blade_loads": 200, "plant/state": 200, "control/pitch_command": 200}
+
+
+def test_individual_pitch_for_a_simulator_that_pitches_collectively_fails_with_a_message(tmp_path):
+    """The ipc graph behind a host with record 28 = 0: the first step whose blades' commands differ fails the library
+    with the reason (set Ptch_Cntrl = 1), and the bridge exits 2."""
+    run, output = _steady_run()
+    path = _bridge_file(tmp_path, "ipc")
+    bridge = _start_bridge(path)
+    host = _host(path, run, individual=False)
+    with pytest.raises(DisconFailure, match="pitches collectively: set record 28"):
+        for _ in range(STEPS):
+            host.step(_inputs(output))
+    _, err = bridge.communicate(timeout=60)
+    assert bridge.returncode == 2 and "Ptch_Cntrl = 1" in err.strip().splitlines()[-1]
