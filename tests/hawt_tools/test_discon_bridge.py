@@ -299,3 +299,33 @@ def test_individual_pitch_for_a_simulator_that_pitches_collectively_fails_with_a
             host.step(_inputs(output))
     _, err = bridge.communicate(timeout=60)
     assert bridge.returncode == 2 and "Ptch_Cntrl = 1" in err.strip().splitlines()[-1]
+
+
+
+def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_exit_1(tmp_path):
+    """A simulator that closes the socket without its last call (killed): the bridge says so in one line and exits
+    1; it does not wait on. The simulator here is a plain socket speaking the library's messages."""
+    import socket as sockets
+
+    from hawt_controllers.discon_library import Record
+    from hawt_tools.discon_bridge import REPLY, REQUEST
+
+    run, output = _steady_run()
+    swap = np.zeros(129, dtype=np.float32)
+    for record, value in ((Record.DT, run.description.dt), (Record.BLADES, 3), (Record.ROTOR_SPEED, output.rotor_speed),
+                          (Record.GENERATOR_SPEED, output.generator_speed),
+                          (Record.GENERATOR_TORQUE, output.generator_torque), (Record.PITCH_1, output.pitch[0]),
+                          (Record.PITCH_2, output.pitch[1]), (Record.PITCH_3, output.pitch[2])):
+        swap[record - 1] = value
+    path = _bridge_file(tmp_path)
+    bridge = _listening(_start_bridge(path))
+    with sockets.socket(sockets.AF_UNIX, sockets.SOCK_SEQPACKET) as simulator:
+        simulator.connect(str(tmp_path / "bridge.sock"))
+        for status in (0, 1):
+            simulator.sendall(REQUEST.pack(b"HWB1", status, *swap, str(path).encode()))
+            magic, fail, *_ = REPLY.unpack(simulator.recv(REPLY.size))
+            assert (magic, fail) == (b"HWR1", 0)
+    _, err = bridge.communicate(timeout=60)
+    assert bridge.returncode == 1
+    assert err.strip().splitlines()[-1] == ("hawt bridge: the simulator closed the connection after 2 calls, before "
+                                            "its last call")
