@@ -24,7 +24,8 @@ turbine's limits) is the runner's, so the graph runs as ``hawt run`` runs it.
 
 The library reads ``socket``, ``timeout`` and ``start_timeout``; the bridge reads the rest (and checks them
 all). The plant's ``dt`` is the simulator's communication interval (record 3); the turbine is the graph's plant's
-(its limits, gearbox and blades; the simulator's blade count, record 61, must be the same).
+(its limits, gearbox and blades): the simulator's blade count (record 61) and, once the rotor turns faster than
+0.1 rad/s at the first call, its generator-to-rotor speed ratio (records 20, 21) must be the turbine's (within 1 %).
 
 **What the plant output has.** From the simulator: time (2), azimuth (60), rotor speed (21), generator speed (20)
 and torque (23), electrical power (15), hub wind speed (27), measured pitch (4, 33, 34), blade-root out-of-plane
@@ -359,6 +360,12 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
             if blades != turbine.rotor.number_of_blades:
                 raise BridgeError(f"the simulator has {blades} blades (record 61), the graph's turbine "
                                   f"{turbine.name} {turbine.rotor.number_of_blades}")
+            rotor, generator = float(swap[Record.ROTOR_SPEED - 1]), float(swap[Record.GENERATOR_SPEED - 1])
+            gearbox = turbine.drivetrain.gearbox_ratio
+            if rotor > 0.1 and abs(generator / rotor / gearbox - 1) > 0.01:
+                raise BridgeError(f"the simulator's generator speed is {generator / rotor:.4g} times its rotor "
+                                  f"speed (records 20, 21), the graph's turbine {turbine.name} has gearbox ratio "
+                                  f"{gearbox:g}: another turbine")
             actuator = turbine.pitch_actuator
             model = BridgeModel(connection, turbine.rotor.number_of_blades, (actuator.max_angle, actuator.max_rate),
                                 individual)

@@ -329,3 +329,18 @@ def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_ex
     assert bridge.returncode == 1
     assert err.strip().splitlines()[-1] == ("hawt bridge: the simulator closed the connection after 2 calls, before "
                                             "its last call")
+
+
+
+def test_a_simulator_of_another_turbine_is_refused_at_its_first_call(tmp_path):
+    """Generator speed 50 times the rotor's (the graph's NREL 5 MW has 97): the first call fails naming both, and
+    the bridge exits 2."""
+    from dataclasses import replace
+
+    run, output = _steady_run()
+    path = _bridge_file(tmp_path)
+    bridge = _start_bridge(path)
+    with pytest.raises(DisconFailure, match="generator speed is 50 times its rotor speed .* gearbox ratio 97"):
+        _host(path, run).step(replace(_inputs(output), generator_speed=50 * output.rotor_speed))
+    bridge.communicate(timeout=60)
+    assert bridge.returncode == 2
