@@ -110,6 +110,9 @@ PARSED = {
     "./hawt switch --activate ipc_h1_retuned --deactivate ipc_h1": BESIDE_SWITCHING,
     "./hawt switch --deactivate ipc_h1_retuned ipc_h2 --ramp 1": BESIDE_SWITCHING,
     "./hawt switch --activate ipc_h4 blade_sine": BESIDE_SWITCHING,
+    "./hawt bridge --file case.bridge --record run.mcap": "serves a simulator's DISCON calls: waits for OpenFAST "
+                                                          "(tests/hawt_tools/test_discon_bridge.py drives a bridge "
+                                                          "with hawt's own DISCON host)",
     "./hawt lifecycle ipc_h4 deactivate": BESIDE_SWITCHING,
     "./hawt list": BESIDE_SWITCHING,
 }
