@@ -188,7 +188,11 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
                        f"(first at step {int(steps[np.argmax(np.diff(time) <= 0.0) + 1])})")
     channels = {"time": time}
     channels.update({name: loads.fields[name][load_rows] for name in _LOAD_FIELDS})
-    channels.update({name: state.fields[name][state_rows] for name in _STATE_FIELDS if name in state.fields})
+    measured = {name: state.fields[name][state_rows] for name in _STATE_FIELDS if name in state.fields}
+    unmeasured = [name for name, values in measured.items() if values.size and np.isnan(values).all()]
+    channels.update({name: values for name, values in measured.items() if name not in unmeasured})
+    if unmeasured:  # a plant that does not have them (a DISCON bridge's simulator) says so with NaN
+        warnings += (f"{state_topic}: not measured (NaN at every step), left out: {', '.join(unmeasured)}",)
     counts = {loads_topic: len(loads), state_topic: len(state)}
     events = _events(reader, topic_in(namespace, CONTROL_EVENTS), counts, steps, time)
     command, flag_names, refused, command_warnings = _pitch_command(

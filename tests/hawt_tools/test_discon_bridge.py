@@ -285,6 +285,10 @@ def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_p
     assert list(recorded.steps) == list(range(200))
     assert {topic.rsplit("/", 2)[-2] + "/" + topic.rsplit("/", 1)[-1]: n for topic, n in recorded.counts.items()
             if "events" not in topic} == {"plant/blade_loads": 200, "plant/state": 200, "control/pitch_command": 200}
+    # what the simulator does not measure (NaN at every step) is left out of the analysis, and said so
+    (unmeasured,) = [line for line in recorded.warnings if "not measured" in line]
+    assert "tower_base_fa_moment" in unmeasured and "aero_torque" in unmeasured
+    assert "tower_base_fa_moment" not in recorded.channels and "generator_torque" in recorded.channels
 
 
 def test_individual_pitch_for_a_simulator_that_pitches_collectively_fails_with_a_message(tmp_path):
