@@ -263,6 +263,22 @@ def _duration_text(seconds: float) -> str:
     return f"{minutes // 60}:{minutes % 60:02d}:{seconds:02d}"
 
 
+def measured_speed(case: Case, campaign: Campaign, seconds: float = 2.0) -> float:
+    """Real-time factor of ``case``'s graph on this machine, for the campaign's time estimate: ``seconds`` simulated
+    in process in steady wind at its speed (its turbulent field may not exist yet), timed after the build."""
+    from hawt_tools.in_process import build_run, plant_node
+
+    graph = case_graph(case.controller, campaign)
+    overrides = _overrides(graph, case.controller, campaign, case.speed, case.seed)
+    overrides.setdefault(plant_node(graph).label, []).append(("wind_type", "steady"))
+    run = build_run(graph, overrides)
+    steps = max(1, round(seconds / run.description.dt))
+    start = time.perf_counter()
+    for _ in range(steps):
+        run.step()
+    return steps * run.description.dt / (time.perf_counter() - start)
+
+
 def check_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT) -> None:
     """Refuse ``address`` (CampaignError, one line) unless a Dask scheduler answers there within ``timeout`` [s].
 
@@ -353,8 +369,13 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
                 raise CampaignError(f"-o {output}: cannot create {folder} ({error.strerror or error})") from None
         client, cluster = _client(workers, scheduler)
         try:
-            report(f"running {len(todo)} on {len(client.scheduler_info()['workers'])} Dask worker(s) "
-                   f"({scheduler or 'local cluster'})")
+            count = len(client.scheduler_info()["workers"])
+            speed = measured_speed(todo[0], campaign)
+            expected = len(todo) * (campaign.transient + campaign.duration) / (speed * max(count, 1))
+            report(f"running {len(todo)} on {count} Dask worker(s) ({scheduler or 'local cluster'}): expected about "
+                   f"{_duration_text(expected)} ({len(todo)} x {campaign.transient + campaign.duration:g} s at "
+                   f"{speed:.0f}x real time, measured here), plus any wind field not cached yet; each case is stored "
+                   f"as it finishes")
             winds = {}
             for case in todo:
                 if (case.speed, case.seed) not in winds:

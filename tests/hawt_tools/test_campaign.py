@@ -3,6 +3,7 @@ worker or a Ctrl-C loses nothing (and what it wrote says incomplete until resume
 graph's run bit for bit, and a --scheduler where no Dask scheduler answers is refused within the timeout."""
 import http.server
 import json
+import re
 import signal
 import socket
 import subprocess
@@ -89,15 +90,26 @@ def campaign_file(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def local_run(campaign_file) -> Path:
+def local_campaign(campaign_file) -> tuple:
+    """The small campaign run on two local workers: its output folder and what it printed."""
     output = campaign_file.parent / "local"
     result = subprocess.run([*HAWT, "campaign", str(campaign_file), "-o", str(output), "--workers", "2"],
                             capture_output=True, text=True, timeout=600)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    return output
+    return output, result.stdout
 
 
-def test_every_case_runs_once_into_the_tables_and_a_rerun_skips_them(local_run, campaign_file, hawt_cli):
+@pytest.fixture(scope="module")
+def local_run(local_campaign) -> Path:
+    return local_campaign[0]
+
+
+def test_every_case_runs_once_into_the_tables_and_a_rerun_skips_them(local_run, campaign_file, hawt_cli,
+                                                                     local_campaign):
+    """Before the work, the campaign says how long it expects to take (its graph's speed measured here); each case
+    is stored once; a rerun finds them all done."""
+    assert re.search(rf"running {CASES} on 2 Dask worker\(s\) \(local cluster\): expected about .+ \({CASES} x "
+                     rf"\d+ s at \d+x real time, measured here\)", local_campaign[1]), local_campaign[1]
     rows = _rows(local_run)
     assert len(rows) == CASES and sorted((r["controller"], r["wind_speed"]) for r in rows.values()) == sorted(
         (name, speed) for name in ("baseline", "ipc_1p") for speed in (12.0, 16.0, 20.0))
