@@ -785,11 +785,25 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    """Baseline and IPC (1P+2P) graphs on the same turbulent wind, each recorded; their loads compared."""
+    """Baseline and IPC (1P+2P) graphs on the same turbulent wind, each recorded; their loads compared. Without a
+    ROS_DOMAIN_ID of the user's, on a domain reserved for the demo (domain_coordinator, as the test suite does), so
+    another graph on the machine's default domain with the same namespace cannot feed its controllers."""
     from hawt_analysis.analysis_report import headline_text, write_comparison_report
     from hawt_analysis.run_analysis import compare_bags
     from hawt_tools.launcher import package_prefix
 
+    if "ROS_DOMAIN_ID" not in os.environ:  # the default domain is every ROS user's on this machine: take one alone
+        from domain_coordinator import domain_id
+
+        with domain_id() as domain:
+            os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+            _progress(f"hawt demo: on ROS domain {domain}, reserved for it (another graph on this machine cannot "
+                      "reach its topics; set ROS_DOMAIN_ID to choose the domain)")
+            try:
+                return _cmd_demo(args)
+            finally:
+                for name in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE"):
+                    os.environ.pop(name, None)
     run = time.strftime("demo-%Y%m%d-%H%M%S")
     bags = Path(args.output) / run
     bags.mkdir(parents=True, exist_ok=False)
