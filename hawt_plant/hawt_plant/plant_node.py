@@ -55,6 +55,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 
+from hawt_plant.faults import fault_event, make_faults, parse_faults
 from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import STATE_FIELDS, TurbineOutput
 from hawt_plant.plant_setup import PARAMETERS, aerodynamics_line, check_parameters, make_plant, make_safety_system
@@ -83,14 +84,18 @@ class PlantNode(Node):
 
     @staticmethod
     def check_parameters(values) -> None:
-        """The rules across parameters (plant_setup.check_parameters), without building the model."""
+        """The rules across parameters (plant_setup.check_parameters) and the faults' entries, without building
+        the model."""
         check_parameters(values)
+        parse_faults(values["faults"], values["dt"])
 
     def __init__(self, **node_kwargs) -> None:
         super().__init__("plant", **node_kwargs)
         v = self.values = declare_parameters(self, PARAMETERS)
         check_parameters(v)
-        turbine, self.model, self.output = make_plant(v, self.get_logger().info)
+        turbine, self.model, output = make_plant(v, self.get_logger().info)
+        self.faults = make_faults(v, turbine)
+        self.output = self.faults.measure(0, output)
         self.actuator = turbine.pitch_actuator
         self.blades = self.model.number_of_blades
         self.command = (np.array(self.output.pitch), float(self.output.generator_torque))
@@ -367,7 +372,10 @@ class PlantNode(Node):
     def _advance(self) -> None:
         if self.safety.tripped:
             self.command = self.safety.feather(self.values["dt"])
-        out = self.output = self.model.step(*self.command)
+        for fault in self.faults.starting(self.step_index):
+            self.events(*fault_event(fault, self.values["dt"], self.actuator), step=self.step_index,
+                        stamp=_stamp(self.output.time))
+        out = self.output = self.faults.step(self.model, self.step_index, *self.command)
         self.step_index += 1
         for finding in self.safety.protect(out):
             self.events(*protection_event(finding, self.safety), step=self.step_index, stamp=_stamp(out.time))

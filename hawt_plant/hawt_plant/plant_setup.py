@@ -110,6 +110,10 @@ PARAMETERS = (
     ParameterSpec("command_sources", ["mbc"], "the nodes whose control/pitch_command the plant obeys (names "
                   "relative to its namespace, or absolute); another publisher's commands are refused and reported "
                   "as an intruder (['']: obey any publisher)", read_only=True),
+    ParameterSpec("faults", [""], "faults injected at a step, one entry each 'KIND key=value ... at=T' (T [s], a whole "
+                  "number of steps): load_bias blade=B moment=N*m, load_gain blade=B factor=F, load_frozen blade=B, "
+                  "load_dead blade=B, azimuth_offset angle=RAD, pitch_stuck blade=B, pitch_runaway blade=B "
+                  "to=feather|fine, grid_loss (hawt_plant.faults)", read_only=True),
     ParameterSpec("stale_burst_gap", 1.0, "realtime: commands older than the last applied one are reported once "
                   "per burst; a burst ends after this long without one", "s", minimum=0.0, maximum=600.0,
                   read_only=True),

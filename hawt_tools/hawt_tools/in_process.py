@@ -31,6 +31,7 @@ from hawt_controllers.switching import (ControllerInfo, Switch, SwitchRefused, p
 from hawt_core.command_interfaces import parse_interface
 from hawt_core.parameter_table import ParameterError, resolve_values
 from hawt_core.topics import estimate_topic
+from hawt_plant.faults import fault_event, make_faults
 from hawt_plant.model import STATE_FIELDS
 from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
 from hawt_plant.plant_setup import aerodynamics_line, make_plant, make_safety_system
@@ -87,7 +88,9 @@ class InProcessRun:
                  progress: Callable[[str], None] = lambda _: None, plant: Optional[PlantFactory] = None) -> None:
         self.namespace = namespace
         self.plant_values = dict(plant_values)
-        self.turbine, self.model, self.output = (plant or make_plant)(plant_values, progress)
+        self.turbine, self.model, output = (plant or make_plant)(plant_values, progress)
+        self.faults = make_faults(plant_values, self.turbine)
+        self.output = self.faults.measure(0, output)
         self.description = self.turbine.description(plant_values["dt"])
         self.actuator = self.turbine.pitch_actuator
         self.safety = make_safety_system(self.turbine, plant_values)
@@ -193,7 +196,10 @@ class InProcessRun:
             self.command = (np.asarray(command.pitch, dtype=float), float(collective.generator_torque))
         if self.safety.tripped:
             self.command = self.safety.feather(self.description.dt)
-        self.output = self.model.step(*self.command)
+        for fault in self.faults.starting(k):
+            level, kind, detail = fault_event(fault, self.description.dt, self.actuator)
+            self.events.append({"step": k, "source": "in_process", "level": level, "kind": kind, "detail": detail})
+        self.output = self.faults.step(self.model, k, *self.command)
         self.step_index += 1
         for finding in self.safety.protect(self.output):
             level, kind, detail = protection_event(finding, self.safety)
