@@ -25,11 +25,15 @@ def test_the_budget_is_the_pitch_that_cancels_the_steady_shear_moment_at_its_har
     assert uniform.amplitude < 0.2 * budget.amplitude  # without shear only tilt and gravity are left
 
 
-def test_on_the_iea_15mw_1p_alone_takes_most_of_the_2_deg_per_second(imported_deck):
+def test_on_the_iea_15mw_1p_alone_takes_most_of_the_2_deg_per_second_and_is_the_only_harmonic_left_active(
+        imported_deck):
+    """The imported IEA 15 MW (on its monopile): 1P takes more than half of its 2 °/s, and with 2P it would pass the
+    budget (1P+2P tripped its overspeed protection in turbulence), so the design leaves 1P alone active."""
     turbine = turbine_from(str(imported_deck(IEA_15MW)))
-    budget = rate_budget(turbine, measure_harmonic_response(turbine, 18.0, 1))
-    assert math.degrees(budget.max_rate) == pytest.approx(2.0, rel=1e-3)
-    assert budget.share > 0.5
+    budgets = [rate_budget(turbine, measure_harmonic_response(turbine, 18.0, n)) for n in (1, 2)]
+    assert math.degrees(budgets[0].max_rate) == pytest.approx(2.0, rel=1e-3)
+    assert budgets[0].share > 0.5
+    assert within_budget(budgets) == [1]
 
 
 def _budget(harmonic: int, share: float) -> RateBudget:
@@ -38,10 +42,10 @@ def _budget(harmonic: int, share: float) -> RateBudget:
 
 
 @pytest.mark.parametrize("shares, active", [
-    ((0.3, 0.3, 0.2), [1, 2, 3]),  # 80 % together: all fit
-    ((0.5, 0.3, 0.1), [1, 2]),  # 3P would bring it to 90 %
-    ((0.5, 0.4, 0.01), [1]),  # 2P would bring it to 90 %; 3P is not tried past it
-    ((0.9, 0.01, 0.01), []),  # 1P alone is past it
+    ((0.3, 0.3, 0.1), [1, 2, 3]),  # 70 % together: all fit
+    ((0.5, 0.2, 0.1), [1, 2]),  # 3P would bring it to 80 %
+    ((0.5, 0.3, 0.01), [1]),  # 2P would bring it to 80 %; 3P is not tried past it
+    ((0.8, 0.01, 0.01), []),  # 1P alone is past it
 ])
 def test_the_harmonics_that_fit_the_budget_are_active_in_order_up_to_the_first_that_would_not(shares, active):
     assert within_budget([_budget(n, share) for n, share in enumerate(shares, 1)]) == active
@@ -57,18 +61,18 @@ def test_on_the_nrel_5mw_1p_2p_and_3p_fit_the_budget_and_the_design_leaves_them_
     nodes = _design(nrel_5mw())
     assert all("active" not in node["ros__parameters"] for node in nodes.values())
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1, h2, h3 take 38 % together, within 85 % of the actuator's 8.0 deg/s: all active")
+        "rate budget: h1, h2, h3 take 38 % together, within 75 % of the actuator's 8.0 deg/s: all active")
 
 
 def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_inactive(capsys):
-    """The NREL 5 MW with a 2.8 °/s actuator (the IEA 15 MW's shares): 1P takes 78 %, 1P+2P would take 94 %; 2P
-    and 3P keep their design but are written inactive, and the design says how to start one anyway."""
+    """The NREL 5 MW with a 3 °/s actuator: 1P takes 73 %, 1P+2P would take 88 %; 2P and 3P keep their design but are
+    written inactive, and the design says how to start one anyway."""
     turbine = nrel_5mw()
-    slow = replace(turbine, pitch_actuator=replace(turbine.pitch_actuator, max_rate=math.radians(2.8)))
+    slow = replace(turbine, pitch_actuator=replace(turbine.pitch_actuator, max_rate=math.radians(3.0)))
     nodes = _design(slow)
     assert [nodes[f"/**/ipc_h{n}"]["ros__parameters"].get("active", True) for n in (1, 2, 3)] == [True, False, False]
     assert nodes["/**/ipc_h3"]["ros__parameters"]["integral_gain"] > 0.0
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1 takes 78 %, within 85 % of the actuator's 2.8 deg/s; h2 would bring it to 94 %: h2, h3 "
+        "rate budget: h1 takes 73 %, within 75 % of the actuator's 3.0 deg/s; h2 would bring it to 88 %: h2, h3 "
         "written inactive (active: false, which the graphs' ipc_hN arguments do not override; -p "
         "ipc_h2.active:=true starts one active, hawt switch --activate ipc_h2 brings one in)")
