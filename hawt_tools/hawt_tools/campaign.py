@@ -212,18 +212,25 @@ def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: An
         out = run.output
         for name, values in channels.items():
             values[k] = getattr(out, name)
-        command[k] = run.command[0]
+        command[k] = run.previous  # the loop assembler's, as control/pitch_command carries it (not a trip's feather)
     if bag:
         write_run(run, book, Path(bag))
-    return case_row(case, channels, command, dt, time.monotonic() - start)
+    trips = [f"{event['kind']} at t={event['step'] * dt:.2f} s" for event in run.events
+             if event["level"] >= 40 and event["kind"] in TRIP_EVENTS]
+    return case_row(case, channels, command, dt, time.monotonic() - start, trips)
+
+
+TRIP_EVENTS = ("protection_trip", "watchdog")
+"""The events of a run whose safety system tripped (it feathered the turbine): a case's ``trips``."""
 
 
 def case_row(case: Case, channels: Dict[str, np.ndarray], command: np.ndarray, dt: float,
-             wall: float) -> Dict[str, Any]:
-    """The numbers of one case: identity, DEL (N·m, 1 Hz) and extremes of every load channel, operation, pitch."""
+             wall: float, trips: Sequence[str] = ()) -> Dict[str, Any]:
+    """The numbers of one case: identity, DEL (N·m, 1 Hz) and extremes of every load channel, operation, pitch, and
+    ``trips`` (the safety system's, each ``kind at t=… s``; empty if none), whose loads are a feathered turbine's."""
     summary = summarize(channels)
     row: Dict[str, Any] = {"controller": case.controller.name, "wind_speed": case.speed, "seed": case.seed,
-                           "key": case.key, "wall_s": wall}
+                           "key": case.key, "wall_s": wall, "trips": "; ".join(trips)}
     for name, entry in summary["del"].items():
         row[f"del.{name}"] = entry["value"]
     for name, (values, _) in load_channels(make_record(channels)).items():  # derived channels too
@@ -396,7 +403,8 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
                     row = future.result()
                     _write_json(stored[case.key], row)
                     what = f"done in {row['wall_s']:.0f} s " \
-                           f"({(campaign.transient + campaign.duration) / row['wall_s']:.1f}x real time)"
+                           f"({(campaign.transient + campaign.duration) / row['wall_s']:.1f}x real time)" + \
+                           (f"; TRIPPED: {row['trips']}" if row.get("trips") else "")
                 else:
                     error = future.exception()
                     failed[case.key] = f"{case.label}: {type(error).__name__}: {error}"

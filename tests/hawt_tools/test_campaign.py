@@ -3,6 +3,7 @@ worker or a Ctrl-C loses nothing (and what it wrote says incomplete until resume
 graph's run bit for bit, and a --scheduler where no Dask scheduler answers is refused within the timeout."""
 import http.server
 import json
+import math
 import re
 import signal
 import socket
@@ -15,10 +16,11 @@ from typing import List
 
 import pandas
 import pytest
+import yaml
 
 from hawt_analysis.campaign_report import lifetime_text
 from hawt_bag.step_comparison import step_differences
-from hawt_tools.campaign import SCHEDULER_TIMEOUT, read_lifetime, write_tables
+from hawt_tools.campaign import SCHEDULER_TIMEOUT, plan_cases, read_lifetime, run_case, write_tables
 from hawt_tools.campaign_file import case_overrides, load_campaign
 
 CAMPAIGN = """\
@@ -336,3 +338,24 @@ def test_a_scheduler_address_where_no_dask_scheduler_answers_is_refused_before_a
     assert result.returncode == 2 and result.stderr.startswith(f"hawt campaign: --scheduler {address}: {message}"), \
         result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and result.stdout == "" and not output.exists()
+
+
+def test_a_case_whose_safety_system_trips_says_so_and_its_commanded_rate_is_the_controllers(tmp_path):
+    """A cpc stuck at fine pitch at 16 m/s: the overspeed protection trips and feathers the turbine. The case's row
+    names the trip, and its largest commanded pitch rate is the loop assembler's command (the stuck cpc's, from the
+    operating point down to fine pitch at the actuator's 8 deg/s), as control/pitch_command and hawt analyze have
+    it, not the safety system's feathering (a new user's tripped case read 29.4 deg/s)."""
+    baseline = Path(__file__).resolve().parents[2] / "hawt_controllers" / "hawt_controllers" / "data" / \
+        "nrel5mw_baseline.yaml"
+    tuning = yaml.safe_load(baseline.read_text())
+    tuning["parameters"].update(proportional_gain=0.0, integral_gain=0.0, max_pitch=0.001)
+    stuck = tmp_path / "stuck.yaml"
+    stuck.write_text(yaml.safe_dump(tuning))
+    path = tmp_path / "trip.yaml"
+    path.write_text(f"wind: {{speeds: [16], seeds: [1]}}\nduration: 30\ntransient: 0\ncontrollers:\n"
+                    f"  stuck: {{graph: baseline, parameters: ['cpc.controller_file:={stuck}']}}\n")
+    campaign = load_campaign(path)
+    (case,) = plan_cases(campaign)
+    row = run_case(case, campaign)
+    assert row["trips"].startswith("protection_trip at t="), row["trips"]
+    assert row["pitch.max_command_rate"] <= math.radians(8.0) * (1 + 1e-9)
