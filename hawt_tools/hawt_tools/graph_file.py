@@ -181,6 +181,22 @@ class _Map(dict):
     key_lines: Dict[Any, int]
 
 
+_EXPONENT_FLOAT = re.compile(r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+$")
+"""A float with an exponent but no dot (8e-11, 1E5): YAML 1.2 and rcl's parameter parser read it as a number,
+PyYAML's YAML 1.1 as text."""
+
+
+def yaml_value(text: str) -> Any:
+    """The value of a parameter's text as YAML types it (launch_ros reads graph and ``-p`` values so), except that a
+    float written with an exponent and no dot, alone or in a list, is a float, as rcl's own parser has it
+    (``--ros-args -p gain:=8e-11`` is a double) where PyYAML keeps the text ('8e-11')."""
+    def number(value: Any) -> Any:
+        if isinstance(value, str) and _EXPONENT_FLOAT.match(value):
+            return float(value)
+        return [number(item) for item in value] if isinstance(value, list) else value
+    return number(yaml.safe_load(text))
+
+
 class _LineLoader(yaml.SafeLoader):
     """SafeLoader whose mappings remember their lines and refuse duplicate keys."""
 
@@ -406,7 +422,7 @@ def _parse_parameters(entries: Any, where: str, line: int, substitute: _Substitu
             name = _expect(entry["name"], str, entry_where, "parameter 'name'")
             value = substitute(entry["value"], entry.line)
             if isinstance(entry["value"], str) and "$(" in entry["value"] and value:
-                value = yaml.safe_load(value)  # a substituted value gets its type as launch_ros gives it
+                value = yaml_value(value)  # a substituted value gets its type as launch_ros gives it
             _check_parameter_value(value, entry_where, name)
             inline.append((name, value))
         else:

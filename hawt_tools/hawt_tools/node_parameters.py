@@ -12,7 +12,7 @@ from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
 import yaml
 
-from hawt_tools.graph_file import NodeSpec, ParameterFile, ParameterValues
+from hawt_tools.graph_file import NodeSpec, ParameterFile, ParameterValues, yaml_value
 
 __all__ = ["Origin", "node_parameters", "node_parameter_sources", "typed_override"]
 
@@ -33,8 +33,9 @@ class Origin:
 
 
 def typed_override(text: str) -> Any:
-    """A ``-p`` value with the type YAML gives it, as rcl types it ('' and a null stay the text)."""
-    value = yaml.safe_load(text) if text else text
+    """A ``-p`` value with the type YAML gives it, as rcl types it ('' and a null stay the text; 8e-11 a float:
+    :func:`~hawt_tools.graph_file.yaml_value`)."""
+    value = yaml_value(text) if text else text
     return text if value is None else value
 
 

@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from hawt_tools.graph_file import GraphError, ParameterFile, ParameterValues, check_parameter_file, load_graph
+from hawt_tools.graph_file import (GraphError, ParameterFile, ParameterValues, check_parameter_file, load_graph,
+                                   yaml_value)
 
 GOOD = """\
 launch:
@@ -137,3 +138,13 @@ def test_wildcard_and_namespaced_parameter_files_are_accepted(tmp_path):
     """'/**', '/ns/*' and nested namespace levels are valid parameter-file keys."""
     check_parameter_file(_write(tmp_path, PARAMS + "/wt1/*:\n  ros__parameters:\n    x: 1\nwt2:\n  relay:\n"
                                           "    ros__parameters:\n      y: [true, false]\n", "params.yaml"))
+
+
+@pytest.mark.parametrize("text, value", [("8e-11", 8e-11), ("-1E5", -1e5), ("[8e-11, 0.0]", [8e-11, 0.0]),
+                                         ("2.5e-3", 2.5e-3), ("12", 12), ("true", True), ("e5", "e5"),
+                                         ("1e", "1e"), ("nrel_5mw", "nrel_5mw")])
+def test_a_parameter_text_has_rcls_type_an_exponent_without_a_dot_included(text, value):
+    """A launch argument or -p value typed as YAML types it, except that 8e-11 is a float as rcl reads it (PyYAML's
+    YAML 1.1 keeps it text, which a float parameter then refused: a new user's ipc_integral_gain:=[8e-11, 0.0])."""
+    typed = yaml_value(text)
+    assert typed == value and type(typed) is type(value)
