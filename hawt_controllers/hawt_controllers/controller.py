@@ -158,6 +158,8 @@ class Controller:
     INPUTS: ClassVar[Tuple[str, ...]] = ("blade_loads",)
     SWITCHABLE: ClassVar[bool] = True
     ESTIMATE: ClassVar[Optional[Tuple[str, str]]] = None
+    WITHOUT_INPUT: ClassVar[str] = "last output held"
+    """What the controller does at a step whose input it refused (:meth:`without_input`), for the event."""
 
     def __init__(self, values: Mapping[str, Any], plant: PlantDescription) -> None:
         self.values = resolve_values(self.PARAMETERS, values)
@@ -184,6 +186,14 @@ class Controller:
         it cannot use; the engine then holds the last output and reports it.
         """
         raise NotImplementedError
+
+    def without_input(self, held: Tuple[Contribution, ...]) -> Tuple[Contribution, ...]:
+        """The contributions of a step whose input :meth:`update` refused; ``held`` are the last ones answered.
+
+        Default: ``held`` (zero-order hold). A controller whose demand is worthless without its input
+        (the IPC without its blade-root moments) fades it out instead (:data:`WITHOUT_INPUT` says so).
+        """
+        return held
 
     @classmethod
     def check_values(cls, values: Mapping[str, Any]) -> None:
@@ -225,12 +235,13 @@ def update_or_hold(core: "Controller", step: int, loads: Any, state: Any,
     """Step ``core`` at ``step``: its contributions and None, or ``held`` (the last valid ones) and why not.
 
     Every engine steps a controller through this, so a core that refuses its input (ValueError) or
-    gives a value that is not finite holds its last output the same way everywhere.
+    gives a value that is not finite holds its last output the same way everywhere; a core that
+    refuses its input answers what :meth:`Controller.without_input` says (by default ``held``).
     """
     try:
         contributions = core.update(step, loads, state)
     except ValueError as error:
-        return held, str(error)
+        return core.without_input(held), str(error)
     for contribution in contributions:
         if not contribution.finite():
             return held, f"output not finite: {contributions}"

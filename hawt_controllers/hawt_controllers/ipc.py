@@ -33,6 +33,11 @@ van Engelen 2006 §3.3–3.4; Fratini 2019 §4.5), for harmonic n::
   cleared. The pre-filter keeps running while inactive, so an activation sees
   no filter transient.
 * φ_n is passed through for the inverse transform (mbc node).
+* Without usable moments (a dead blade-root load sensor: NaN) :meth:`HarmonicIpc.hold` stands in
+  for :meth:`HarmonicIpc.step`: the filters and the integrator keep their state and a second
+  factor, ``measured``, takes the output linearly 1→0 over ``ramp_time``; :meth:`HarmonicIpc.step`
+  takes it back to 1 at the same rate once the moments return (issue 34: fade out rather than
+  hold a 1P demand computed from loads the controller no longer sees).
 
 Both axes go through the same filter and law; there is no per-axis special
 case (ROSCO reads an ``axisYawF_2P`` that is never assigned: its 2P yaw loop
@@ -321,6 +326,8 @@ class HarmonicIpc:
         self.ramp = 0.0
         self.ramp_target = 0.0
         self.ramp_rate = math.inf
+        self.measured = 1.0
+        self._unramped = [0.0, 0.0]
         self._filtered = [0.0, 0.0]
         self._saturation = NormSaturation(config.max_amplitude)  # rebuilt only when the limit changes
 
@@ -427,24 +434,42 @@ class HarmonicIpc:
         self._filtered = moments if self.prefilter is None else self.prefilter.step_values(moments)
 
         self._advance_ramp(dt)
+        if self.measured < 1.0:
+            self.measured = min(self.measured + self._rate(None) * dt, 1.0)
         factor = self.config.gain_factor(operating_point) if self.config.uses_operating_point else 1.0
         if self.ramp == 0.0 and self.ramp_target == 0.0:
             self.law.reset(0.0)
-            demand = [0.0, 0.0]
+            demand = self._unramped = [0.0, 0.0]
         else:
             limit = min(self.config.max_amplitude, max(pitch_headroom, 0.0))
             if limit != self._saturation.limit:
                 self._saturation = NormSaturation(limit)
-            demand = [self.ramp * value for value in self.law.update_values(
+            self._unramped = self.law.update_values(
                 self._filtered,
                 dt,
                 kp=factor * self.config.proportional_gain,
                 ki=factor * self.config.integral_gain,
                 saturation=self._saturation,
-            )]
+            )
+            scale = self.ramp * self.measured
+            demand = [scale * value for value in self._unramped]
         # positional (a named tuple's keywords cost more than its arithmetic): the fields in IpcOutput's order
         return IpcOutput(int(self.config.harmonic), demand[0], demand[1], float(self.config.phase_offset),
                          self._filtered[0], self._filtered[1], factor, self.ramp, self.active, self.law.saturated)
+
+    def hold(self, dt: float) -> IpcOutput:
+        """A step without usable moments: filters and integrator hold, the output fades towards 0.
+
+        The ``measured`` factor falls by dt / ``config.ramp_time`` (at once for 0) and the output is
+        ramp × measured × the law's last output; the switch ramp moves on as in :meth:`step`.
+        """
+        dt = require_time_step(dt)
+        self._advance_ramp(dt)
+        self.measured = max(self.measured - self._rate(None) * dt, 0.0)
+        scale = self.ramp * self.measured
+        return IpcOutput(int(self.config.harmonic), scale * self._unramped[0], scale * self._unramped[1],
+                         float(self.config.phase_offset), self._filtered[0], self._filtered[1], math.nan, self.ramp,
+                         self.active, self.law.saturated)
 
     def _rate(self, ramp_time: float | None) -> float:
         time = self.config.ramp_time if ramp_time is None else require_nonnegative("ramp_time", ramp_time)

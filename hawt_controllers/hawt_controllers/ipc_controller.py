@@ -7,6 +7,10 @@ operating point of its soft start and gain schedule and the headroom above
 ``min_pitch`` as an extra amplitude limit (ROSCO ``IPC_SatMode = 2``). The loop
 assembler remodulates the demand at each blade's azimuth with φ_n.
 
+Moments that are not finite (a dead blade-root load sensor, issue 34) are refused as input, and the
+demand then fades out over ``ramp_time`` rather than holding its last value (:meth:`HarmonicIpc.hold`:
+filters and integrator hold), and fades back in once the moments are finite again.
+
 Bumpless switching: an incoming controller's filters start settled at the moments of
 its first step, and one that replaces another on ``harmonic/<n>`` starts from the other's
 last output (van Engelen 2006 §3.4; anchor_ros2 §3.3).
@@ -58,6 +62,7 @@ class HarmonicIpcController(Controller):
     """One harmonic's IPC as a plug-in (see the module notes)."""
 
     TYPE = "ipc"
+    WITHOUT_INPUT = "output fading out over its ramp time"
     PARAMETERS = (
         ParameterSpec("harmonic", 1, "harmonic n this controller acts on", minimum=1, maximum=12, read_only=True),
         ParameterSpec("integral_gain", _DEFAULT.integral_gain, "k_i of both axes (at most 1e-5: a thousand times "
@@ -116,6 +121,10 @@ class HarmonicIpcController(Controller):
         collective = mean_pitch(loads.pitch)
         out = self.law.step(moments.cos, moments.sin, self.plant.dt, operating_point=collective,
                             pitch_headroom=collective - self.values["min_pitch"])
+        return (HarmonicContribution(self.harmonic, out.cos, out.sin, out.phase_offset),)
+
+    def without_input(self, held: Tuple[Contribution, ...]) -> Tuple[HarmonicContribution, ...]:
+        out = self.law.hold(self.plant.dt)
         return (HarmonicContribution(self.harmonic, out.cos, out.sin, out.phase_offset),)
 
     @classmethod

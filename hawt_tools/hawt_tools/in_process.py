@@ -12,7 +12,10 @@ for the same graph, arguments and seed. A run can be written to MCAP with the to
 graph publishes, so ``hawt analyze`` and ``hawt compare`` read it unchanged.
 
 The plant's protection (hawt_plant.safety_system.Protection) runs here as in the plant node:
-a trip is a ``protection_trip`` event and the plant feathers from the next step on.
+a trip is a ``protection_trip`` event and the plant feathers from the next step on. The plant's
+faults (hawt_plant.faults) act at the same points as in the plant node, each a ``fault`` event.
+Input a controller refuses is an ``invalid_input`` event at the first of consecutive refused
+steps (the controller node reports every one).
 What the runner does not do, since nothing can happen there that the schedule did not
 say: live switches and parameter sets, lost contributors, realtime.
 """
@@ -72,6 +75,7 @@ class _Controller:
     core: Controller
     publish_until: float = -math.inf
     last: Tuple[Contribution, ...] = ()
+    refusing: bool = False
 
     def info(self) -> ControllerInfo:
         state = "active" if self.publish_until == math.inf else "inactive"
@@ -168,6 +172,11 @@ class InProcessRun:
         for controller in self.controllers:
             contributions, refusal = update_or_hold(controller.core, k, out, out, controller.last)
             controller.last = contributions
+            if refusal is not None and not controller.refusing:
+                self.events.append({"step": k, "source": controller.name, "level": 40, "kind": "invalid_input",
+                                    "detail": f"step {k}: {refusal}; {controller.core.WITHOUT_INPUT} (reported at "
+                                              "the first of consecutive refused steps)"})
+            controller.refusing = refusal is not None
             if record is not None and refusal is None and controller.core.ESTIMATE is not None:
                 kind, type_name = controller.core.ESTIMATE
                 topic = estimate_topic(controller.name.rsplit("/", 1)[-1], kind)

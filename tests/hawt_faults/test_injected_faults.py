@@ -1,0 +1,91 @@
+"""Faults injected into the plant (hawt_plant.faults) in closed loop, in process: what the controllers and the safety
+system do, and what the run records. Steady 18 m/s, tens of seconds simulated."""
+import numpy as np
+import pytest
+
+from hawt_plant.turbine import nrel_5mw
+from hawt_tools.in_process import RunRecord
+
+TURBINE = nrel_5mw()
+RATED = TURBINE.schedule.rated_rotor_speed
+DT = 0.01
+
+
+def _run(graph: str, faults: str, seconds: float):
+    """``graph`` at steady 18 m/s with the plant's ``faults`` for ``seconds``, stepped in process and recorded."""
+    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import load_graph
+    from hawt_tools.in_process import build_run
+    from hawt_tools.launcher import package_prefix, parse_overrides
+
+    loaded = load_graph(find_graph(graph), {"wind_speed": "18.0"}, package_prefix)
+    run = build_run(loaded, parse_overrides(loaded, [f"plant.faults:={faults}"]))
+    record = RunRecord()
+    for _ in range(int(round(seconds / DT))):
+        run.step(record)
+    columns = {topic: {name: np.asarray([row[name] for row in rows]) for name in rows[0]}
+               for topic, rows in record.rows.items()}
+    return run, columns
+
+
+def _events(run, kind: str):
+    return [event for event in run.events if event["kind"] == kind]
+
+
+def test_a_dead_blade_root_sensor_fades_the_ipc_out_with_an_event_and_no_nan_reaches_the_plant():
+    """ipc graph, blade 2's load sensor dead at 10 s: a WARN fault event at step 1000; each IPC controller reports the
+    NaN at step 1000, once, and says it fades out; its demand falls linearly from its last one to 0 over its 5 s ramp
+    (not held), so the individual pitch is 0 from 15 s; no command is NaN;
+    the collective controller, which reads generator speed and pitch, keeps the rotor at rated speed."""
+    run, topics = _run("ipc", "['load_dead blade=2 at=10']", 20)
+    (fault,) = _events(run, "fault")
+    assert (fault["step"], fault["level"]) == (1000, 30) and "blade 2 dead" in fault["detail"]
+    refused = _events(run, "invalid_input")
+    assert sorted(e["source"] for e in refused) == ["/wt1/ipc_h1", "/wt1/ipc_h2", "/wt1/ipc_h3"]
+    assert all(e["step"] == 1000 and "NaN" in e["detail"] and "fading out" in e["detail"] for e in refused)
+    loads = topics["plant/blade_loads"]["root_moment_oop"]
+    assert np.isnan(loads[1000:, 1]).all() and np.isfinite(loads[:1000]).all()
+    command = topics["control/pitch_command"]
+    assert np.isfinite(command["pitch"]).all() and np.isfinite(command["generator_torque"]).all()
+    individual = np.abs(command["individual"])
+    assert individual[900:1000].max() > np.radians(1.0)  # IPC was working before
+    assert individual[1500:].max() == 0.0  # faded out over its 5 s ramp
+    h1 = topics["control/ipc/h1"]
+    demand = np.hypot(h1["cos"], h1["sin"])
+    fade = 1.0 - np.arange(1, 501) * DT / 5.0  # linear, over the controller's ramp_time 5 s, from the last demand
+    np.testing.assert_allclose(demand[1000:1500], fade * demand[999], rtol=1e-9, atol=1e-15)
+    speed = topics["plant/blade_loads"]["rotor_speed"]
+    assert np.abs(speed[1000:] / RATED - 1.0).max() < 0.02
+
+
+def test_a_grid_loss_at_18_m_s_takes_the_torque_off_and_the_pitch_loop_holds_the_rotor_below_the_overspeed_warning():
+    """baseline, grid lost at 5 s: an ERROR fault event at step 500; the generator torque falls at the generator's
+    rate limit and is 0 once rated torque / max_torque_rate has passed; the collective pitch loop alone then holds the
+    rotor, whose speed peaks below the protection's warning level, so nothing trips (what a controller that
+    detects the grid loss and shuts down would do is not modelled)."""
+    run, topics = _run("baseline", "['grid_loss at=5']", 20)
+    (fault,) = _events(run, "fault")
+    assert (fault["step"], fault["level"]) == (500, 40)
+    torque = topics["plant/state"]["generator_torque"]
+    assert torque[500] > 0.9 * TURBINE.generator.rated_torque
+    falls = TURBINE.generator.rated_torque / TURBINE.generator.max_torque_rate
+    assert np.all(torque[500 + int(np.ceil(falls / DT)) + 2:] == 0.0)
+    speed = topics["plant/blade_loads"]["rotor_speed"]
+    assert speed.max() < TURBINE.protection.rotor_speed_warning and speed.max() > 1.05 * RATED
+    assert _events(run, "protection_trip") == [] and _events(run, "protection_warning") == []
+
+
+def test_a_pitch_runaway_to_feather_on_one_blade_trips_the_pitch_asymmetry_protection_which_feathers_all():
+    """baseline, blade 1's actuator runs to feather at 5 s: an ERROR fault event at step 500; blade 1 moves at the
+    actuator's rate limit; the protection trips on pitch asymmetry within 3 s and feathers the other blades at the
+    rate limit; the rotor does not overspeed."""
+    run, topics = _run("baseline", "['pitch_runaway blade=1 to=feather at=5']", 15)
+    (fault,) = _events(run, "fault")
+    assert (fault["step"], fault["level"]) == (500, 40)
+    (trip,) = _events(run, "protection_trip")
+    assert trip["detail"].startswith("pitch asymmetry ") and 500 < trip["step"] < 800
+    pitch = topics["plant/blade_loads"]["pitch"]
+    rate = np.diff(pitch[:, 0]) / DT
+    assert rate[520:trip["step"]].min() == pytest.approx(TURBINE.pitch_actuator.max_rate, rel=1e-9)
+    assert np.all(np.diff(pitch[trip["step"] + 50:, 1]) > 0.0) and pitch[-1, 1] > pitch[trip["step"], 1] + 0.5
+    assert topics["plant/blade_loads"]["rotor_speed"].max() < 1.01 * RATED
