@@ -457,7 +457,8 @@ def write_tunings(turbine: str, harmonics: Sequence[int], wind_speeds: Sequence[
     measured : bool
         The measured static response only, no linear models.
     output, retuned_output : Path or None
-        The files to write; None: the turbine's ``ipc`` and ``ipc_retuned`` tunings
+        The files to write; None: the turbine's ``ipc`` and ``ipc_retuned`` tunings, or for ``retuned_output`` with an
+        ``output`` given, ``<output>_retuned`` beside it
         (:func:`hawt_controllers.tunings.tuning_path`).
     retuned_only : bool
         Only derive the retuned controller again from the existing ``output``.
@@ -470,8 +471,10 @@ def write_tunings(turbine: str, harmonics: Sequence[int], wind_speeds: Sequence[
         ``retuned_only`` without an ``output`` to derive from.
     """
     model = turbine_from(turbine)
+    # beside a given output rather than over the turbine's own (a design written elsewhere is the user's)
+    retuned_output = retuned_output or (output.with_name(f"{output.stem}_retuned{output.suffix}") if output else
+                                        tuning_path(turbine, "ipc_retuned"))
     output = output or tuning_path(turbine, "ipc")
-    retuned_output = retuned_output or tuning_path(turbine, "ipc_retuned")
     if retuned_only:
         if not output.is_file():
             raise TuningError(f"--retuned-only: no {output} to derive the retuned controller from (write it first: "

@@ -1183,7 +1183,8 @@ def _parser() -> argparse.ArgumentParser:
                      help="the plant's Coleman-frame models (hawt linearize; default: the turbine's, if it has them)")
     ipc.add_argument("--measured", action="store_true", help="the measured static response only, no linear models")
     ipc.add_argument("-o", "--output", metavar="FILE", help="default: the turbine's ipc tuning file")
-    ipc.add_argument("--retuned-output", metavar="FILE", help="default: the turbine's ipc_retuned tuning file")
+    ipc.add_argument("--retuned-output", metavar="FILE", help="default: the turbine's ipc_retuned tuning file, or "
+                     "beside -o FILE as FILE_retuned.yaml")
     ipc.add_argument("--retuned-only", action="store_true",
                      help="only derive the retuned 1P controller from the existing --output file")
     ipc.set_defaults(run=_cmd_design_ipc)

@@ -81,9 +81,11 @@ def test_the_model_route_reproduces_the_shipped_design(models, shipped, harmonic
 def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(models, tmp_path, capsys):
     """``hawt design ipc``: the linear model's offset goes to the file, the measured
     response's difference is printed, and so is the crossover the loop has on the model; ``--measured`` is the
-    static route alone (the shipped file's offset, to the last digit)."""
-    files = ["-o", str(tmp_path / "ipc.yaml"), "--retuned-output", str(tmp_path / "retuned.yaml")]
+    static route alone (the shipped file's offset, to the last digit). With ``-o`` alone the retuned controller goes
+    beside it, not over the turbine's own."""
+    files = ["-o", str(tmp_path / "ipc.yaml")]
     assert cli.main(["design", "ipc", "--harmonics", "1", "--wind-speeds", "18"] + files) == 0
+    assert (tmp_path / "ipc_retuned.yaml").is_file()
     written = yaml.safe_load((tmp_path / "ipc.yaml").read_text())["/**/ipc_h1"]["ros__parameters"]
     assert written["phase_offset"] == model_harmonic_response(models[18.0], 1).phase
     printed = capsys.readouterr().out
