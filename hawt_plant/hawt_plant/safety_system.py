@@ -32,10 +32,14 @@ from hawt_core.step_sync import StepVerdict, classify_step
 from hawt_plant.turbine import ProtectionLimits
 
 __all__ = ["command_rejection", "CommandOrder", "Protection", "ProtectionFinding", "SafetySettings", "SafetySystem",
-           "FEATHERED_TORQUE", "protection_event"]
+           "FEATHERED_TORQUE", "TRIP_EVENTS", "protection_event"]
 
 FEATHERED_TORQUE = 0.0
 """Generator torque [N*m] commanded once the safety system has tripped."""
+
+TRIP_EVENTS = ("protection_trip", "watchdog")
+"""The kinds of the plant's events that say its safety system tripped and feathered the turbine: a run's loads are a
+feathered turbine's from then on (a campaign case's ``trips``, ``hawt compare``'s warning)."""
 
 
 def command_rejection(pitch: np.ndarray, generator_torque: float, blades: int, min_angle: float,

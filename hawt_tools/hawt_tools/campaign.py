@@ -215,13 +215,11 @@ def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: An
         command[k] = run.previous  # the loop assembler's, as control/pitch_command carries it (not a trip's feather)
     if bag:
         write_run(run, book, Path(bag))
+    from hawt_plant.safety_system import TRIP_EVENTS
+
     trips = [f"{event['kind']} at t={event['step'] * dt:.2f} s" for event in run.events
              if event["level"] >= 40 and event["kind"] in TRIP_EVENTS]
     return case_row(case, channels, command, dt, time.monotonic() - start, trips)
-
-
-TRIP_EVENTS = ("protection_trip", "watchdog")
-"""The events of a run whose safety system tripped (it feathered the turbine): a case's ``trips``."""
 
 
 def case_row(case: Case, channels: Dict[str, np.ndarray], command: np.ndarray, dt: float,

@@ -332,9 +332,13 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     if any(folders):
         return _compare_campaigns(args, all(folders))
     _report_folder(args.report)
+    from hawt_plant.safety_system import TRIP_EVENTS
+
     analyses, comparison = compare_bags(args.bags, args.namespace, progress=_progress)
-    for analysis in analyses:
+    for path, analysis in zip(args.bags, analyses):
         _warn("compare", analysis.summary["warnings"])
+        _warn("compare", [f"{path}: {event['kind']} at t={event['time']:.2f} s: from then on its loads are a "
+                          f"feathered turbine's" for event in analysis.summary["events"] if event["kind"] in TRIP_EVENTS])
     _warn("compare", comparison["warnings"])
     print(json.dumps(comparison) if args.json else comparison_text(comparison))
     if args.report:

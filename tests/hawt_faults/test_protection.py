@@ -69,6 +69,10 @@ def test_a_controller_stuck_at_fine_pitch_trips_the_protection_in_lockstep_and_i
     trips = [_overspeed_trip_feathered_the_turbine(bag, "wt1") for bag in bags.values()]
     assert trips[0] == trips[1]
     assert step_differences(bags["launch"], bags["run"], ("/wt1/plant/blade_loads", "/wt1/plant/state")) == []
+    compared = subprocess.run([*hawt_cli, "compare", str(bags["run"]), str(bags["launch"])], capture_output=True,
+                              text=True, timeout=300)  # a tripped run compared is said to be one
+    assert compared.returncode == 0, compared.stderr[-3000:]
+    assert f"{bags['launch']}: protection_trip at t=" in compared.stderr
 
 
 @pytest.mark.ros
