@@ -286,11 +286,11 @@ class MbcNode(Node):
             return  # the plant resends the step until it is answered
         oop = np.asarray(msg.root_moment_oop)
         if oop.shape != (self.plant.blades,) or len(msg.pitch) != self.plant.blades \
-                or not np.all(np.isfinite(oop)) or not math.isfinite(msg.azimuth):
+                or not math.isfinite(msg.azimuth):
             self.events(ControlEvent.ERROR, "invalid_input",
-                        f"plant/blade_loads step {msg.step}: expected {self.plant.blades} finite moments and "
-                        f"pitches, got {list(msg.root_moment_oop)} / {list(msg.pitch)}", step=msg.step,
-                        stamp=msg.header.stamp)
+                        f"plant/blade_loads step {msg.step}: expected {self.plant.blades} moments and pitches and a "
+                        f"finite azimuth, got {list(msg.root_moment_oop)} / {list(msg.pitch)} / {msg.azimuth}",
+                        step=msg.step, stamp=msg.header.stamp)
             return
         if self.loads is None or msg.step != self.loads.step:  # a resent step keeps its first arrival time
             self.loads_received = time.monotonic()
@@ -306,7 +306,9 @@ class MbcNode(Node):
                 self._subscribe(parse_interface(interface).topic, message_type(interface))
             self.windows.apply(switch)
         complete = self._require(msg.step)
-        for n, publisher in self.forward.items():
+        # The command needs only the azimuth: a dead load sensor (NaN) leaves the IPC controllers to fade out
+        # (issue 34) and only the watched transform out.
+        for n, publisher in (self.forward.items() if np.all(np.isfinite(oop)) else ()):
             components = mbc_forward(oop, msg.azimuth, n)
             out = HarmonicLoads(step=msg.step, harmonic=n, azimuth=msg.azimuth, rotor_speed=msg.rotor_speed,
                                 cos=float(components.cos), sin=float(components.sin), mean=float(components.mean),

@@ -89,3 +89,41 @@ def test_a_pitch_runaway_to_feather_on_one_blade_trips_the_pitch_asymmetry_prote
     assert rate[520:trip["step"]].min() == pytest.approx(TURBINE.pitch_actuator.max_rate, rel=1e-9)
     assert np.all(np.diff(pitch[trip["step"] + 50:, 1]) > 0.0) and pitch[-1, 1] > pitch[trip["step"], 1] + 0.5
     assert topics["plant/blade_loads"]["rotor_speed"].max() < 1.01 * RATED
+
+
+FAULTS = "['azimuth_offset angle=0.3 at=2', 'load_dead blade=2 at=4', 'pitch_stuck blade=3 at=6', 'grid_loss at=8']"
+
+
+def test_a_bad_faults_entry_is_refused_before_the_run_in_one_line(hawt_cli):
+    """`hawt run` (and `hawt launch`, through the same parameter check): exit 2, one line naming the entry."""
+    import subprocess
+
+    result = subprocess.run([*hawt_cli, "run", "baseline", "duration:=1", "-p",
+                             "plant.faults:=['grid_loss at=1', 'pitch_stuck blade=2 at=0.005']"],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2
+    assert result.stderr.strip() == ("hawt run: -p plant.faults: entry 'pitch_stuck blade=2 at=0.005': at: 0.005 s is not "
+                                     "a whole number of steps of dt 0.01 s")
+
+
+@pytest.mark.ros
+def test_faults_give_the_lockstep_graph_and_hawt_run_the_same_run_and_events_at_their_steps(hawt_cli, tmp_path):
+    """ipc graph, 10 s of turbulence with an azimuth offset, a dead load sensor, a stuck actuator and a grid loss:
+    plant/blade_loads, plant/state and control/pitch_command of `hawt launch` (one process per node) and `hawt run`
+    are equal in every field at every step, and each bag has the four fault events at their steps."""
+    import subprocess
+
+    from hawt_bag.step_comparison import step_differences
+    from hawt_faults.fault_runs import read_recording
+
+    bags = {}
+    for command in ("launch", "run"):
+        bags[command] = tmp_path / f"{command}.mcap"
+        result = subprocess.run([*hawt_cli, command, "ipc", "wind_type:=turbulent", "duration:=10", "seed:=3", "-p",
+                                 f"plant.faults:={FAULTS}", "--record", str(bags[command])], capture_output=True,
+                                text=True, timeout=600)
+        assert result.returncode == 0, result.stderr[-3000:]
+        faults = read_recording(bags[command], "wt1").events_of("fault")
+        assert [(e["step"], e["level"]) for e in faults] == [(200, 30), (400, 30), (600, 40), (800, 40)], faults
+    topics = ("/wt1/plant/blade_loads", "/wt1/plant/state", "/wt1/control/pitch_command")
+    assert step_differences(bags["launch"], bags["run"], topics) == []
