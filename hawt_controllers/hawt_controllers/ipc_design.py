@@ -332,6 +332,8 @@ def design(turbine: Turbine, harmonics: Sequence[int], wind_speeds: Sequence[flo
     nodes = {}
     budgets = []
     for n in sorted(set(harmonics)):
+        print(f"h{n}: measuring the plant's {n}P response at " + ", ".join(f"{v:g}" for v in wind_speeds) + " m/s",
+              flush=True)
         measured = [measure_harmonic_response(turbine, v, n, dt=dt) for v in wind_speeds]
         responses = measured if missing else [model_harmonic_response(at[v], n) for v in wind_speeds]
         parameters, gain = tune(responses, reference_speed, bandwidth, loop_delay, dt)
@@ -485,7 +487,7 @@ def write_tunings(turbine: str, harmonics: Sequence[int], wind_speeds: Sequence[
             try:
                 linear_models = tuning_file(turbine, "linear")
             except TuningError as error:
-                print(f"{error}: the measured route")
+                print(f"designing from the plant's measured static response (the measured route): {error}")
         nodes = design(model, harmonics, wind_speeds, reference_speed, bandwidth, loop_delay, dt,
                        () if measured or linear_models is None else load_models(linear_models))
         route = "the measured static response" if measured or linear_models is None else f"{linear_models}"

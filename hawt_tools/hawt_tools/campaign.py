@@ -263,6 +263,11 @@ def _write_json(path: Path, data: Any) -> None:
     os.replace(partial, path)
 
 
+def _counted(count: int, what: str) -> str:
+    """``1 case``, ``2 cases``."""
+    return f"{count} {what}" + ("s" if count != 1 else "")
+
+
 def _duration_text(seconds: float) -> str:
     minutes, seconds = divmod(int(round(seconds)), 60)
     return f"{minutes // 60}:{minutes % 60:02d}:{seconds:02d}"
@@ -363,9 +368,9 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
     todo = [case for case in cases if not stored[case.key].exists()]
     failed: Dict[str, str] = {}
     interrupted = False
-    report(f"{len(cases)} cases ({len(campaign.controllers)} controllers x {len(campaign.speeds)} speeds x "
-           f"{len(campaign.seeds)} seeds, {campaign.transient + campaign.duration:g} s each); "
-           f"{len(cases) - len(todo)} already done in {output}")
+    report(f"{_counted(len(cases), 'case')} ({_counted(len(campaign.controllers), 'controller')} x "
+           f"{_counted(len(campaign.speeds), 'speed')} x {_counted(len(campaign.seeds), 'seed')}, "
+           f"{campaign.transient + campaign.duration:g} s each); {len(cases) - len(todo)} already done in {output}")
     if todo:
         for folder in (output / "cases", *([output / "bags"] if bags else ())):  # before any wind or worker
             try:
