@@ -29,6 +29,10 @@ answers (they are not applied), so the run stays deterministic; after the watchd
 steps on its own, at the pace the run had, until ``duration``, so the run completes, and
 commands that come back are not applied (one ``command_returned`` event).
 
+Faults (the ``faults`` parameter, :mod:`hawt_plant.faults`): from its step a sensor fault changes
+what ``plant/blade_loads`` publishes, an actuator or grid fault the command the model gets (after the
+safety system's); each is a ``fault`` event at its step. ``hawt run`` applies them at the same points.
+
 Back-pressure to the recorder (lockstep): a recorder that writes this plant's
 ``plant/blade_loads`` reports how far it has written on ``/recorder/progress``; the plant
 does not step more than ``recorder_window`` of simulated time ahead of it. A recorder is a

@@ -102,8 +102,8 @@ def test_a_bad_faults_entry_is_refused_before_the_run_in_one_line(hawt_cli):
                              "plant.faults:=['grid_loss at=1', 'pitch_stuck blade=2 at=0.005']"],
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 2
-    assert result.stderr.strip() == ("hawt run: -p plant.faults: entry 'pitch_stuck blade=2 at=0.005': at: 0.005 s is not "
-                                     "a whole number of steps of dt 0.01 s")
+    assert result.stderr.strip() == ("hawt run: -p plant.faults: entry 'pitch_stuck blade=2 at=0.005': at: 0.005 s "
+                                     "is not a whole number of steps of dt 0.01 s")
 
 
 @pytest.mark.ros

@@ -1,4 +1,5 @@
-"""hawt_plant.faults: the faults entries, and what each fault does to the published or physical quantity from its step."""
+"""hawt_plant.faults: the faults entries, and what each fault does to the published or physical quantity from its
+step."""
 import dataclasses
 import math
 
@@ -79,7 +80,7 @@ def test_an_entry_names_the_fault_its_device_and_its_first_step(entry, expected)
                                            "at=1' (one fault each)"),
 ])
 def test_a_bad_entry_is_refused_in_one_line_naming_it(entries, message):
-    """ParameterError (the plant's parameter check refuses it before anything starts) naming ``faults`` and the entry."""
+    """ParameterError (the plant's parameter check refuses it before anything starts) naming faults and the entry."""
     with pytest.raises(ParameterError, match="^faults: ") as refused:
         parse_faults(entries, DT)
     assert message in str(refused.value) and "\n" not in str(refused.value)
@@ -146,8 +147,8 @@ def test_without_faults_the_output_and_the_command_pass_through_as_the_same_obje
 @pytest.mark.parametrize("entry, level, text", [
     ("load_dead blade=2 at=20", 30, "blade-root load sensor of blade 2 dead: M_oop NaN from step 2000 (t=20 s; faults "
                                     "entry 'load_dead blade=2 at=20')"),
-    ("pitch_runaway blade=1 to=feather at=5", 40, "pitch actuator of blade 1 running away to feather (1.5708 rad) at its "
-                                                  "rate limit 0.139626 rad/s from step 500"),
+    ("pitch_runaway blade=1 to=feather at=5", 40,
+     "pitch actuator of blade 1 running away to feather (1.5708 rad) at its rate limit 0.139626 rad/s from step 500"),
     ("grid_loss at=40", 40, "grid loss: generator torque command 0 from step 4000"),
 ])
 def test_a_fault_is_a_warning_for_a_sensor_and_an_error_for_an_actuator_or_the_grid(entry, level, text):
