@@ -94,16 +94,19 @@ def test_a_pitch_runaway_to_feather_on_one_blade_trips_the_pitch_asymmetry_prote
 FAULTS = "['azimuth_offset angle=0.3 at=2', 'load_dead blade=2 at=4', 'pitch_stuck blade=3 at=6', 'grid_loss at=8']"
 
 
-def test_a_bad_faults_entry_is_refused_before_the_run_in_one_line(hawt_cli):
+@pytest.mark.parametrize("graph, entries, refusal", [
+    ("baseline", "['grid_loss at=1', 'pitch_stuck blade=2 at=0.005']",
+     "entry 'pitch_stuck blade=2 at=0.005': at: 0.005 s is not a whole number of steps of dt 0.01 s"),
+    ("two_bladed", "['load_dead blade=3 at=1']", "entry 'load_dead blade=3 at=1': blade: expected 1..2, found 3"),
+], ids=["not a whole step", "a blade the turbine does not have"])
+def test_a_bad_faults_entry_is_refused_before_the_run_in_one_line(hawt_cli, graph, entries, refusal):
     """`hawt run` (and `hawt launch`, through the same parameter check): exit 2, one line naming the entry."""
     import subprocess
 
-    result = subprocess.run([*hawt_cli, "run", "baseline", "duration:=1", "-p",
-                             "plant.faults:=['grid_loss at=1', 'pitch_stuck blade=2 at=0.005']"],
+    result = subprocess.run([*hawt_cli, "run", graph, "duration:=1", "-p", f"plant.faults:={entries}"],
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 2
-    assert result.stderr.strip() == ("hawt run: -p plant.faults: entry 'pitch_stuck blade=2 at=0.005': at: 0.005 s "
-                                     "is not a whole number of steps of dt 0.01 s")
+    assert result.stderr.strip() == f"hawt run: -p plant.faults: {refusal}"
 
 
 @pytest.mark.ros
