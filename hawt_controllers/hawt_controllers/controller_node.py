@@ -18,8 +18,9 @@ What the base does for every controller (ros2_controllers' ``forward_controllers
   by step (with ``await_schedule``, only once controller_manager's schedule has arrived); the
   core is updated at every step, active or not; its contributions are
   published while active or ramping out. A repeated step is answered again, never
-  recomputed (hawt_core.step_sync). Input the core refuses holds the last output and is
-  reported (``invalid_input``); a core that fails for good (``ControllerFailure``) is reported
+  recomputed (hawt_core.step_sync). Input the core refuses gets the core's answer without input
+  (``Controller.without_input``: the held output, or the IPC's fade-out) and is reported
+  (``invalid_input``, at the first of consecutive refused steps, as ``hawt run`` does); a core that fails for good (``ControllerFailure``) is reported
   (``controller_failed``) and answers no more steps, so the plant's safety system takes over.
 - **switches** from ``controller_manager`` take effect at their plant step (bumpless: the
   core ramps in or out; one that replaces another on its interfaces starts from the
@@ -108,6 +109,7 @@ class ControllerNode(LifecycleNode):
         self.publish_until = -math.inf
         self.followed: Dict[str, Tuple[int, Contribution]] = {}
         self.deferred: Optional[_Deferred] = None
+        self.refusing = False  # the last step's input was refused
         self.following: List[Any] = []
         self.made: List[Any] = []
         self.publishers_by_topic: Dict[str, Any] = {}
@@ -347,9 +349,12 @@ class ControllerNode(LifecycleNode):
                         "plant's safety system takes over)", step=step, stamp=header.stamp)
             self.core = None  # answers no more steps
             return
+        refused_before, self.refusing = self.refusing, refusal is not None
         if refusal is not None:
-            self.events(ControlEvent.ERROR, "invalid_input", f"step {step}: {refusal}; "
-                        + ("last output held" if held else "no output yet"), step=step, stamp=header.stamp)
+            if not refused_before:  # once per run of refused steps, as hawt run reports it
+                self.events(ControlEvent.ERROR, "invalid_input", f"step {step}: {refusal}; "
+                            + (self.core.WITHOUT_INPUT if held else "no output yet")
+                            + " (reported at the first of consecutive refused steps)", step=step, stamp=header.stamp)
             if not held:
                 return
         elif self.estimate is not None:

@@ -113,7 +113,8 @@ def test_a_bad_faults_entry_is_refused_before_the_run_in_one_line(hawt_cli, grap
 def test_faults_give_the_lockstep_graph_and_hawt_run_the_same_run_and_events_at_their_steps(hawt_cli, tmp_path):
     """ipc graph, 10 s of turbulence with an azimuth offset, a dead load sensor, a stuck actuator and a grid loss:
     plant/blade_loads, plant/state and control/pitch_command of `hawt launch` (one process per node) and `hawt run`
-    are equal in every field at every step, and each bag has the four fault events at their steps."""
+    are equal in every field at every step, and each bag has the four fault events at their steps and each IPC
+    controller's one report of the dead sensor."""
     import subprocess
 
     from hawt_bag.step_comparison import step_differences
@@ -126,7 +127,12 @@ def test_faults_give_the_lockstep_graph_and_hawt_run_the_same_run_and_events_at_
                                  f"plant.faults:={FAULTS}", "--record", str(bags[command])], capture_output=True,
                                 text=True, timeout=600)
         assert result.returncode == 0, result.stderr[-3000:]
-        faults = read_recording(bags[command], "wt1").events_of("fault")
+        recording = read_recording(bags[command], "wt1")
+        faults = recording.events_of("fault")
         assert [(e["step"], e["level"]) for e in faults] == [(200, 30), (400, 30), (600, 40), (800, 40)], faults
+        # each IPC controller reports the dead sensor once, at its first refused step, in both engines
+        refused = recording.events_of("invalid_input")
+        assert sorted((e["source"].rsplit("/", 1)[-1], e["step"]) for e in refused) == \
+            [("ipc_h1", 400), ("ipc_h2", 400), ("ipc_h3", 400)], refused
     topics = ("/wt1/plant/blade_loads", "/wt1/plant/state", "/wt1/control/pitch_command")
     assert step_differences(bags["launch"], bags["run"], topics) == []
