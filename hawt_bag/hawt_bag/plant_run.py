@@ -198,9 +198,31 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     command, flag_names, refused, command_warnings = _pitch_command(
         reader, topic_in(namespace, PITCH_COMMAND), counts, progress, channels["pitch"].shape[1], _refused(events))
     warnings += command_warnings
+    channels, steps, cut = _before_nan(channels, steps)
+    if cut:
+        warnings += (cut,)
     estimates = _wind_estimates(reader, namespace, steps, counts, progress)
     return PlantRun(namespace, channels, steps.astype(np.int64), command, flag_names, events, counts, warnings,
                     estimates, refused)
+
+
+def _before_nan(channels: dict, steps: np.ndarray) -> tuple[dict, np.ndarray, str]:
+    """The channels up to the first step at which one of them is NaN (a dead sensor, ``hawt_plant.faults``), and a
+    warning naming where and which; the whole run and no warning if none is. NaN from the first step on is left to
+    the analysis's own refusal."""
+    bad = np.zeros(len(steps), dtype=bool)
+    names = []
+    for name, values in channels.items():
+        nan = np.isnan(values).reshape(len(steps), -1).any(axis=1)
+        if nan[1:].any():
+            names.append(name)
+        bad |= nan
+    first = int(np.argmax(bad)) if bad.any() else len(steps)
+    if first in (0, len(steps)):
+        return channels, steps, ""
+    where = f"step {int(steps[first])} (t={channels['time'][first]:.2f} s)"
+    return ({name: values[:first] for name, values in channels.items()}, steps[:first],
+            f"NaN from {where} in {', '.join(names)} (a dead sensor?): analysing the steps before it")
 
 
 def _wind_estimates(reader: BagReader, namespace: str, steps: np.ndarray, counts: dict, progress) -> dict:

@@ -136,3 +136,18 @@ def test_faults_give_the_lockstep_graph_and_hawt_run_the_same_run_and_events_at_
             [("ipc_h1", 400), ("ipc_h2", 400), ("ipc_h3", 400)], refused
     topics = ("/wt1/plant/blade_loads", "/wt1/plant/state", "/wt1/control/pitch_command")
     assert step_differences(bags["launch"], bags["run"], topics) == []
+
+
+def test_a_bag_with_a_dead_sensor_is_analysed_up_to_it_and_says_so(hawt_cli, tmp_path):
+    """hawt analyze of a run whose blade 2 sensor died at 10 s: the steps before the NaN are analysed, and a warning
+    says where the NaN starts and in which channel (it stopped at 'root_moment_oop: NaN at sample 1000')."""
+    import subprocess
+
+    bag = tmp_path / "dead.mcap"
+    ran = subprocess.run([*hawt_cli, "run", "ipc", "duration:=20", "-p", "plant.faults:=['load_dead blade=2 at=10']",
+                          "--record", str(bag)], capture_output=True, text=True, timeout=300)
+    assert ran.returncode == 0, ran.stderr[-3000:]
+    analysed = subprocess.run([*hawt_cli, "analyze", str(bag)], capture_output=True, text=True, timeout=300)
+    assert analysed.returncode == 0, analysed.stderr[-3000:]
+    assert "NaN from step 1000 (t=10.00 s) in root_moment_oop" in analysed.stderr
+    assert "steps 0..999" in analysed.stdout
