@@ -85,6 +85,21 @@ def spin_nodes(executor, nodes: Sequence[Node], until: Optional[Future] = None,
         executor.spin_until_future_complete(until, timeout_sec=remaining)
 
 
+DRAIN_TIMEOUT = 30.0
+"""Longest wait [s] after a stop for nodes whose output a reader has not taken yet (``unrecorded()``: the plant whose
+recorder is behind); the recorder's own stop waits as long (hawt_tools.recording.stop_process)."""
+
+
+def drain(executor, nodes: Sequence[Node], timeout: float = DRAIN_TIMEOUT) -> None:
+    """Spin on, after a stop, while a node says a reader has not yet taken what it sent (its ``unrecorded()``), at
+    most ``timeout`` s: a plant stopped by a signal or a wall-clock --duration may be its recorder_window ahead of
+    the recorder, whose progress it needs to hear."""
+    waiting = [node for node in nodes if callable(getattr(node, "unrecorded", None))]
+    deadline = time.monotonic() + timeout
+    while any(node.unrecorded() for node in waiting) and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+
+
 def wait_for_acknowledgements(nodes: Sequence[Node], timeout: float = FLUSH_TIMEOUT) -> None:
     """Wait until every publisher's reliable readers acknowledged all it sent, at most ``timeout`` s in all."""
     deadline = time.monotonic() + timeout
@@ -112,8 +127,8 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
     the process that started this one (the launcher) dies; returns which: ``done``, ``signal``, ``timeout`` or
     ``parent_gone``.
 
-    Then the published messages are flushed (:func:`wait_for_acknowledgements`) and the
-    nodes destroyed. The default context is used, with this module's signal handling. A
+    After a signal or the timeout, nodes whose output a reader has not taken yet are spun on (:func:`drain`); then the
+    published messages are flushed (:func:`wait_for_acknowledgements`) and the nodes destroyed. The default context is used, with this module's signal handling. A
     realtime priority in the environment (hawt_node.scheduling) is set first, so that the
     middleware's threads run at it too.
     """
@@ -128,6 +143,8 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
                        launcher_gone)
             reason = ("signal" if stop.done() else "done" if ended is not None and ended.done()
                       else "parent_gone" if launcher_gone() else "timeout")
+            if reason in ("signal", "timeout"):
+                drain(executor, nodes)
             wait_for_acknowledgements(nodes)
         finally:
             executor.shutdown()

@@ -313,6 +313,13 @@ class PlantNode(Node):
             return self.output.time - self.values["dt"] - self.recorded_until > 1e-9
         return self.output.time - self.recorded_until > self.values["recorder_window"] + 1e-9
 
+    def unrecorded(self) -> bool:
+        """Lockstep with a recorder that still hears it: the recorder has not written the last step sent. A graph
+        stopped from outside spins the plant on until it has (hawt_node.node_main.drain), so the bag ends where the
+        plant stopped."""
+        return (self.recorded_until is not None and self.last_sent is not None
+                and self.last_sent * self.values["dt"] - self.recorded_until > 1e-9)
+
     def _held_for_the_recorder(self) -> bool:
         """Lockstep back-pressure: hold (True) while the recorder is behind; its progress releases the plant."""
         if not self._recorder_behind():
