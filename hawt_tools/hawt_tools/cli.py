@@ -20,7 +20,7 @@ import yaml
 
 from hawt_bag.errors import BagError
 
-from hawt_tools.graph_file import GraphError, did_you_mean, load_graph
+from hawt_tools.graph_file import GraphError, did_you_mean, load_graph, yaml_value
 from hawt_tools.view import ViewOptionError
 from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
@@ -626,7 +626,7 @@ def _plant_overrides(words: List[str]) -> Dict[str, object]:
             raise GraphError(f"plant parameter {name!r} does not exist" + (f" (did you mean {close[0]!r}?)"
                                                                             if close else ""))
         try:
-            values[name] = table[name].typed(yaml.safe_load(text))
+            values[name] = table[name].typed(yaml_value(text))  # 8e-11 a float, as everywhere else
         except ParameterError as error:
             raise GraphError(f"plant parameter {error}") from None
     return values
