@@ -20,7 +20,7 @@ import yaml
 
 from hawt_bag.errors import BagError
 
-from hawt_tools.graph_file import GraphError, did_you_mean, load_graph, yaml_value
+from hawt_tools.graph_file import GraphError, did_you_mean, launch_arguments, load_graph, yaml_value
 from hawt_tools.view import ViewOptionError
 from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
@@ -65,20 +65,10 @@ def graph_summary(path: Path) -> str:
     return text.split(". ")[0].split(": ", 1)[-1].rstrip(".").strip()
 
 
-def _launch_arguments(words: List[str]) -> Dict[str, str]:
-    arguments = {}
-    for word in words:
-        name, sep, value = word.partition(":=")
-        if not sep or not name:
-            raise GraphError(f"launch argument {word!r}: expected NAME:=VALUE")
-        arguments[name] = value
-    return arguments
-
-
 def _cmd_launch(args: argparse.Namespace) -> int:
     from hawt_tools.launcher import package_prefix
 
-    graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
+    graph = load_graph(find_graph(args.graph), launch_arguments(args.arguments), package_prefix)
     view = _view_command(args.view_port, args.view_allow_parameter_sets) if args.view else None
     return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority, view,
                       args.record_optional)
@@ -90,7 +80,7 @@ def _cmd_graph_show(args: argparse.Namespace) -> int:
     from hawt_tools.launcher import package_prefix
 
     path = find_graph(args.graph)
-    graph = load_graph(path, _launch_arguments(args.arguments), package_prefix)
+    graph = load_graph(path, launch_arguments(args.arguments), package_prefix)
     declared = declared_arguments(path)
     print(graph.path)
     print("arguments (NAME:=VALUE, default, description):" if declared else "arguments: none")
@@ -174,7 +164,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
-    graph = load_graph(find_graph(args.graph), _launch_arguments(args.arguments), package_prefix)
+    graph = load_graph(find_graph(args.graph), launch_arguments(args.arguments), package_prefix)
     overrides = parse_overrides(graph, args.param)
     check_against_plant(graph, check_graph_parameters(graph, overrides))
     record = new_bag_path(args.record, "--record") if args.record else None
@@ -620,7 +610,7 @@ def _plant_overrides(words: List[str]) -> Dict[str, object]:
 
     table = {spec.name: spec for spec in PARAMETERS}
     values = {}
-    for name, text in _launch_arguments(words).items():
+    for name, text in launch_arguments(words).items():
         if name not in table:
             close = difflib.get_close_matches(name, table, n=1)
             raise GraphError(f"plant parameter {name!r} does not exist" + (f" (did you mean {close[0]!r}?)"

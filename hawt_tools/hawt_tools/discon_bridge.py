@@ -326,7 +326,7 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
                       infile: str, progress: Callable[[str], None] = lambda _: None):
     """The graph of ``bridge`` built on the simulator's first call (status, records, its bridge file path), with
     a :class:`BridgeModel` on ``connection`` as its plant. A :class:`BridgeError` for anything that cannot run."""
-    from hawt_tools.graph_file import GraphError, load_graph
+    from hawt_tools.graph_file import GraphError, launch_arguments, load_graph
     from hawt_tools.in_process import build_run, plant_node
     from hawt_tools.launcher import package_prefix, parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
@@ -343,13 +343,7 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
     blades = int(round(float(swap[Record.BLADES - 1])))
     individual = int(round(float(swap[Record.PITCH_CONTROL - 1]))) == 1
     try:
-        arguments = {}
-        for word in bridge.arguments:
-            name, sep, value = word.partition(":=")
-            if not sep or not name:
-                raise GraphError(f"arguments: {word!r}: expected NAME:=VALUE")
-            arguments[name] = value
-        graph = load_graph(_graph_file(bridge), arguments, package_prefix)
+        graph = load_graph(_graph_file(bridge), launch_arguments(bridge.arguments, "arguments:"), package_prefix)
         overrides = dict(parse_overrides(graph, bridge.parameters))
         plant = plant_node(graph)
         overrides[plant.label] = list(overrides.get(plant.label, ())) + [("dt", dt)]

@@ -181,6 +181,18 @@ class _Map(dict):
     key_lines: Dict[Any, int]
 
 
+def launch_arguments(words: Sequence[str], where: str = "launch argument") -> Dict[str, str]:
+    """``NAME:=VALUE`` words (as ``ros2 launch`` takes them) as a dict; GraphError ``<where> 'word': expected
+    NAME:=VALUE`` for one without ``:=`` or a name."""
+    arguments = {}
+    for word in words:
+        name, sep, value = word.partition(":=")
+        if not sep or not name:
+            raise GraphError(f"{where} {word!r}: expected NAME:=VALUE")
+        arguments[name] = value
+    return arguments
+
+
 _EXPONENT_FLOAT = re.compile(r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+$")
 """A float with an exponent but no dot (8e-11, 1E5): YAML 1.2 and rcl's parameter parser read it as a number,
 PyYAML's YAML 1.1 as text."""
