@@ -93,8 +93,11 @@ recorder is behind); the recorder's own stop waits as long (hawt_tools.recording
 def drain(executor, nodes: Sequence[Node], timeout: float = DRAIN_TIMEOUT) -> None:
     """Spin on, after a stop, while a node says a reader has not yet taken what it sent (its ``unrecorded()``), at
     most ``timeout`` s: a plant stopped by a signal or a wall-clock --duration may be its recorder_window ahead of
-    the recorder, whose progress it needs to hear."""
+    the recorder, whose progress it needs to hear. Such a node first stops sending (its ``stop_sending()``): the
+    nodes spun with it, composed in one process, would otherwise keep it stepping."""
     waiting = [node for node in nodes if callable(getattr(node, "unrecorded", None))]
+    for node in waiting:
+        node.stop_sending()
     deadline = time.monotonic() + timeout
     while any(node.unrecorded() for node in waiting) and time.monotonic() < deadline:
         executor.spin_once(timeout_sec=0.05)

@@ -130,7 +130,7 @@ class PlantNode(Node):
             self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
         self.recorded_until: Optional[float] = None
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
-        self.held = self.finishing = False
+        self.held = self.finishing = self.stopped = False
         self.recorder_matched: dict[str, int] = {}
         self._progress_subscription = self.create_subscription(RecorderProgress, RECORDER_PROGRESS,
                                                                self._on_recorder_progress, CONTROL_LOOP)
@@ -313,10 +313,15 @@ class PlantNode(Node):
             return self.output.time - self.values["dt"] - self.recorded_until > 1e-9
         return self.output.time - self.recorded_until > self.values["recorder_window"] + 1e-9
 
+    def stop_sending(self) -> None:
+        """A graph stopped from outside: send no further step (commands still arriving are not applied), so that the
+        recorder can catch up with the last one sent (hawt_node.node_main.drain)."""
+        self.stopped = True
+
     def unrecorded(self) -> bool:
         """Lockstep with a recorder that still hears it: the recorder has not written the last step sent. A graph
-        stopped from outside spins the plant on until it has (hawt_node.node_main.drain), so the bag ends where the
-        plant stopped."""
+        stopped from outside spins the plant on, sending nothing more, until it has (hawt_node.node_main.drain), so
+        the bag ends where the plant stopped."""
         return (self.recorded_until is not None and self.last_sent is not None
                 and self.last_sent * self.values["dt"] - self.recorded_until > 1e-9)
 
@@ -388,6 +393,8 @@ class PlantNode(Node):
         self._advance()
 
     def _advance(self) -> None:
+        if self.stopped:
+            return
         if self.safety.tripped:
             self.command = self.safety.feather(self.values["dt"])
         for fault in self.faults.starting(self.step_index):
