@@ -13,6 +13,8 @@ for _hawt_libs in "$HAWT_ROOT/.venv/lib" "$_hawt_site"/ros_*.libs; do
 done
 export LD_LIBRARY_PATH _ROS_WHEELS_BOOTSTRAP_COMPLETE=1
 export RMW_IMPLEMENTATION="${RMW_IMPLEMENTATION:-rmw_fastrtps_cpp}"
+# Reliable writers ask for acknowledgements every 0.1 s, not 3 s: a node's stop waits for them (see the file).
+export FASTDDS_DEFAULT_PROFILES_FILE="${FASTDDS_DEFAULT_PROFILES_FILE:-$HAWT_ROOT/hawt_node/fastdds_profile.xml}"
 # No traffic beyond this machine unless the user asks for it.
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
 export PYTHONUNBUFFERED=1
