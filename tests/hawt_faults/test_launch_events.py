@@ -1,5 +1,6 @@
 """What no node can report itself is in the bag: a node that died, and a graph stopped by a wall-clock --duration."""
 import re
+import signal
 
 import numpy as np
 import psutil
@@ -12,16 +13,28 @@ from hawt_faults.fault_runs import read_recording
 pytestmark = pytest.mark.ros
 
 
-def _run_killing(bag, namespace: str, duration: float, node: str) -> int:
-    """Run the recorded ipc graph, SIGKILL ``node`` once the plant is at 2 s simulated; the launch's exit code."""
+def _run_killing(bag, namespace: str, duration: float, node: str, stop_when=None) -> int:
+    """Run the recorded ipc graph, SIGKILL ``node`` once the plant is at 2 s simulated; the launch's exit code. With
+    ``stop_when``, the graph is stopped (SIGINT, as Ctrl-C) once ``stop_when(output lines)`` holds."""
     with LaunchedGraph(["ipc", f"namespace:={namespace}", f"duration:={duration:g}", "-p", "plant.report_period:=1",
                         "--record", str(bag)]) as graph:
         graph.wait_for_line("t=2.0 s (")
         next(child for child in psutil.Process(graph.process.pid).children(recursive=True)
              if f"__node:={node}" in child.cmdline()).kill()
+        if stop_when is not None:
+            graph.wait_until(lambda: stop_when(list(graph.lines)), "the condition to stop the graph")
+            graph.process.send_signal(signal.SIGINT)
         code = graph.finish()
         assert code in (0, 1), graph.tail()
     return code
+
+
+def _back_and_run_on(lines) -> bool:
+    """Every contribution lost has returned, and the plant has reported 2 s more after the last return."""
+    kinds = [i for i, line in enumerate(lines) if "contribution_lost: " in line or "contribution_returned: " in line]
+    if not kinds or "contribution_returned: " not in lines[kinds[-1]]:
+        return False
+    return sum(bool(re.search(r"\]: t=\d+\.0 s \(", line)) for line in lines[kinds[-1]:]) >= 2
 
 
 def test_a_node_that_dies_is_an_error_event_in_the_bag_at_the_plants_step(tmp_path):
@@ -37,7 +50,7 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
     """Separate processes or --composed (every node in the launcher's process): the stop is in the bag, and so is
     every step the plant sent up to it (the last one it names as it stops), each once, none missing."""
     bag = tmp_path / "stopped.mcap"
-    with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "20", "--record",
+    with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "10", "--record",
                         str(bag), *(["--composed"] if composed else [])]) as graph:
         assert graph.finish() == 0, graph.tail()
     (last_sent,) = [int(m.group(1)) for m in map(re.compile(r"stopped: step (\d+) \(t=").search, graph.lines) if m]
@@ -45,7 +58,7 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
     (stop,) = recording.events_of("wall_clock_stop")
     assert stop["source"] == "/hawt_launch" and stop["level"] == ControlEvent.INFO
     assert 0 < stop["step"] <= last_sent
-    assert "wall-clock --duration of 20 s reached" in stop["detail"] and not recording.events_of("finished")
+    assert "wall-clock --duration of 10 s reached" in stop["detail"] and not recording.events_of("finished")
     for topic in (recording.loads, recording.state):
         steps = np.unique(topic.fields["step"])
         assert steps.tolist() == list(range(last_sent + 1)), f"{topic.topic}: {steps.size} steps recorded, " \
@@ -54,19 +67,18 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
 
 def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribution_returns(tmp_path):
     """The ipc graph's ipc_h1 SIGKILLed: reported, lost by mbc (its contribution fades), started again 1 s later,
-    answering again; the run completes. 120 s simulated: the respawned process (1 s delay, then Python's start,
-    discovery, configure) must come back before the plant ends, which took more than the 8 s of wall time a 30 s
-    run left once in a fresh-clone CI run. On a busy machine the new process may miss a step's 1 s once more
-    while it settles (once in a fresh-clone CI run: lost again at step 2590, back at 2898): every loss is
-    reported and followed by the controller's return."""
+    answering again, and the graph runs on; it is stopped (Ctrl-C) once the plant has reported 2 s more after the
+    return. On a busy machine the new process may miss a step's 1 s once more while it settles (once in a
+    fresh-clone CI run: lost again at step 2590, back at 2898): every loss is reported and followed by the
+    controller's return, but for one that came after the stop was decided."""
     bag = tmp_path / "respawned.mcap"
-    assert _run_killing(bag, "respawned", 120, "ipc_h1") == 0
+    assert _run_killing(bag, "respawned", 600, "ipc_h1", stop_when=_back_and_run_on) == 0
     recording = read_recording(bag, "respawned")
     (respawn,) = recording.events_of("node_respawn")
     lost, returned = recording.events_of("contribution_lost"), recording.events_of("contribution_returned")
     assert "/respawned/ipc_h1 ended (killed by SIGKILL); respawning in 1 s" in respawn["detail"]
-    assert lost and len(lost) == len(returned), (lost, returned)
+    assert returned and len(lost) - len(returned) in (0, 1), (lost, returned)
     assert all("control/ipc/h1" in event["detail"] for event in lost + returned)
-    steps = [step for pair in zip(lost, returned) for step in (pair[0]["step"], pair[1]["step"])]
-    assert respawn["step"] <= steps[0] and steps == sorted(set(steps)) and steps[-1] < 12000, steps
-    assert recording.events_of("finished")
+    steps = [event["step"] for pair in zip(lost, returned + [None]) for event in pair if event is not None]
+    assert respawn["step"] <= steps[0] and steps == sorted(set(steps)), steps
+    assert recording.events_of("interrupted") and not recording.events_of("protection_trip")
