@@ -1,10 +1,11 @@
 """Switching from a shell while a realtime graph runs and records: hawt switch, hawt list, the bag.
 
-The switching graph runs 60 s in realtime with --record; once the plant is stepping the test drives
-it as a user would:
+The switching graph runs in realtime with --record (at most 60 s; Ctrl-C ends it 7 s after the last switch); once
+the plant is stepping the test drives it as a user would:
 CPC -> +IPC-1P -> +IPC-2P -> swap IPC-1P for the retuned one -> all IPC off, plus one refused switch.
 """
 import math
+import signal
 import subprocess
 import time
 
@@ -44,6 +45,7 @@ def session(tmp_path_factory):
                         break
                     listing = _hawt("list", "--settle", "3")
             time.sleep(7.0)  # over one revolution (5 s) between switches, for the harmonics of each segment
+        graph.process.send_signal(signal.SIGINT)  # Ctrl-C once the last segment is long enough: the bag keeps it all
         assert graph.finish() == 0, graph.tail()
     return answers, refused, listing, analyze_bag(bag)
 

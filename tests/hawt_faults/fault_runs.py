@@ -166,6 +166,17 @@ class GraphRun:
         return text
 
 
+def run_in_process(hawt_cli: List[str], folder: Path, graph: str, namespace: str, *arguments: str) -> Path:
+    """``hawt run GRAPH namespace:=NAMESPACE ARGUMENTS --record BAG`` (the in-process engine, whose topics equal the
+    lockstep graph's in every field at every step: tests/hawt_tools/test_in_process.py); the bag's path. The run a
+    faulted lockstep graph is compared with, at a fraction of a graph's cost."""
+    bag = folder / f"{namespace}.mcap"
+    result = subprocess.run([*hawt_cli, "run", graph, f"namespace:={namespace}", *arguments, "--record", str(bag)],
+                            capture_output=True, text=True, timeout=LAUNCH_TIMEOUT)
+    assert result.returncode == 0, result.stderr[-2000:]
+    return bag
+
+
 @dataclass(frozen=True)
 class Recording:
     """The topics of one turbine in a bag, as columns."""

@@ -8,7 +8,7 @@ import pytest
 from hawt_msgs.msg import CollectivePitch, ControlEvent, HarmonicPitch, PitchCommand
 
 from hawt_bag.step_comparison import step_differences
-from hawt_faults.fault_runs import assert_plant_finished, read_recording
+from hawt_faults.fault_runs import assert_plant_finished, read_recording, run_in_process
 
 pytestmark = pytest.mark.ros
 
@@ -39,16 +39,15 @@ def _the_intruder_was_refused_and_named(recording, namespace: str) -> int:
     return int(refused.group(1))
 
 
-def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, probe):
-    """Lockstep baseline in turbulence, twice: once alone, once with a second publisher answering every step with
-    86 deg and zero torque from step 100 to 400 (and until the plant reports it and 40 commands are sent). The
-    intruder's commands never answer a step: the plant topics are equal in every field at every step to the run
-    without it, and so are the loop assembler's commands. The run is 30 s long: the plant does not wait for the probe,
+def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, probe, hawt_cli, tmp_path):
+    """Lockstep baseline in turbulence with a second publisher answering every step with 86 deg and zero torque from
+    step 100 to 400 (and until the plant reports it and 40 commands are sent). The intruder's commands never answer
+    a step: the plant topics are equal in every field at every step to the same run without it (`hawt run`, equal
+    to the lockstep graph), and so are the loop assembler's commands. The run is 30 s long: the plant does not wait for the probe,
     whose discovery of a 6 s run (under a second of wall time in lockstep) a busy machine once delayed past the run's
     end."""
     arguments = ("wind_type:=turbulent", "seed:=3", "duration:=30")
-    alone = launch("baseline", "alone_ls", *arguments)
-    alone.finish()
+    alone = run_in_process(hawt_cli, tmp_path, "baseline", "alone_ls", *arguments)
     namespace = "intruder_ls"
     intruder = probe(namespace)
     run = launch("baseline", namespace, *arguments)
@@ -60,12 +59,12 @@ def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, pr
     recording = read_recording(run.bag, namespace)
     refused = _the_intruder_was_refused_and_named(recording, namespace)
     plant = ("plant/blade_loads", "plant/state")
-    assert step_differences(alone.bag, run.bag, [f"/alone_ls/{t}" for t in plant],
+    assert step_differences(alone, run.bag, [f"/alone_ls/{t}" for t in plant],
                             [f"/{namespace}/{t}" for t in plant]) == []
     # The plant saw the intruder at many steps. The bag may hold fewer: the recorder records a publisher from its
     # discovery on, which a busy machine once delayed to the intruder's last command.
     assert refused > 10, f"{refused} of {intruder.published} commands refused"
-    commands = read_recording(alone.bag, "alone_ls").commands.fields, recording.commands.fields
+    commands = read_recording(alone, "alone_ls").commands.fields, recording.commands.fields
     sourced = [np.asarray(c["generator_torque"]) != 0.0 for c in commands]  # the intruder's rows have 0 torque
     for name in ("step", "pitch", "generator_torque"):
         first, second = (np.asarray(c[name])[keep] for c, keep in zip(commands, sourced))
@@ -107,19 +106,19 @@ def _contribution_intruder(topic: str):
 
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
 @pytest.mark.parametrize("topic", ["control/collective", "control/ipc/h1"])
-def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(launch, probe, topic, mode):
+def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(launch, probe, hawt_cli, tmp_path, topic,
+                                                                             mode):
     """The ipc graph in turbulence: a second publisher answers every step on the collective (pitch 0, torque 0) or on
     the 1P demand (cos 0.5 rad) from step 100 until mbc has reported it and 40 messages are sent. mbc reads only the
     claimants of a contribution topic: it names the intruder once (an ERROR intruder event), and nothing of it reaches
-    the plant. In lockstep the plant's topics are equal in every field at every step to a run without it; in realtime
+    the plant. In lockstep the plant's topics are equal in every field at every step to a run without it (`hawt run`,
+equal to the lockstep graph); in realtime
     the pitch command never comes near the intruder's (no step's individual pitch above 10 deg, the torque never 0)
     and nothing trips."""
     namespace = f"contribution_{mode[0]}{topic[-2:].replace('/', '')}"
     arguments = ("wind_type:=turbulent", "seed:=3", f"mode:={mode}", "duration:=" + ("10" if mode == "lockstep" else
                                                                                      "12"))
-    alone = launch("ipc", f"{namespace}_alone", *arguments) if mode == "lockstep" else None
-    if alone is not None:
-        alone.finish()
+    alone = run_in_process(hawt_cli, tmp_path, "ipc", f"{namespace}_alone", *arguments) if mode == "lockstep" else None
     intruder = probe(namespace)
     run = launch("ipc", namespace, *arguments)
     intruder.wait_until_recorded(run.launcher, margin=0)
@@ -135,7 +134,7 @@ def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(la
     assert not recording.events_of("protection_trip") and not recording.events_of("watchdog")
     if alone is not None:
         plant = ("plant/blade_loads", "plant/state")
-        assert step_differences(alone.bag, run.bag, [f"/{namespace}_alone/{t}" for t in plant],
+        assert step_differences(alone, run.bag, [f"/{namespace}_alone/{t}" for t in plant],
                                 [f"/{namespace}/{t}" for t in plant]) == []
     commands = recording.commands.fields
     assert np.abs(np.asarray(commands["individual"])).max() < math.radians(10.0)
