@@ -56,7 +56,7 @@ def test_node_parameters_agree_with_rcl_for_any_order_of_wildcard_and_named_file
 
 
 @pytest.mark.ros
-@pytest.mark.parametrize("graph, arguments, seconds", [("ipc", [], 60), ("switching", [SCHEDULE], 60), ("lqg", [], 20),
+@pytest.mark.parametrize("graph, arguments, seconds", [("ipc", [], 30), ("switching", [SCHEDULE], 45), ("lqg", [], 20),
                                                       ("rosco_ipc", [ROSCO_SCHEDULE], 20), ("two_bladed", [], 20)],
                          ids=["ipc", "switching", "lqg", "rosco_ipc", "two_bladed"])
 def test_hawt_run_equals_the_lockstep_graph_in_every_field_at_every_step(hawt_cli, tmp_path, graph, arguments,
