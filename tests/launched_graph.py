@@ -1,5 +1,6 @@
 """A graph started with ``hawt launch`` from a test as a user would start it: its output read as it comes, the
 test waiting on what the plant reports, never on a clock, and nothing left running afterwards."""
+import re
 import signal
 import subprocess
 import sys
@@ -8,6 +9,15 @@ import time
 from typing import List, Sequence
 
 CLI = [sys.executable, "-m", "hawt_tools.cli"]
+
+
+def returned_and_ran_on(lines: Sequence[str], reports: int = 2) -> bool:
+    """In a graph's output: every contribution the loop assembler lost has returned (the last of its
+    contribution_lost / contribution_returned lines is a return), and the plant has printed ``reports`` progress
+    lines since (2 s at a report_period of 1 s)."""
+    marks = [i for i, line in enumerate(lines) if "contribution_lost: " in line or "contribution_returned: " in line]
+    return bool(marks) and "contribution_returned: " in lines[marks[-1]] and \
+        sum(bool(re.search(r"\]: t=\d+\.0 s \(", line)) for line in lines[marks[-1]:]) >= reports
 
 
 class LaunchedGraph:

@@ -14,6 +14,8 @@ import sys
 import numpy as np
 import pytest
 
+from launched_graph import returned_and_ran_on
+
 from hawt_analysis.run_analysis import analyze_bag
 
 pytestmark = pytest.mark.ros
@@ -38,14 +40,6 @@ def _pid_of(launcher: int, node_name: str) -> int:
     return int(found[0])
 
 
-def _back_and_run_on(output) -> bool:
-    """ipc_h2's contribution has returned (the last of mbc's lost/returned lines), and the plant has reported 2 s
-    more since."""
-    marks = [i for i, line in enumerate(output) if "contribution_lost: " in line or "contribution_returned: " in line]
-    return bool(marks) and "contribution_returned: " in output[marks[-1]] and \
-        sum(bool(re.search(r"\]: t=\d+\.0 s \(", line)) for line in output[marks[-1]:]) >= 2
-
-
 @pytest.fixture(scope="module")
 def launched(tmp_path_factory):
     """The recorded graph, ipc_h2 killed at t = 5 s, stopped with Ctrl-C once it is back and the plant 2 s on (the
@@ -62,7 +56,7 @@ def launched(tmp_path_factory):
         if not killed and "t=5.0 s" in line:
             os.kill(_pid_of(launch.pid, "ipc_h2"), signal.SIGKILL)
             killed = True
-        if killed and not interrupted and _back_and_run_on(output):
+        if killed and not interrupted and returned_and_ran_on(output):
             launch.send_signal(signal.SIGINT)
             interrupted = True
     assert launch.wait(timeout=300) == 0, "".join(output[-40:])

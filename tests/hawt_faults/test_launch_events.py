@@ -6,7 +6,7 @@ import numpy as np
 import psutil
 import pytest
 from hawt_msgs.msg import ControlEvent
-from launched_graph import LaunchedGraph
+from launched_graph import LaunchedGraph, returned_and_ran_on
 
 from hawt_faults.fault_runs import read_recording
 
@@ -27,14 +27,6 @@ def _run_killing(bag, namespace: str, duration: float, node: str, stop_when=None
         code = graph.finish()
         assert code in (0, 1), graph.tail()
     return code
-
-
-def _back_and_run_on(lines) -> bool:
-    """Every contribution lost has returned, and the plant has reported 2 s more after the last return."""
-    kinds = [i for i, line in enumerate(lines) if "contribution_lost: " in line or "contribution_returned: " in line]
-    if not kinds or "contribution_returned: " not in lines[kinds[-1]]:
-        return False
-    return sum(bool(re.search(r"\]: t=\d+\.0 s \(", line)) for line in lines[kinds[-1]:]) >= 2
 
 
 def test_a_node_that_dies_is_an_error_event_in_the_bag_at_the_plants_step(tmp_path):
@@ -72,7 +64,7 @@ def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribu
     fresh-clone CI run: lost again at step 2590, back at 2898): every loss is reported and followed by the
     controller's return, but for one that came after the stop was decided."""
     bag = tmp_path / "respawned.mcap"
-    assert _run_killing(bag, "respawned", 600, "ipc_h1", stop_when=_back_and_run_on) == 0
+    assert _run_killing(bag, "respawned", 600, "ipc_h1", stop_when=returned_and_ran_on) == 0
     recording = read_recording(bag, "respawned")
     (respawn,) = recording.events_of("node_respawn")
     lost, returned = recording.events_of("contribution_lost"), recording.events_of("contribution_returned")
