@@ -20,6 +20,12 @@ def returned_and_ran_on(lines: Sequence[str], reports: int = 2) -> bool:
         sum(bool(re.search(r"\]: t=\d+\.0 s \(", line)) for line in lines[marks[-1]:]) >= reports
 
 
+def last_sent_step(lines: Sequence[str]) -> int:
+    """The plant's last step sent, as it names it when it stops (``stopped: step N (t=...) was the last sent``)."""
+    (step,) = [int(m.group(1)) for m in map(re.compile(r"stopped: step (\d+) \(t=").search, lines) if m]
+    return step
+
+
 class LaunchedGraph:
     """``hawt launch ARGUMENTS`` in a child process, as a context manager that stops it if it is still running
     (SIGINT, as Ctrl-C would; killed if it has not ended 60 s later)."""

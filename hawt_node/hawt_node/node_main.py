@@ -131,9 +131,9 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
     ``parent_gone``.
 
     After a signal or the timeout, nodes whose output a reader has not taken yet are spun on (:func:`drain`); then the
-    published messages are flushed (:func:`wait_for_acknowledgements`) and the nodes destroyed. The default context is used, with this module's signal handling. A
-    realtime priority in the environment (hawt_node.scheduling) is set first, so that the
-    middleware's threads run at it too.
+    published messages are flushed (:func:`wait_for_acknowledgements`) and the nodes destroyed. The default context
+    is used, with this module's signal handling. A realtime priority in the environment (hawt_node.scheduling) is
+    set first, so that the middleware's threads run at it too.
     """
     priority_from_environment()
     launcher_gone = parent_gone()

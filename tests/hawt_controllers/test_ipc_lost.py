@@ -6,15 +6,13 @@ answers again and the plant has gone 2 s on.
 """
 import math
 import os
-import re
 import signal
 import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-from launched_graph import returned_and_ran_on
+from launched_graph import LaunchedGraph, last_sent_step, returned_and_ran_on
 
 from hawt_analysis.run_analysis import analyze_bag
 
@@ -47,21 +45,13 @@ def launched(tmp_path_factory):
     folder = tmp_path_factory.mktemp("ipc_lost")
     graph, bag = folder / "graph.yaml", folder / "run.mcap"
     graph.write_text(GRAPH)
-    launch = subprocess.Popen([sys.executable, "-m", "hawt_tools.cli", "launch", str(graph), "--record", str(bag),
-                               "-p", "plant.wait_for_subscribers:=3"],
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    output, killed, interrupted = [], False, False
-    for line in launch.stdout:
-        output.append(line)
-        if not killed and "t=5.0 s" in line:
-            os.kill(_pid_of(launch.pid, "ipc_h2"), signal.SIGKILL)
-            killed = True
-        if killed and not interrupted and returned_and_ran_on(output):
-            launch.send_signal(signal.SIGINT)
-            interrupted = True
-    assert launch.wait(timeout=300) == 0, "".join(output[-40:])
-    (last_sent,) = [int(m.group(1)) for m in map(re.compile(r"stopped: step (\d+) \(t=").search, output) if m]
-    return analyze_bag(bag), last_sent
+    with LaunchedGraph([str(graph), "--record", str(bag), "-p", "plant.wait_for_subscribers:=3"]) as launch:
+        launch.wait_for_line("t=5.0 s")
+        os.kill(_pid_of(launch.process.pid, "ipc_h2"), signal.SIGKILL)
+        launch.wait_until(lambda: returned_and_ran_on(list(launch.lines)), "ipc_h2 back and the plant 2 s on")
+        launch.process.send_signal(signal.SIGINT)
+        assert launch.finish() == 0, launch.tail()
+    return analyze_bag(bag), last_sent_step(launch.lines)
 
 
 @pytest.fixture(scope="module")

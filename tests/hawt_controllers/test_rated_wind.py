@@ -1,6 +1,7 @@
 """Near rated wind the baseline graph settles (issue 13): Jonkman's collective PI on this plant grew a 0.05 Hz limit
 cycle at 11.4 m/s; with K_I x 0.4 near rated (hawt_controllers.collective.integral_gain_factor) steady wind at 10.5,
-11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0.009, 0.003 deg over the last 100 s of 200 s)."""
+11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0.009, 0.003 deg over the last
+100 s of 200 s)."""
 import dataclasses
 
 import numpy as np

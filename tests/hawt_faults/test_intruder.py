@@ -43,9 +43,9 @@ def test_an_intruder_in_lockstep_is_refused_named_and_changes_nothing(launch, pr
     """Lockstep baseline in turbulence with a second publisher answering every step with 86 deg and zero torque from
     step 100 to 400 (and until the plant reports it and 40 commands are sent). The intruder's commands never answer
     a step: the plant topics are equal in every field at every step to the same run without it (`hawt run`, equal
-    to the lockstep graph), and so are the loop assembler's commands. The run is 30 s long: the plant does not wait for the probe,
-    whose discovery of a 6 s run (under a second of wall time in lockstep) a busy machine once delayed past the run's
-    end."""
+    to the lockstep graph), and so are the loop assembler's commands. The run is 30 s long: the plant does not wait
+    for the probe, whose discovery of a 6 s run (under a second of wall time in lockstep) a busy machine once delayed
+    past the run's end."""
     arguments = ("wind_type:=turbulent", "seed:=3", "duration:=30")
     alone = run_in_process(hawt_cli, tmp_path, "baseline", "alone_ls", *arguments)
     namespace = "intruder_ls"
@@ -112,9 +112,8 @@ def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(la
     the 1P demand (cos 0.5 rad) from step 100 until mbc has reported it and 40 messages are sent. mbc reads only the
     claimants of a contribution topic: it names the intruder once (an ERROR intruder event), and nothing of it reaches
     the plant. In lockstep the plant's topics are equal in every field at every step to a run without it (`hawt run`,
-equal to the lockstep graph); in realtime
-    the pitch command never comes near the intruder's (no step's individual pitch above 10 deg, the torque never 0)
-    and nothing trips."""
+    equal to the lockstep graph); in realtime the pitch command never comes near the intruder's (no step's
+    individual pitch above 10 deg, the torque never 0) and nothing trips."""
     namespace = f"contribution_{mode[0]}{topic[-2:].replace('/', '')}"
     arguments = ("wind_type:=turbulent", "seed:=3", f"mode:={mode}", "duration:=" + ("10" if mode == "lockstep" else
                                                                                      "12"))

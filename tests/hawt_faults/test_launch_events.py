@@ -1,12 +1,11 @@
 """What no node can report itself is in the bag: a node that died, and a graph stopped by a wall-clock --duration."""
-import re
 import signal
 
 import numpy as np
 import psutil
 import pytest
 from hawt_msgs.msg import ControlEvent
-from launched_graph import LaunchedGraph, returned_and_ran_on
+from launched_graph import LaunchedGraph, last_sent_step, returned_and_ran_on
 
 from hawt_faults.fault_runs import read_recording
 
@@ -45,7 +44,7 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
     with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "10", "--record",
                         str(bag), *(["--composed"] if composed else [])]) as graph:
         assert graph.finish() == 0, graph.tail()
-    (last_sent,) = [int(m.group(1)) for m in map(re.compile(r"stopped: step (\d+) \(t=").search, graph.lines) if m]
+    last_sent = last_sent_step(graph.lines)
     recording = read_recording(bag, "stopped")
     (stop,) = recording.events_of("wall_clock_stop")
     assert stop["source"] == "/hawt_launch" and stop["level"] == ControlEvent.INFO
