@@ -14,7 +14,10 @@ its wait set in Python for every callback, which cost about 1 ms per callback in
 composed graph and capped the lockstep loop at 2x real time (``./hawt bench
 control_loop`` measures both). The EventsExecutor never returns from a wait without
 a timeout, neither for a completed future nor for SIGINT, so :func:`spin_nodes`
-waits in slices of ``WAKE_PERIOD``.
+waits in slices of ``WAKE_PERIOD``. Nor does a wait with a timeout end while its queue is never empty (rclpy 9's
+``EventsQueue::RunUntil`` checks the deadline only when it has nothing to run), as in a composed lockstep graph:
+:func:`spin_nodes` has a thread of its own complete a future at the deadline, which stops the wait after the
+callback running.
 
 Stopping (SIGINT, SIGTERM, a node done, or the launcher gone) is not a crash: before the nodes are
 destroyed, every publisher waits (together at most ``FLUSH_TIMEOUT``) until its
@@ -22,6 +25,7 @@ reliable readers have acknowledged what it sent, so the recorder of ``hawt launc
 --record`` gets the last steps. rclpy's own signal handler would shut the context
 down at once and make that impossible, so :func:`run_nodes` installs its own.
 """
+import threading
 import time
 from contextlib import contextmanager
 from typing import Callable, Iterator, List, Optional, Sequence
@@ -76,13 +80,32 @@ def spin_nodes(executor, nodes: Sequence[Node], until: Optional[Future] = None,
     ``stop_when()`` holds (checked every ``WAKE_PERIOD``)."""
     for node in nodes:
         executor.add_node(node)
-    until = until or Future()
+    with _due(timeout, stop_when) as due:
+        stop = _first_of([f for f in (until, due) if f is not None])
+        while not stop.done() and rclpy.ok():
+            executor.spin_until_future_complete(stop, timeout_sec=WAKE_PERIOD)
+
+
+@contextmanager
+def _due(timeout: Optional[float], stop_when: Callable[[], bool]) -> Iterator[Future]:
+    """A future that a thread completes once ``timeout`` s have passed or ``stop_when()`` holds, checked every
+    ``WAKE_PERIOD``; completing it stops the executor's wait even when its queue is never empty."""
+    due, ended = Future(), threading.Event()
     deadline = None if timeout is None else time.monotonic() + timeout
-    while not until.done() and rclpy.ok() and not stop_when():
-        remaining = WAKE_PERIOD if deadline is None else min(WAKE_PERIOD, deadline - time.monotonic())
-        if remaining <= 0:
-            return
-        executor.spin_until_future_complete(until, timeout_sec=remaining)
+
+    def watch() -> None:
+        while not ended.wait(WAKE_PERIOD):
+            if (deadline is not None and time.monotonic() >= deadline) or stop_when():
+                due.set_result(True)
+                return
+
+    watcher = threading.Thread(target=watch, name="spin_nodes deadline", daemon=True)
+    watcher.start()
+    try:
+        yield due
+    finally:
+        ended.set()
+        watcher.join()
 
 
 DRAIN_TIMEOUT = 30.0

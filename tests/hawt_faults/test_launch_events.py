@@ -56,6 +56,16 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
             f"missing {sorted(set(range(last_sent + 1)) - set(steps.tolist()))[:10]}…, last {steps.max()}"
 
 
+def test_a_composed_lockstep_graph_stops_at_its_wall_clock_duration_though_its_executor_is_never_idle():
+    """Composed and unrecorded, a lockstep graph's executor always has a message to handle (nothing holds the plant
+    back); the wall-clock --duration still stops it, long before its 600 s simulated."""
+    with LaunchedGraph(["baseline", "namespace:=busy", "duration:=600", "--duration", "3", "--composed"]) as graph:
+        assert graph.finish() == 0, graph.tail()
+    assert any("[hawt launch] stopped: wall-clock --duration of 3 s reached" in line for line in graph.lines), \
+        graph.tail()
+    assert 0 < last_sent_step(graph.lines) < 60000 and not any("finished" in line for line in graph.lines)
+
+
 def test_a_controller_of_a_shipped_graph_that_dies_is_respawned_and_its_contribution_returns(tmp_path):
     """The ipc graph's ipc_h1 SIGKILLed: reported, lost by mbc (its contribution fades), started again 1 s later,
     answering again, and the graph runs on; it is stopped (Ctrl-C) once the plant has reported 2 s more after the
