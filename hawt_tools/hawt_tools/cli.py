@@ -353,8 +353,16 @@ def _compare_campaigns(args: argparse.Namespace, only_folders: bool) -> int:
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
-    from hawt_tools.graph_info import snapshot
+    from hawt_tools.controller_client import ControllerManagerError
+    from hawt_tools.graph_info import controllers_in, controllers_text, snapshot
 
+    if args.namespace is not None:
+        manager = "/" + args.namespace.strip("/") if args.namespace.strip("/") else ""
+        try:
+            print("\n".join(controllers_text(manager + "/", controllers_in(manager))))
+        except ControllerManagerError as error:
+            raise RuntimeError(str(error)) from None
+        return 0
     found = snapshot(settle=args.settle)
     if found.nodes:
         print(found.text())
@@ -1037,6 +1045,9 @@ def _parser() -> argparse.ArgumentParser:
                                                "running graph")
     listing.add_argument("--settle", type=float, default=1.0, metavar="S",
                          help="discovery: wait until the node list is unchanged for S seconds")
+    listing.add_argument("--namespace", metavar="NS", help="only the controllers of the turbine NS (e.g. /wt1), "
+                                                           "asked of its controller_manager without discovering the "
+                                                           "rest of the graph first")
     listing.set_defaults(run=_cmd_list)
 
     switch = commands.add_parser(

@@ -8,7 +8,7 @@ from rclpy.node import Node
 
 from hawt_tools.controller_client import ControllerManagerError, ControllerRow, find_managers, list_controllers
 
-__all__ = ["TopicInfo", "GraphSnapshot", "snapshot"]
+__all__ = ["TopicInfo", "GraphSnapshot", "snapshot", "controllers_in", "controllers_text"]
 
 
 @dataclass(frozen=True)
@@ -34,11 +34,26 @@ class GraphSnapshot:
             lines.append(f"  {topic.name:<{width}}  {', '.join(topic.types)}  "
                          f"({topic.publishers} pub, {topic.subscribers} sub)")
         for manager, rows in self.controllers:
-            lines.append(f"controllers of {manager or '/'}controller_manager ({len(rows)}):")
-            width = max((len(row.name) for row in rows), default=0)
-            lines += [f"  {row.name:<{width}}  {row.state:<8}  {row.type:<10}  claims {row.interfaces}"
-                      for row in rows]
+            lines += controllers_text(manager, rows)
         return "\n".join(lines)
+
+
+def controllers_text(manager: str, rows: Tuple[ControllerRow, ...]) -> List[str]:
+    """The listing's lines for the controllers of the manager in namespace ``manager`` (ending in '/')."""
+    width = max((len(row.name) for row in rows), default=0)
+    return [f"controllers of {manager or '/'}controller_manager ({len(rows)}):"] + [
+        f"  {row.name:<{width}}  {row.state:<8}  {row.type:<10}  claims {row.interfaces}" for row in rows]
+
+
+def controllers_in(namespace: str, timeout: float = 5.0) -> Tuple[ControllerRow, ...]:
+    """The controllers of the manager in ``namespace``, asked directly: no wait for the rest of the graph's discovery
+    (``hawt list --namespace``)."""
+    with rclpy.init():
+        node = Node("_hawt_list", start_parameter_services=False, enable_rosout=False)
+        try:
+            return list_controllers(node, namespace, timeout)
+        finally:
+            node.destroy_node()
 
 
 def _fully_qualified(namespace: str, name: str) -> str:

@@ -16,13 +16,13 @@ NS = "lc"
 
 def _hawt(*arguments):
     """A hawt command against this test's graph (its namespace given: nothing to discover first)."""
-    named = [*arguments, "--namespace", NS] if arguments[0] in ("lifecycle", "switch") else list(arguments)
+    named = [*arguments, "--namespace", NS]
     return subprocess.run([*CLI, *named], capture_output=True, text=True, timeout=90)
 
 
 def _listed(name: str) -> str:
-    """The state controller_manager lists for ``name`` ('' while discovery has not found it)."""
-    listing = _hawt("list", "--settle", "1").stdout
+    """The state controller_manager lists for ``name``."""
+    listing = _hawt("list").stdout
     rows = [line.split() for line in listing.splitlines() if line.strip().startswith(f"/{NS}/{name} ")]
     return rows[0][1] if rows else ""
 
