@@ -90,8 +90,9 @@ PARAMETERS = (
                   "(wall clock) after the plant's loads is lost (keep it below the plant's command_timeout; a "
                   "busy machine can delay a live node by a fraction of a second)", "s", minimum=0.01,
                   maximum=60.0),
-    ParameterSpec("start_timeout", 20.0, "lockstep: input_timeout of the first step, while the nodes are still "
-                  "starting (discovery, the schedule); keep it below the plant's startup_timeout", "s", minimum=0.01,
+    ParameterSpec("start_timeout", 60.0, "lockstep: input_timeout of the first step, while the nodes are still "
+                  "starting (discovery, the schedule; a machine busy with other graphs can take tens of seconds); "
+                  "keep it below the plant's startup_timeout", "s", minimum=0.01,
                   maximum=600.0),
     ParameterSpec("fade_time", 2.0, "time over which a lost contributor's last contribution fades to zero", "s",
                   minimum=0.0, maximum=600.0),

@@ -104,7 +104,7 @@ PARAMETERS = (
     ParameterSpec("command_timeout", 3.0, "wall time without an applied command (lockstep: the current step "
                   "unanswered, resends included; must exceed resend_period) after which the safety system trips "
                   "and feathers", "s", minimum=0.01, maximum=600.0, read_only=True),
-    ParameterSpec("startup_timeout", 30.0, "wall time the first command may take once the plant has started "
+    ParameterSpec("startup_timeout", 90.0, "wall time the first command may take once the plant has started "
                   "(controllers starting up) before the safety system trips", "s", minimum=0.01, maximum=3600.0,
                   read_only=True),
     ParameterSpec("command_sources", ["mbc"], "the nodes whose control/pitch_command the plant obeys (names "
