@@ -41,7 +41,7 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
     """Separate processes or --composed (every node in the launcher's process): the stop is in the bag, and so is
     every step the plant sent up to it (the last one it names as it stops), each once, none missing."""
     bag = tmp_path / "stopped.mcap"
-    with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "10", "--record",
+    with LaunchedGraph(["baseline", "namespace:=stopped", "duration:=600", "--duration", "20", "--record",
                         str(bag), *(["--composed"] if composed else [])]) as graph:
         assert graph.finish() == 0, graph.tail()
     last_sent = last_sent_step(graph.lines)
@@ -49,7 +49,7 @@ def test_a_wall_clock_stop_is_an_event_in_the_bag_and_keeps_every_step(tmp_path,
     (stop,) = recording.events_of("wall_clock_stop")
     assert stop["source"] == "/hawt_launch" and stop["level"] == ControlEvent.INFO
     assert 0 < stop["step"] <= last_sent
-    assert "wall-clock --duration of 10 s reached" in stop["detail"] and not recording.events_of("finished")
+    assert "wall-clock --duration of 20 s reached" in stop["detail"] and not recording.events_of("finished")
     for topic in (recording.loads, recording.state):
         steps = np.unique(topic.fields["step"])
         assert steps.tolist() == list(range(last_sent + 1)), f"{topic.topic}: {steps.size} steps recorded, " \

@@ -109,16 +109,17 @@ def test_three_nodes_in_separate_processes_exchange_messages(hawt_cli, tmp_path)
 
 
 def test_composed_run_gives_the_same_messages(hawt_cli, tmp_path):
-    """The same graph in one process on one executor delivers the same values for the same steps."""
+    """The same graph in one process on one executor delivers what separate processes do: the source's pattern
+    scaled by the relay, at every step the sink receives. (Which steps those are depends on when the relay
+    discovered the sink, on a busy machine hundreds of steps apart between two runs.)"""
     separate, composed = tmp_path / "separate.json", tmp_path / "composed.json"
     assert _launch(hawt_cli, _graph(tmp_path), separate, "-p", "sink.expect:=300").returncode == 0
     result = _launch(hawt_cli, _graph(tmp_path), composed, "-p", "sink.expect:=300", "--composed")
     assert result.returncode == 0, result.stderr
-    a, b = _received(separate), _received(composed)
-    common = sorted(set(a) & set(b))
-    # Each sink has its 300 messages; their first steps differ by how long the relay took to discover the sink.
-    assert len(a) >= 300 and len(b) >= 300 and len(common) >= 100
-    assert [a[s] for s in common] == [b[s] for s in common]
+    for received in (_received(separate), _received(composed)):
+        assert len(received) >= 300
+        for step, values in received.items():
+            assert values == pytest.approx([2.0 * _source_moment(step, blade) for blade in range(3)], rel=1e-12), step
 
 
 def test_sigint_stops_every_node_and_leaves_no_process(tmp_path):
