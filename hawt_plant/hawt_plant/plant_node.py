@@ -129,6 +129,7 @@ class PlantNode(Node):
             self.guard = None
             self.create_subscription(PitchCommand, PITCH_COMMAND, self._on_command, CONTROL_LOOP)
         self.recorded_until: Optional[float] = None
+        self.recorder_given_up = False
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
         self.held = self.finishing = self.stopped = False
         self.recorder_matched: dict[str, int] = {}
@@ -346,8 +347,9 @@ class PlantNode(Node):
         if not self.started:
             self.recorder_matched = dict(zip(msg.topics, msg.publishers))
         topic = self.loads_publisher.topic_name
-        if not (self.lockstep and self.values["recorder_window"] > 0) or topic not in msg.topics:
-            return
+        if self.recorder_given_up or not (self.lockstep and self.values["recorder_window"] > 0) \
+                or topic not in msg.topics:
+            return  # (given up: a progress message already queued when its subscription went must not hold again)
         stamp = msg.stamps[msg.topics.index(topic)]
         if math.isnan(stamp):
             return
@@ -376,7 +378,7 @@ class PlantNode(Node):
                     "going on without waiting for it; the bag may miss steps (hawt bag verify)",
                     step=self.step_index, stamp=_stamp(self.output.time))
         self.destroy_subscription(self._progress_subscription)
-        self.recorded_until = None
+        self.recorded_until, self.recorder_given_up = None, True
         self._release()
 
     def _refuse(self, msg: PitchCommand, reason: Optional[str]) -> None:
