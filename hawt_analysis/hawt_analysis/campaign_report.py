@@ -14,7 +14,7 @@ import numpy as np
 
 from .analysis_report import changes_table, write_html_page
 
-__all__ = ["lifetime_text", "main_channels", "write_campaign_report"]
+__all__ = ["lifetime_text", "ultimate_text", "main_channels", "write_campaign_report"]
 
 _BLADE_ROOT = re.compile(r"root_moment_oop_(\d+)")
 _ROTOR_CHANNELS = {"hub_tilt_moment": "hub tilt", "hub_yaw_moment": "hub yaw",
@@ -68,6 +68,24 @@ def lifetime_text(lifetime: Sequence[Mapping[str, Any]]) -> str:
     rows = [(label, [value.get((name, quantity), math.nan) for name in controllers], factor, unit)
             for quantity, label, factor, unit in quantities]
     return "\n".join(lines + changes_table("", controllers, rows))
+
+
+def ultimate_text(ultimate: Sequence[Mapping[str, Any]]) -> str:
+    """The design loads γ_f·F_k (magnitudes) of the main channels per controller, changes against the first, then
+    what governs each: the case, or the extrapolation with its interval (``hawt_tools.campaign.ultimate_table``)."""
+    if not ultimate:
+        return ""
+    controllers = list(dict.fromkeys(entry["controller"] for entry in ultimate))
+    entry_of = {(entry["controller"], entry["channel"]): entry for entry in ultimate}
+    channels = main_channels(entry["channel"] for entry in ultimate)
+    rows = [(f"{name} design", [abs(entry_of[(c, channel)]["design"]) if (c, channel) in entry_of else math.nan
+                                for c in controllers], 1e-6, "MN·m") for channel, name in channels.items()]
+    first = ultimate[0]
+    lines = [f"ultimate loads, DLC {first['dlc']}: design load = γ_f {first['factor']:g} × characteristic load"]
+    lines += changes_table("", controllers, rows) + ["governed by:"]
+    lines += [f"  {c}, {name}: {entry_of[(c, channel)]['case']} ({entry_of[(c, channel)]['basis']})"
+              for c in controllers for channel, name in channels.items() if (c, channel) in entry_of]
+    return "\n".join(lines)
 
 
 def _lifetime_channels(value: Mapping[Tuple[str, str], float]) -> Dict[str, str]:
@@ -139,9 +157,11 @@ def _figure_pitch(rows, path: Path) -> Path:
 
 
 def write_campaign_report(title: str, rows: Sequence[Mapping[str, Any]], lifetime: Sequence[Mapping[str, Any]],
-                          directory: Path, tables: Mapping[str, Path]) -> Path:
+                          directory: Path, tables: Mapping[str, Path],
+                          ultimate: Sequence[Mapping[str, Any]] = ()) -> Path:
     """Write ``report.html`` and its PNGs into ``directory``; return the page. The title of an incomplete campaign
-    ends with ``incomplete: N of M cases``, and the missing cases head the text."""
+    ends with ``incomplete: N of M cases``, and the missing cases head the text; an ultimate-load campaign's design
+    loads (`ultimate_text`) follow the lifetime table."""
     title = " — ".join([title, *dict.fromkeys(cases for cases, _ in _incomplete(lifetime))])
     figures = {"DEL_against_wind_speed.png": (_figure_del_against_speed, rows, "DEL of the main channels against wind "
                                               "speed (mean over the seeds, each seed a dot)"),
@@ -149,6 +169,7 @@ def write_campaign_report(title: str, rows: Sequence[Mapping[str, Any]], lifetim
                                            f"{lifetime[0]['controller']}"),
                "pitch_activity.png": (_figure_pitch, rows, "pitch activity against wind speed")}
     images = [draw(data, directory / name) for name, (draw, data, _) in figures.items()]
-    return write_html_page(directory / "report.html", title, lifetime_text(lifetime), images,
+    text = "\n\n".join(part for part in (lifetime_text(lifetime), ultimate_text(ultimate)) if part)
+    return write_html_page(directory / "report.html", title, text, images,
                            [path.name for path in tables.values()],
                            headings={name: heading for name, (_, _, heading) in figures.items()})

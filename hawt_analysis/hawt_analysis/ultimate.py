@@ -109,10 +109,20 @@ class Extrapolation:
     method: str = "Gumbel fit of each bin's run maxima (maximum likelihood), IEC 61400-1 Ed. 3 Annex F"
 
 
+def _gumbel_fit(sample: np.ndarray) -> Tuple[float, float]:
+    """Location and scale of the maximum-likelihood Gumbel fit; a sample without spread (a channel that never
+    changed) is its value with a scale too small to matter."""
+    spread = float(np.ptp(sample))
+    if spread <= 1e-12 * max(1.0, float(np.max(np.abs(sample)))):
+        return float(sample[0]), 1e-9 * max(1.0, abs(float(sample[0])))
+    return tuple(stats.gumbel_r.fit(sample))
+
+
 def _solve(locations: np.ndarray, scales: np.ndarray, probabilities: np.ndarray, exceedance: float) -> float:
     """F with Σ_i p_i (1 - G_i(F)) = exceedance."""
     def excess(load: float) -> float:
-        return float(np.dot(probabilities, stats.gumbel_r.sf(load, locations, scales))) - exceedance
+        with np.errstate(over="ignore"):  # exp(-x) of a bin far below the load, whose exceedance is 0
+            return float(np.dot(probabilities, stats.gumbel_r.sf(load, locations, scales))) - exceedance
 
     low = float(np.min(locations))
     high = float(np.max(locations + 60.0 * scales))
@@ -146,12 +156,12 @@ def fifty_year_load(maxima: Sequence[ArrayLike], probabilities: ArrayLike, durat
     if not 0.0 < confidence < 1.0 or duration <= 0.0:
         raise ValueError(f"confidence {confidence} must be in (0, 1) and duration {duration} positive")
     exceedance = duration / FIFTY_YEARS
-    fits = np.array([stats.gumbel_r.fit(sample) for sample in samples])
+    fits = np.array([_gumbel_fit(sample) for sample in samples])
     value = _solve(fits[:, 0], fits[:, 1], p, exceedance)
     rng = np.random.default_rng(seed)
     values = np.empty(resamples)
     for k in range(resamples):
-        refits = np.array([stats.gumbel_r.fit(stats.gumbel_r.rvs(loc, scale, size=sample.size, random_state=rng))
+        refits = np.array([_gumbel_fit(stats.gumbel_r.rvs(loc, scale, size=sample.size, random_state=rng))
                            for (loc, scale), sample in zip(fits, samples)])
         values[k] = _solve(refits[:, 0], refits[:, 1], p, exceedance)
     tail = (1.0 - confidence) / 2.0

@@ -43,8 +43,8 @@ from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, 
 from hawt_tools.graph_file import Graph, GraphError, ParameterFile, load_graph
 
 __all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "case_graph", "check_scheduler", "code_version", "plan_cases",
-           "prepare_wind", "run_case", "run_campaign", "lifetime_table", "write_tables", "read_lifetime",
-           "turbine_digest"]
+           "prepare_wind", "run_case", "run_campaign", "lifetime_table", "ultimate_table", "write_tables",
+           "read_lifetime", "turbine_digest"]
 
 SCHEDULER_TIMEOUT = 10.0
 """Seconds ``--scheduler`` has to answer (TCP connection, Dask handshake and identity); the client's timeout too."""
@@ -170,7 +170,7 @@ def plan_cases(campaign: Campaign) -> List[Case]:
             raise CampaignError(f"{where}: {error}") from None
         for speed in campaign.speeds:
             for seed in campaign.seeds:
-                identity = {"speed": speed, "seed": seed, "duration": campaign.duration,
+                identity = {"speed": speed, "seed": seed, "dlc": campaign.dlc, "duration": campaign.duration,
                             "transient": campaign.transient, "turbulence_class": campaign.turbulence_class,
                             "shear_exponent": campaign.shear_exponent, "turbine": turbine, "graph": files,
                             "arguments": config.arguments, "parameters": config.parameters, "code": code}
@@ -480,8 +480,54 @@ def lifetime_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[D
     return table
 
 
+def ultimate_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[Dict[str, Any]]:
+    """Per controller and load channel of an ultimate-load campaign (DLC 1.1 or 1.3), the design load γ_f·F_k and
+    what it comes from (:mod:`hawt_analysis.ultimate`); empty for DLC 1.2 (fatigue).
+
+    DLC 1.3: F_k is the largest extreme over the cases, the case named. DLC 1.1: F_k is the 50-year value of the run
+    maxima (of the negated minima where they are larger), extrapolated over the campaign's bins and site; a
+    controller missing a case gets none (NaN), since the fit needs every bin's maxima.
+    """
+    from hawt_analysis.lifetime import bin_probabilities
+    from hawt_analysis.ultimate import fifty_year_load, partial_safety_factor, ultimate_loads
+
+    if campaign.dlc not in ("1.1", "1.3") or not rows:
+        return []
+    channels = sorted(column[len("max."):] for column in rows[0] if column.startswith("max.")
+                      and f"min.{column[len('max.'):]}" in rows[0])
+    if campaign.dlc == "1.3":
+        return [{**load.__dict__, "basis": "largest extreme of the cases"} for load in ultimate_loads(
+            [{**row, "dlc": campaign.dlc, "case": f"{row['wind_speed']:g} m/s seed {row['seed']}"} for row in rows],
+            channels)]
+    probabilities = bin_probabilities(campaign.speeds, campaign.site)
+    duration = campaign.duration
+    factor = partial_safety_factor("1.1")
+    table = []
+    for config in campaign.controllers:
+        mine = [row for row in rows if row["controller"] == config.name]
+        if not mine:
+            continue
+        complete = len(mine) == len(campaign.speeds) * len(campaign.seeds)
+        for channel in channels:
+            characteristic, basis = math.nan, "incomplete: a case missing"
+            if complete:
+                fits = [fifty_year_load([[sign * row[f"{column}.{channel}"] for row in mine if row["wind_speed"] == v]
+                                         for v in campaign.speeds], probabilities, duration)
+                        for sign, column in ((1.0, "max"), (-1.0, "min"))]
+                high, low = fits[0].value, -fits[1].value
+                characteristic = high if abs(high) >= abs(low) else low
+                chosen = fits[0] if characteristic == high else fits[1]
+                basis = f"50-year value, {chosen.confidence:.0%} interval {chosen.low:.4g} to {chosen.high:.4g}" + (
+                    "" if characteristic == high else " (of the negated minima)")
+            table.append({"controller": config.name, "channel": channel, "characteristic": characteristic,
+                          "factor": factor, "design": factor * characteristic, "dlc": "1.1", "case": "all cases",
+                          "basis": basis})
+    return table
+
+
 def write_tables(campaign: Campaign, rows: Iterable[Dict[str, Any]], output: Path) -> Dict[str, Path]:
-    """``cases.parquet`` and ``cases.csv`` (one row per case), ``lifetime.csv``; their paths by name."""
+    """``cases.parquet`` and ``cases.csv`` (one row per case), ``lifetime.csv`` and, for an ultimate-load DLC,
+    ``ultimate.csv`` (:func:`ultimate_table`); their paths by name."""
     import pandas
 
     rows = list(rows)
@@ -493,6 +539,10 @@ def write_tables(campaign: Campaign, rows: Iterable[Dict[str, Any]], output: Pat
     frame.to_parquet(paths["cases.parquet"], index=False)
     frame.to_csv(paths["cases.csv"], index=False)
     pandas.DataFrame(lifetime_table(campaign, rows)).to_csv(paths["lifetime.csv"], index=False)
+    ultimate = ultimate_table(campaign, rows)
+    if ultimate:
+        paths["ultimate.csv"] = output / "ultimate.csv"
+        pandas.DataFrame(ultimate).to_csv(paths["ultimate.csv"], index=False)
     return paths
 
 

@@ -3,6 +3,7 @@
 A campaign file is YAML::
 
     turbine: iea15                    # optional: a packaged turbine's name, or a turbine's folder or definition file
+    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1 or 1.3
     wind:
       speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing
       seeds: 3                        # seeds 1..3 per bin, or a list [4, 7]
@@ -15,6 +16,12 @@ A campaign file is YAML::
       baseline: {graph: baseline}
       ipc_1p: {graph: ipc, arguments: {ipc_h2: "false", ipc_h3: "false"}}
       lqg: {graph: lqg, parameters: ["lqg_ipc.wind_noise:=0.001"]}
+
+The ``dlc`` says what the cases are and what the campaign reports besides the DELs and the AEP (IEC 61400-1
+Ed. 3 Table 2; :mod:`hawt_analysis.ultimate`): 1.2, fatigue in normal turbulence (NTM); 1.1, the same runs for
+ultimate loads, each channel's 50-year value extrapolated from every bin's run maxima (at least 3 seeds per bin),
+times γ_f 1.25; 1.3, extreme turbulence (ETM, the plant's ``turbulence_model``), the largest extreme of every
+channel times γ_f 1.35, with the case that set it.
 
 Every case is a run of a controller's graph (its launch ``arguments`` and ``-p``-style
 ``parameters``) with the plant's wind set by the campaign. The ``turbine`` is every graph's ``turbine``
@@ -32,10 +39,13 @@ from hawt_analysis.lifetime import IEC_CLASS_MEAN_SPEED, WindDistribution
 from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml, resolve_turbine
 
 __all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "graph_arguments",
-           "TURBULENCE_CLASSES"]
+           "TURBULENCE_CLASSES", "DLCS"]
 
 TURBULENCE_CLASSES = ("A", "B", "C")
-_KEYS = {"": ("turbine", "wind", "site", "duration", "transient", "controllers"),
+DLCS = {"1.1": "NTM", "1.2": "NTM", "1.3": "ETM"}
+"""The design-load cases a campaign runs, with the plant's turbulence model for each."""
+_EXTRAPOLATION_SEEDS = 3
+_KEYS = {"": ("turbine", "dlc", "wind", "site", "duration", "transient", "controllers"),
          "wind": ("speeds", "seeds", "turbulence_class", "shear_exponent"),
          "site": ("wind_class", "mean", "shape"),
          "controller": ("graph", "arguments", "parameters")}
@@ -72,6 +82,7 @@ class Campaign:
     site: WindDistribution = WindDistribution(IEC_CLASS_MEAN_SPEED["I"])
     turbine: str = ""
     """Every graph's ``turbine`` argument: a packaged name or an absolute path ('': each graph's default)."""
+    dlc: str = "1.2"
 
 
 class _Reader:
@@ -144,8 +155,12 @@ def load_campaign(path: Path) -> Campaign:
         read.fail(_line(top, "controllers"), "controllers: expected a mapping NAME: {graph: GRAPH, ...}, found "
                   f"{controllers!r}")
     turbine = _turbine(read, top.get("turbine", ""), _line(top, "turbine"))
+    dlc = read.choice(_dlc_text(top.get("dlc", "1.2")), _line(top, "dlc"), "dlc", tuple(DLCS))
+    if dlc == "1.1" and len(seeds) < _EXTRAPOLATION_SEEDS:
+        read.fail(_line(wind, "seeds"), f"wind.seeds: DLC 1.1 extrapolates each bin's run maxima, which needs at "
+                  f"least {_EXTRAPOLATION_SEEDS} seeds per bin, found {len(seeds)}")
     return Campaign(
-        path=path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine,
+        path=path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine, dlc=dlc,
         controllers=tuple(_controller(read, name, entry, _line(controllers, name), turbine)
                           for name, entry in controllers.items()),
         turbulence_class=read.choice(wind.get("turbulence_class", "B"), _line(wind, "turbulence_class"),
@@ -153,6 +168,16 @@ def load_campaign(path: Path) -> Campaign:
         shear_exponent=read.number(wind.get("shear_exponent", 0.2), _line(wind, "shear_exponent"),
                                    "wind.shear_exponent", -0.5, 0.99),
         site=_site(read, top.get("site", {}), _line(top, "site")))
+
+
+def site_wind_class(site: WindDistribution) -> str:
+    """The IEC wind class whose annual mean speed the site has (the ETM's V_ave); class I for any other site."""
+    return next((name for name, mean in IEC_CLASS_MEAN_SPEED.items() if mean == site.mean), "I")
+
+
+def _dlc_text(value: Any) -> str:
+    """A DLC as IEC numbers it: YAML reads ``dlc: 1.3`` as the number 1.3."""
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def _turbine(read: _Reader, value: Any, line: int) -> str:
@@ -221,5 +246,6 @@ def case_overrides(campaign: Campaign, speed: float, seed: int) -> List[str]:
     """The ``-p`` texts that set the plant's wind and duration for the case (speed, seed)."""
     total = campaign.transient + campaign.duration  # the plant makes its turbulent field at least this long
     return ["plant.wind_type:=turbulent", f"plant.wind_speed:={speed!r}", f"plant.seed:={seed}",
-            f"plant.turbulence_class:={campaign.turbulence_class}",
+            f"plant.turbulence_class:={campaign.turbulence_class}", f"plant.turbulence_model:={DLCS[campaign.dlc]}",
+            f"plant.wind_class:={site_wind_class(campaign.site)}",
             f"plant.shear_exponent:={campaign.shear_exponent!r}", f"plant.duration:={total!r}"]

@@ -752,9 +752,9 @@ def _cmd_turbine_show(args: argparse.Namespace) -> int:
 
 def _cmd_campaign(args: argparse.Namespace) -> int:
     """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder."""
-    from hawt_analysis.campaign_report import lifetime_text, write_campaign_report
+    from hawt_analysis.campaign_report import lifetime_text, ultimate_text, write_campaign_report
     from hawt_core.stop_signals import stop_signals
-    from hawt_tools.campaign import lifetime_table, run_campaign, write_tables
+    from hawt_tools.campaign import lifetime_table, run_campaign, ultimate_table, write_tables
     from hawt_tools.campaign_file import load_campaign
 
     if args.workers is not None and args.workers < 1:
@@ -773,7 +773,11 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
         print(f"lifetime DEL (Miner, m per channel, site mean {campaign.site.mean:g} m/s, Weibull k "
               f"{campaign.site.shape:g}) and AEP, over the bins run:")
         print(lifetime_text(lifetime))
-        page = write_campaign_report(f"hawt campaign: {campaign.path.name}", done.rows, lifetime, output, tables)
+        ultimate = ultimate_table(campaign, done.rows)
+        if ultimate:
+            print(ultimate_text(ultimate))
+        page = write_campaign_report(f"hawt campaign: {campaign.path.name}", done.rows, lifetime, output, tables,
+                                     ultimate)
         print(f"tables: {', '.join(str(path) for path in tables.values())}\nreport: {page}")
     if done.interrupted:
         print(f"hawt campaign: interrupted; {len(done.rows)} finished case(s) kept in {output}: run the same command "

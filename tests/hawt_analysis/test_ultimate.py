@@ -73,6 +73,11 @@ def test_over_bins_the_fifty_year_value_is_where_their_weighted_exceedance_meets
     assert covered >= 16, covered
 
 
+def test_maxima_without_spread_extrapolate_to_their_value():
+    """A channel whose run maxima are all equal (it never moved) has that value as its 50-year value."""
+    assert fifty_year_load([[2.5, 2.5, 2.5], [1.0, 1.0, 1.0]], [0.5, 0.5], resamples=10).value == pytest.approx(2.5)
+
+
 @pytest.mark.parametrize("maxima, probabilities, message", [
     ([[1.0, 2.0]], [1.0], "bin 0: 2 maxima; a Gumbel fit needs at least 3"),
     ([[1.0, 2.0, float("nan")]], [1.0], "all finite"),

@@ -8,7 +8,7 @@ import pytest
 
 from hawt_analysis.lifetime import WindDistribution
 from hawt_tools.campaign import case_graph, plan_cases
-from hawt_tools.campaign_file import CampaignError, load_campaign
+from hawt_tools.campaign_file import CampaignError, case_overrides, load_campaign
 from hawt_tools.graph_file import ParameterFile
 from turbine_folders import copied_turbine
 
@@ -66,12 +66,29 @@ def test_a_good_file_gives_every_case_once_with_a_key_of_what_defines_it(tmp_pat
     ("turbine: iea15\n" + GOOD, "campaign.yaml:1: turbine 'iea15': no packaged turbine of that name (packaged: "),
     ("turbine: nrel_5mw\n" + GOOD.replace("ipc_h2: false", "turbine: nrel_5mw, ipc_h2: false"),
      "campaign.yaml:11: controllers.ipc_1p.arguments.turbine: the campaign's turbine is every controller's"),
+    ("dlc: 1.4\n" + GOOD, "campaign.yaml:1: dlc: '1.4' is not one of 1.1, 1.2, 1.3"),
+    ("dlc: 1.1\n" + GOOD, "campaign.yaml:4: wind.seeds: DLC 1.1 extrapolates each bin's run maxima, which needs at "
+                          "least 3 seeds per bin, found 2"),
 ], ids=["key typo", "speed range", "speed order", "seeds", "class", "duration", "missing", "site", "controller key",
-        "graph", "argument", "parameter name", "parameter value", "yaml", "turbine", "a controller's own turbine"])
+        "graph", "argument", "parameter name", "parameter value", "yaml", "turbine", "a controller's own turbine",
+        "dlc", "dlc 1.1 seeds"])
 def test_a_bad_file_is_one_line_naming_file_line_and_key(tmp_path, text, message):
     with pytest.raises(CampaignError) as raised:
         plan_cases(load_campaign(_write(tmp_path, text)))
     assert message in str(raised.value) and "\n" not in str(raised.value)
+
+
+def test_the_dlc_sets_every_cases_turbulence_model_and_is_in_its_key(tmp_path):
+    """DLC 1.2 by default (normal turbulence); `dlc: 1.3` runs every case in the extreme turbulence model with the
+    site's wind class (the class whose annual mean the site has, else I), and no case keeps its 1.2 key."""
+    fatigue, extreme = (load_campaign(_write(tmp_path, text)) for text in (GOOD, "dlc: 1.3\n" + GOOD))
+    assert (fatigue.dlc, extreme.dlc) == ("1.2", "1.3")
+    assert "plant.turbulence_model:=NTM" in case_overrides(fatigue, 13.0, 1)
+    assert {"plant.turbulence_model:=ETM", "plant.wind_class:=II"} <= set(case_overrides(extreme, 13.0, 1))  # 8.5
+    for site, wind_class in (("{wind_class: III}", "III"), ("{mean: 9.0}", "I")):
+        other = load_campaign(_write(tmp_path, "dlc: 1.3\n" + GOOD.replace("{mean: 8.5, shape: 2.2}", site)))
+        assert f"plant.wind_class:={wind_class}" in case_overrides(other, 13.0, 1)
+    assert not {c.key for c in plan_cases(fatigue)} & {c.key for c in plan_cases(extreme)}
 
 
 def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_cli):
