@@ -771,7 +771,9 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
         tables = write_tables(campaign, done.rows, output)
         lifetime = lifetime_table(campaign, done.rows)
         print(f"lifetime DEL (Miner, m per channel, site mean {campaign.site.mean:g} m/s, Weibull k "
-              f"{campaign.site.shape:g}) and AEP, over the bins run:")
+              f"{campaign.site.shape:g}) and AEP, over the bins run" + (
+                  " (in DLC 1.3's extreme turbulence: to compare controllers, not a fatigue estimate):"
+                  if campaign.dlc == "1.3" else ":"))
         print(lifetime_text(lifetime))
         ultimate = ultimate_table(campaign, done.rows)
         if ultimate:
