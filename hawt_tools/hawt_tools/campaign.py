@@ -39,7 +39,7 @@ import yaml
 
 from hawt_analysis.record import PER_BLADE_CHANNELS, SCALAR_CHANNELS, make_record
 from hawt_analysis.summary import load_channels, summarize
-from hawt_tools.campaign_file import Campaign, CampaignError, ControllerConfig, case_overrides, graph_arguments
+from hawt_tools.campaign_file import DLCS, Campaign, CampaignError, ControllerConfig, case_overrides, graph_arguments
 from hawt_tools.graph_file import Graph, GraphError, ParameterFile, load_graph
 
 __all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "case_graph", "check_scheduler", "code_version", "plan_cases",
@@ -481,23 +481,24 @@ def lifetime_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[D
 
 
 def ultimate_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[Dict[str, Any]]:
-    """Per controller and load channel of an ultimate-load campaign (DLC 1.1 or 1.3), the design load γ_f·F_k and
+    """Per controller and load channel of an ultimate-load campaign (every DLC but 1.2), the design load γ_f·F_k and
     what it comes from (:mod:`hawt_analysis.ultimate`); empty for DLC 1.2 (fatigue).
 
-    DLC 1.3: F_k is the largest extreme over the cases, the case named. DLC 1.1: F_k is the 50-year value of the run
+    DLC 1.3–1.5: F_k is the largest extreme over the cases, the case named. DLC 1.1: F_k is the 50-year value of the run
     maxima (of the negated minima where they are larger), extrapolated over the campaign's bins and site; a
     controller missing a case gets none (NaN), since the fit needs every bin's maxima.
     """
     from hawt_analysis.lifetime import bin_probabilities
     from hawt_analysis.ultimate import fifty_year_load, partial_safety_factor, ultimate_loads
 
-    if campaign.dlc not in ("1.1", "1.3") or not rows:
+    if campaign.dlc == "1.2" or not rows:
         return []
     channels = sorted(column[len("max."):] for column in rows[0] if column.startswith("max.")
                       and f"min.{column[len('max.'):]}" in rows[0])
-    if campaign.dlc == "1.3":
+    if campaign.dlc != "1.1":
+        label = DLCS[campaign.dlc].label
         return [{**load.__dict__, "basis": "largest extreme of the cases"} for load in ultimate_loads(
-            [{**row, "dlc": campaign.dlc, "case": f"{row['wind_speed']:g} m/s seed {row['seed']}"} for row in rows],
+            [{**row, "dlc": campaign.dlc, "case": f"{row['wind_speed']:g} m/s {label(row['seed'])}"} for row in rows],
             channels)]
     probabilities = bin_probabilities(campaign.speeds, campaign.site)
     duration = campaign.duration

@@ -3,7 +3,7 @@
 A campaign file is YAML::
 
     turbine: iea15                    # optional: a packaged turbine's name, or a turbine's folder or definition file
-    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1 or 1.3
+    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1, 1.3-1.5
     wind:
       speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing
       seeds: 3                        # seeds 1..3 per bin, or a list [4, 7]
@@ -21,7 +21,11 @@ The ``dlc`` says what the cases are and what the campaign reports besides the DE
 Ed. 3 Table 2; :mod:`hawt_analysis.ultimate`): 1.2, fatigue in normal turbulence (NTM); 1.1, the same runs for
 ultimate loads, each channel's 50-year value extrapolated from every bin's run maxima (at least 3 seeds per bin),
 times γ_f 1.25; 1.3, extreme turbulence (ETM, the plant's ``turbulence_model``), the largest extreme of every
-channel times γ_f 1.35, with the case that set it.
+channel times γ_f 1.35, with the case that set it; 1.4 and 1.5, the extreme coherent gust with direction change
+(ECD) and the extreme wind shear (EWS) of :mod:`hawt_plant.iec_extreme`, deterministic transients starting
+``GUST_START`` s into the analysed time, reported as 1.3 is. A transient DLC's seeds are its cases per speed
+(1.4: 1 ECD turning towards +y, 2 towards -y; 1.5: 1 and 2 vertical shear faster above or below the hub, 3 and 4
+horizontal), all of them unless ``seeds`` picks some.
 
 Every case is a run of a controller's graph (its launch ``arguments`` and ``-p``-style
 ``parameters``) with the plant's wind set by the campaign. The ``turbine`` is every graph's ``turbine``
@@ -39,11 +43,34 @@ from hawt_analysis.lifetime import IEC_CLASS_MEAN_SPEED, WindDistribution
 from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml, resolve_turbine
 
 __all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "graph_arguments",
-           "TURBULENCE_CLASSES", "DLCS"]
+           "TURBULENCE_CLASSES", "DLCS", "DesignLoadCase", "GUST_START", "site_wind_class"]
 
 TURBULENCE_CLASSES = ("A", "B", "C")
-DLCS = {"1.1": "NTM", "1.2": "NTM", "1.3": "ETM"}
-"""The design-load cases a campaign runs, with the plant's turbulence model for each."""
+
+
+@dataclass(frozen=True)
+class DesignLoadCase:
+    """What every case of an IEC 61400-1 Ed. 3 DLC runs: turbulence (``turbulence_model`` NTM or ETM, a seed per
+    case), or a deterministic transient, one (plant ``wind_type``, ``gust_sign``) per case of a speed."""
+
+    turbulence_model: str = ""
+    transients: Tuple[Tuple[str, int], ...] = ()
+
+    def label(self, seed: int) -> str:
+        """How a case of this DLC is named beside its speed."""
+        if not self.transients:
+            return f"seed {seed}"
+        kind, sign = self.transients[seed - 1]
+        return f"{kind.replace('_', ' ').upper()} {'+' if sign > 0 else '-'}"
+
+
+DLCS = {"1.1": DesignLoadCase("NTM"), "1.2": DesignLoadCase("NTM"), "1.3": DesignLoadCase("ETM"),
+        "1.4": DesignLoadCase(transients=(("ecd", 1), ("ecd", -1))),
+        "1.5": DesignLoadCase(transients=(("ews_vertical", 1), ("ews_vertical", -1), ("ews_horizontal", 1),
+                                          ("ews_horizontal", -1)))}
+"""The design-load cases a campaign runs."""
+GUST_START = 10.0
+"""Time [s] into the analysed window at which a transient DLC's gust or shear starts (it lasts 10-12 s)."""
 _EXTRAPOLATION_SEEDS = 3
 _KEYS = {"": ("turbine", "dlc", "wind", "site", "duration", "transient", "controllers"),
          "wind": ("speeds", "seeds", "turbulence_class", "shear_exponent"),
@@ -147,7 +174,12 @@ def load_campaign(path: Path) -> Campaign:
     speeds = tuple(read.number(v, _line(wind, "speeds"), "wind.speeds", 3.0, 30.0) for v in speeds)
     if any(b <= a for a, b in zip(speeds, speeds[1:])):
         read.fail(_line(wind, "speeds"), f"wind.speeds: expected increasing speeds, found {list(speeds)}")
-    seeds = _seeds(read, wind.get("seeds", 1), _line(wind, "seeds"))
+    dlc = read.choice(_dlc_text(top.get("dlc", "1.2")), _line(top, "dlc"), "dlc", tuple(DLCS))
+    transients = DLCS[dlc].transients
+    seeds = _seeds(read, wind.get("seeds", len(transients) or 1), _line(wind, "seeds"))
+    if transients and not set(seeds) <= set(range(1, len(transients) + 1)):
+        read.fail(_line(wind, "seeds"), f"wind.seeds: DLC {dlc} has {len(transients)} cases per speed (" + ", ".join(
+            f"{i} {DLCS[dlc].label(i)}" for i in range(1, len(transients) + 1)) + f"), found {list(seeds)}")
     duration = read.number(top["duration"], _line(top, "duration"), "duration", 10.0, 36000.0)
     transient = read.number(top.get("transient", 60.0), _line(top, "transient"), "transient", 0.0, 3600.0)
     controllers = top["controllers"]
@@ -155,7 +187,9 @@ def load_campaign(path: Path) -> Campaign:
         read.fail(_line(top, "controllers"), "controllers: expected a mapping NAME: {graph: GRAPH, ...}, found "
                   f"{controllers!r}")
     turbine = _turbine(read, top.get("turbine", ""), _line(top, "turbine"))
-    dlc = read.choice(_dlc_text(top.get("dlc", "1.2")), _line(top, "dlc"), "dlc", tuple(DLCS))
+    if transients and duration < GUST_START + 20.0:
+        read.fail(_line(top, "duration"), f"duration: DLC {dlc}'s transient starts {GUST_START:g} s into the "
+                  f"analysed time and lasts up to 12 s: expected at least {GUST_START + 20.0:g} s, found {duration:g}")
     if dlc == "1.1" and len(seeds) < _EXTRAPOLATION_SEEDS:
         read.fail(_line(wind, "seeds"), f"wind.seeds: DLC 1.1 extrapolates each bin's run maxima, which needs at "
                   f"least {_EXTRAPOLATION_SEEDS} seeds per bin, found {len(seeds)}")
@@ -245,7 +279,13 @@ def graph_arguments(campaign: Campaign, config: ControllerConfig) -> Dict[str, s
 def case_overrides(campaign: Campaign, speed: float, seed: int) -> List[str]:
     """The ``-p`` texts that set the plant's wind and duration for the case (speed, seed)."""
     total = campaign.transient + campaign.duration  # the plant makes its turbulent field at least this long
-    return ["plant.wind_type:=turbulent", f"plant.wind_speed:={speed!r}", f"plant.seed:={seed}",
-            f"plant.turbulence_class:={campaign.turbulence_class}", f"plant.turbulence_model:={DLCS[campaign.dlc]}",
+    dlc = DLCS[campaign.dlc]
+    if dlc.transients:
+        kind, sign = dlc.transients[seed - 1]
+        wind = [f"plant.wind_type:={kind}", f"plant.gust_sign:={sign}",
+                f"plant.step_time:={campaign.transient + GUST_START!r}"]
+    else:
+        wind = ["plant.wind_type:=turbulent", f"plant.seed:={seed}", f"plant.turbulence_model:={dlc.turbulence_model}"]
+    return [*wind, f"plant.wind_speed:={speed!r}", f"plant.turbulence_class:={campaign.turbulence_class}",
             f"plant.wind_class:={site_wind_class(campaign.site)}",
             f"plant.shear_exponent:={campaign.shear_exponent!r}", f"plant.duration:={total!r}"]

@@ -772,8 +772,8 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
         lifetime = lifetime_table(campaign, done.rows)
         print(f"lifetime DEL (Miner, m per channel, site mean {campaign.site.mean:g} m/s, Weibull k "
               f"{campaign.site.shape:g}) and AEP, over the bins run" + (
-                  " (in DLC 1.3's extreme turbulence: to compare controllers, not a fatigue estimate):"
-                  if campaign.dlc == "1.3" else ":"))
+                  f" (in DLC {campaign.dlc}'s extreme conditions: to compare controllers, not a fatigue estimate):"
+                  if campaign.dlc not in ("1.1", "1.2") else ":"))
         print(lifetime_text(lifetime))
         ultimate = ultimate_table(campaign, done.rows)
         if ultimate:

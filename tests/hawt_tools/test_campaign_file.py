@@ -66,7 +66,7 @@ def test_a_good_file_gives_every_case_once_with_a_key_of_what_defines_it(tmp_pat
     ("turbine: iea15\n" + GOOD, "campaign.yaml:1: turbine 'iea15': no packaged turbine of that name (packaged: "),
     ("turbine: nrel_5mw\n" + GOOD.replace("ipc_h2: false", "turbine: nrel_5mw, ipc_h2: false"),
      "campaign.yaml:11: controllers.ipc_1p.arguments.turbine: the campaign's turbine is every controller's"),
-    ("dlc: 1.4\n" + GOOD, "campaign.yaml:1: dlc: '1.4' is not one of 1.1, 1.2, 1.3"),
+    ("dlc: 1.6\n" + GOOD, "campaign.yaml:1: dlc: '1.6' is not one of 1.1, 1.2, 1.3, 1.4, 1.5"),
     ("dlc: 1.1\n" + GOOD, "campaign.yaml:4: wind.seeds: DLC 1.1 extrapolates each bin's run maxima, which needs at "
                           "least 3 seeds per bin, found 2"),
 ], ids=["key typo", "speed range", "speed order", "seeds", "class", "duration", "missing", "site", "controller key",
@@ -89,6 +89,35 @@ def test_the_dlc_sets_every_cases_turbulence_model_and_is_in_its_key(tmp_path):
         other = load_campaign(_write(tmp_path, "dlc: 1.3\n" + GOOD.replace("{mean: 8.5, shape: 2.2}", site)))
         assert f"plant.wind_class:={wind_class}" in case_overrides(other, 13.0, 1)
     assert not {c.key for c in plan_cases(fatigue)} & {c.key for c in plan_cases(extreme)}
+
+
+@pytest.mark.parametrize("dlc, cases", [
+    ("1.4", [("ecd", 1), ("ecd", -1)]),
+    ("1.5", [("ews_vertical", 1), ("ews_vertical", -1), ("ews_horizontal", 1), ("ews_horizontal", -1)]),
+])
+def test_a_transient_dlc_runs_each_of_its_gusts_at_every_speed_starting_in_the_analysed_time(tmp_path, dlc, cases):
+    """DLC 1.4 (ECD) and 1.5 (EWS): without `seeds`, every case of the DLC per speed, each its wind type and sign,
+    starting GUST_START s after the transient; no turbulence seed."""
+    campaign = load_campaign(_write(tmp_path, f"dlc: {dlc}\n" + GOOD.replace("  seeds: 2\n", "").replace(
+        "duration: 20", "duration: 40")))
+    assert campaign.seeds == tuple(range(1, len(cases) + 1))
+    for seed, (kind, sign) in enumerate(cases, start=1):
+        overrides = case_overrides(campaign, 13.0, seed)
+        assert {f"plant.wind_type:={kind}", f"plant.gust_sign:={sign}", "plant.step_time:=15.0",
+                "plant.wind_speed:=13.0"} <= set(overrides)
+        assert not [o for o in overrides if o.startswith("plant.seed:=")]
+
+
+@pytest.mark.parametrize("text, message", [
+    ("dlc: 1.4\n" + GOOD.replace("seeds: 2", "seeds: [3]").replace("duration: 20", "duration: 40"),
+     "campaign.yaml:4: wind.seeds: DLC 1.4 has 2 cases per speed (1 ECD +, 2 ECD -), found [3]"),
+    ("dlc: 1.5\n" + GOOD, "campaign.yaml:7: duration: DLC 1.5's transient starts 10 s into the analysed time and "
+                          "lasts up to 12 s: expected at least 30 s, found 20"),
+])
+def test_a_transient_dlc_refuses_cases_it_does_not_have_and_a_window_too_short(tmp_path, text, message):
+    with pytest.raises(CampaignError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")
+                       .replace("]", r"\]").replace("+", r"\+")):
+        load_campaign(_write(tmp_path, text))
 
 
 def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_cli):

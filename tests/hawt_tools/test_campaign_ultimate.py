@@ -51,5 +51,12 @@ def test_dlc_1_1_extrapolates_each_controllers_bin_maxima_to_fifty_years():
     assert math.isnan(table["ipc", "root_moment_oop_1"]["design"])
 
 
+def test_a_transient_dlcs_governing_case_is_named_by_its_gust():
+    rows = [_row("baseline", 13.0, 1, 9.0e6), _row("baseline", 13.0, 2, 12.0e6)]
+    (flap,) = [e for e in ultimate_table(_campaign("1.4", speeds=(13.0,), seeds=(1, 2)), rows)
+               if e["channel"] == "root_moment_oop_1"]
+    assert (flap["case"], flap["factor"]) == ("13 m/s ECD -", 1.35)
+
+
 def test_a_fatigue_campaign_has_no_ultimate_table():
     assert ultimate_table(_campaign("1.2"), [_row("baseline", 11.0, 1, 9.0e6)]) == []
