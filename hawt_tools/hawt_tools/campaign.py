@@ -484,7 +484,8 @@ def ultimate_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[D
     """Per controller and load channel of an ultimate-load campaign (every DLC but 1.2), the design load γ_f·F_k and
     what it comes from (:mod:`hawt_analysis.ultimate`); empty for DLC 1.2 (fatigue).
 
-    DLC 1.3–1.5: F_k is the largest extreme over the cases, the case named. DLC 1.1: F_k is the 50-year value of the run
+    DLC 1.3–1.5: F_k is the largest extreme over the cases, the case named (with its trip, if the safety system
+    tripped: the loads of a shutdown). DLC 1.1: F_k is the 50-year value of the run
     maxima (of the negated minima where they are larger), extrapolated over the campaign's bins and site; a
     controller missing a case gets none (NaN), since the fit needs every bin's maxima.
     """
@@ -498,8 +499,8 @@ def ultimate_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[D
     if campaign.dlc != "1.1":
         label = DLCS[campaign.dlc].label
         return [{**load.__dict__, "basis": "largest extreme of the cases"} for load in ultimate_loads(
-            [{**row, "dlc": campaign.dlc, "case": f"{row['wind_speed']:g} m/s {label(row['seed'])}"} for row in rows],
-            channels)]
+            [{**row, "dlc": campaign.dlc, "case": f"{row['wind_speed']:g} m/s {label(row['seed'])}"
+              + (f", tripped: {row['trips']}" if row.get("trips") else "")} for row in rows], channels)]
     probabilities = bin_probabilities(campaign.speeds, campaign.site)
     duration = campaign.duration
     factor = partial_safety_factor("1.1")

@@ -51,11 +51,11 @@ def test_dlc_1_1_extrapolates_each_controllers_bin_maxima_to_fifty_years():
     assert math.isnan(table["ipc", "root_moment_oop_1"]["design"])
 
 
-def test_a_transient_dlcs_governing_case_is_named_by_its_gust():
-    rows = [_row("baseline", 13.0, 1, 9.0e6), _row("baseline", 13.0, 2, 12.0e6)]
+def test_a_transient_dlcs_governing_case_is_named_by_its_gust_and_its_trip():
+    rows = [_row("baseline", 13.0, 1, 9.0e6), {**_row("baseline", 13.0, 2, 12.0e6), "trips": "protection_trip at t=45.27 s"}]
     (flap,) = [e for e in ultimate_table(_campaign("1.4", speeds=(13.0,), seeds=(1, 2)), rows)
                if e["channel"] == "root_moment_oop_1"]
-    assert (flap["case"], flap["factor"]) == ("13 m/s ECD -", 1.35)
+    assert (flap["case"], flap["factor"]) == ("13 m/s ECD -, tripped: protection_trip at t=45.27 s", 1.35)
 
 
 def test_a_fatigue_campaign_has_no_ultimate_table():
