@@ -116,6 +116,7 @@ class ControllerNode(LifecycleNode):
         self.estimate: Optional[Tuple[Any, MatchedWriterGate]] = None  # publisher and its gate
         self.switches: Optional[SwitchListener] = None
         self.internal = False
+        self.announce_configured = True
         self.recorder = RECORDER_NODE if self.values["wait_for_recorder"] else None
         self.answer = StepAnswer(MatchedWriterGate(self, self.publishers_by_topic, self._publish, self.events,
                                                    recorder=self.recorder).send)
@@ -131,9 +132,13 @@ class ControllerNode(LifecycleNode):
         if self.plant is not None:
             return
         self.plant = PlantDescription.from_fields(msg)
-        if self.trigger_configure() != TransitionCallbackReturn.SUCCESS:
-            return
-        if self.values["active"]:
+        # A controller that activates itself announces itself once, active: controller_manager plans a schedule
+        # on the first state it hears, and an 'inactive' heard between the two once refused '-rosco' as already
+        # inactive (a busy machine).
+        self.announce_configured = not self.values["active"]
+        configured = self.trigger_configure() == TransitionCallbackReturn.SUCCESS
+        self.announce_configured = True
+        if configured and self.values["active"]:
             self._switch_to(True, 0)
 
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
@@ -165,7 +170,8 @@ class ControllerNode(LifecycleNode):
         if self.switches is None:
             self.switches = SwitchListener(self, self.CONTROLLER.TYPE, claims, self.CONTROLLER.SWITCHABLE)
         self._follow_others(True)
-        self.switches.announce(ControllerState.INACTIVE, self._last_step())
+        if self.announce_configured:
+            self.switches.announce(ControllerState.INACTIVE, self._last_step())
         return TransitionCallbackReturn.SUCCESS
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
