@@ -514,7 +514,7 @@ def ultimate_table(campaign: Campaign, rows: Sequence[Dict[str, Any]]) -> List[D
             characteristic, basis = math.nan, "incomplete: a case missing"
             if complete:
                 fits = [fifty_year_load([[sign * row[f"{column}.{channel}"] for row in mine if row["wind_speed"] == v]
-                                         for v in campaign.speeds], probabilities, duration)
+                                         for v in campaign.speeds], probabilities, duration, resamples=200)
                         for sign, column in ((1.0, "max"), (-1.0, "min"))]
                 high, low = fits[0].value, -fits[1].value
                 characteristic = high if abs(high) >= abs(low) else low

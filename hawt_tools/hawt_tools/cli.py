@@ -353,11 +353,11 @@ def _compare_campaigns(args: argparse.Namespace, only_folders: bool) -> int:
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
-    from hawt_tools.controller_client import ControllerManagerError
+    from hawt_tools.controller_client import ControllerManagerError, manager_namespace
     from hawt_tools.graph_info import controllers_in, controllers_text, snapshot
 
     if args.namespace is not None:
-        manager = "/" + args.namespace.strip("/") if args.namespace.strip("/") else ""
+        manager = manager_namespace(args.namespace)
         try:
             print("\n".join(controllers_text(manager + "/", controllers_in(manager))))
         except ControllerManagerError as error:

@@ -10,7 +10,7 @@ from rclpy.node import Node
 from hawt_core.topics import LIST_CONTROLLERS, SWITCH_CONTROLLERS
 
 __all__ = ["ControllerRow", "SwitchResult", "ControllerManagerError", "find_managers", "list_controllers",
-           "switch_controllers"]
+           "manager_namespace", "switch_controllers"]
 
 
 class ControllerManagerError(RuntimeError):
@@ -66,10 +66,15 @@ def list_controllers(node: Node, namespace: str, timeout: float = 5.0) -> Tuple[
                                                     response.states))
 
 
+def manager_namespace(namespace: str) -> str:
+    """A turbine namespace as given (``wt1``, ``/wt1/``) in the form the manager's services are under (``/wt1``)."""
+    return "/" + namespace.strip("/") if namespace.strip("/") else ""
+
+
 def _manager(node: Node, namespace: Optional[str], timeout: float) -> str:
     """The namespace of the graph's one controller manager (given, or discovered within ``timeout`` s)."""
     if namespace is not None:
-        return "/" + namespace.strip("/") if namespace.strip("/") else ""
+        return manager_namespace(namespace)
     managers = find_managers(node, timeout)
     if not managers:
         raise ControllerManagerError("no controller_manager in the graph (is a graph with one running, in this "
