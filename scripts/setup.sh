@@ -107,6 +107,20 @@ build_discon_bridge() {
   echo "$want" > "$WS/lib/.hawt-discon"
 }
 
+# The plant's compiled kernels (numba, hawt_plant/compiled.py): compiled once into a cache folder keyed by the
+# content of hawt_plant's sources, so that no run pays for compiling and no run uses code older than its source.
+compile_plant_kernels() {
+  local folder python=("env" "PYTHONPATH=$ROOT/hawt_plant:$ROOT/hawt_core" "$VENV/bin/python")
+  folder="$("${python[@]}" -c 'from hawt_plant.compiled import cache_folder; print(cache_folder())')" \
+    || fail "could not import numba for the plant's kernels (see the error above)"
+  [ -f "$folder/.hawt-complete" ] && return 0
+  say "compiling the plant's kernels with numba (once per change of hawt_plant's sources, into $folder)"
+  mkdir -p "$folder"
+  "${python[@]}" -m hawt_plant.compiled > "$folder/compile.log" 2>&1 \
+    || fail "numba could not compile the plant's kernels: $(grep -m1 -iE 'error|exception' "$folder/compile.log" || echo "see $folder/compile.log") (full log: $folder/compile.log)"
+  touch "$folder/.hawt-complete"
+}
+
 mkdir -p "$WS"
 # Every top-level folder with a package.xml is a package of the workspace.
 mapfile -t PACKAGES < <(cd "$ROOT" && ls -d */package.xml | xargs -n1 dirname)
@@ -114,3 +128,4 @@ install_python_packages
 install_nodeps_packages
 build_workspace
 build_discon_bridge
+compile_plant_kernels

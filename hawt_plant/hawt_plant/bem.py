@@ -15,16 +15,20 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from hawt_plant.airfoil_table import ElementPolars
+from hawt_plant.airfoil_table import ElementPolars, grid_point, interpolated
+from hawt_plant.compiled import njit
 from hawt_plant.turbine import Turbine
 
 __all__ = [
     "BemBlade",
     "RotorPerformance",
+    "induction",
     "induction_factors",
+    "loss_factor",
     "pitch_sensitivity",
     "prandtl_loss",
     "rotor_performance",
+    "skew_factor",
     "skewed_wake_factor",
     "solve_inflow_angle",
 ]
@@ -33,16 +37,6 @@ PITT_PETERS = 15.0 * math.pi / 32.0
 """The skewed-wake correction's constant K (Pitt & Peters 1981; AeroDyn's default yawCorrFactor)."""
 
 _SIN_FLOOR = 1e-6  # |sin(phi)| used in the loss and induction formulas is at least this
-
-# Constants of the loss and induction formulas as 0-d arrays: numpy 2 combines an array of a
-# few dozen elements with a 0-d array about twice as fast as with a Python float, which it
-# converts on every call (the stepping model evaluates these formulas every step).
-_ZERO, _ONE, _TWO, _FOUR = np.array(0.0), np.array(1.0), np.array(2.0), np.array(4.0)
-_TWO_THIRDS, _FOUR_THIRDS = np.array(2.0 / 3.0), np.array(4.0 / 3.0)
-_FOUR_NINTHS, _TEN_NINTHS = np.array(4.0 / 9.0), np.array(10.0 / 9.0)
-_FLOOR, _FLOOR_SQUARED = np.array(_SIN_FLOOR), np.array(_SIN_FLOOR**2)
-_TWO_OVER_PI_SQUARED, _LOSS_FLOOR = np.array(4.0 / math.pi**2), np.array(1e-4)
-_DIVISOR_FLOOR = np.array(1e-9)
 _EDGE = 1e-3  # [m] a node this close to the tip or the hub along the blade is at it
 
 
@@ -174,13 +168,24 @@ def prandtl_loss(sin_phi: np.ndarray, blade: BemBlade) -> np.ndarray:
         (Ning 2014 eqs. 13-15; Hansen, Aerodynamics of Wind Turbines, eq. 6.34); no hub
         loss when the hub radius is 0. At least 1e-4, except exactly 0 at a node at the tip or the hub.
     """
-    s = np.maximum(np.abs(sin_phi), _FLOOR)
-    exponents = blade.loss_exponents
-    if s.ndim > blade.radius.ndim:
-        exponents = exponents.reshape((2,) + (1,) * (s.ndim - blade.radius.ndim) + blade.radius.shape)
-    factors = np.arccos(np.exp(-exponents / s))
-    loss = factors[0] * factors[1] * _TWO_OVER_PI_SQUARED
-    return np.where(loss > _ZERO, np.maximum(loss, _LOSS_FLOOR), _ZERO)
+    shape, (s, tip, hub) = _flat(sin_phi, blade.loss_exponents[0], blade.loss_exponents[1])
+    return _losses(s, tip, hub).reshape(shape)
+
+
+@njit
+def loss_factor(sin_phi: float, tip_exponent: float, hub_exponent: float) -> float:
+    """:func:`prandtl_loss` of one element: its ``sin(phi)`` and its two :attr:`BemBlade.loss_exponents`."""
+    s = np.maximum(abs(sin_phi), _SIN_FLOOR)
+    loss = math.acos(math.exp(-tip_exponent / s)) * math.acos(math.exp(-hub_exponent / s)) * (4.0 / math.pi**2)
+    return np.maximum(loss, 1e-4) if loss > 0.0 else 0.0
+
+
+@njit
+def _losses(sin_phi, tip, hub):  # flat arrays of one length
+    out = np.empty_like(sin_phi)
+    for i in range(out.size):
+        out[i] = loss_factor(sin_phi[i], tip[i], hub[i])
+    return out
 
 
 def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_solidity: np.ndarray,
@@ -218,31 +223,42 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
     Where F = 0, a node at the tip or the hub, a = 1 and a' = 0 (and k = k' = 0), as AeroDyn 15 takes them there:
     the node sees no axial flow, only its rotation.
     """
+    phi = np.asarray(phi, dtype=float)
     sin_phi = np.sin(phi) if sin_phi is None else sin_phi
     cos_phi = np.cos(phi) if cos_phi is None else cos_phi
-    edge = loss == _ZERO
-    at_edges = np.count_nonzero(edge)
-    if at_edges:  # evaluated with F = 1 there, then set
-        loss = np.where(edge, _ONE, loss)
-    lift = local_solidity * cl / (_FOUR * loss)
-    k = lift * cos_phi / np.maximum(sin_phi * sin_phi, _FLOOR_SQUARED)
+    shape, flat = _flat(phi, sin_phi, cos_phi, cl, loss, local_solidity)
+    out = np.empty((4, flat[0].size))
+    _inductions(*flat, out)
+    a, a_prime, k, k_prime = out.reshape((4,) + shape)
+    return a, a_prime, k, k_prime
+
+
+@njit
+def induction(phi: float, sin_phi: float, cos_phi: float, cl: float, loss: float,
+              local_solidity: float) -> tuple[float, float, float, float]:
+    """:func:`induction_factors` of one element: a, a', k, k' (Ning 2014 eqs. 18-23, Buhl 2005)."""
+    if loss == 0.0:  # a node at the tip or the hub
+        return 1.0, 0.0, 0.0, 0.0
+    lift = local_solidity * cl / (4.0 * loss)
+    k = lift * cos_phi / np.maximum(sin_phi * sin_phi, _SIN_FLOOR**2)
     k_prime = lift / cos_phi  # cos(phi) of a floating-point phi is never exactly 0
-    a = k / np.maximum(_ONE + k, _DIVISOR_FLOOR)
-    high = k > _TWO_THIRDS
-    if np.count_nonzero(high):
+    a = k / np.maximum(1.0 + k, 1e-9)
+    if k > 2.0 / 3.0:
         # Buhl: (g1 - sqrt(g2)) / g3 = (2Fk - 4/9) / (g1 + sqrt(g2)), since
         # g1^2 - g2 = g3 (2Fk - 4/9); the second form has no pole where g3 = 0.
-        two_fk = _TWO * loss * k
-        root = np.sqrt(np.maximum(two_fk - loss * (_FOUR_THIRDS - loss), _ZERO))
-        np.copyto(a, (two_fk - _FOUR_NINTHS) / (two_fk - _TEN_NINTHS + loss + root), where=high)
-    if np.count_nonzero(phi <= _ZERO):
-        brake = np.where(k > 1.0, k / np.maximum(k - 1.0, 1e-9), 0.0)
-        a = np.where(phi > 0.0, a, brake)
-    a_prime = k_prime / (_ONE - k_prime)
-    if at_edges:
-        for values, fixed in ((a, _ONE), (a_prime, _ZERO), (k, _ZERO), (k_prime, _ZERO)):
-            np.copyto(values, fixed, where=edge)
-    return a, a_prime, k, k_prime
+        two_fk = 2.0 * loss * k
+        root = math.sqrt(np.maximum(two_fk - loss * (4.0 / 3.0 - loss), 0.0))
+        a = (two_fk - 4.0 / 9.0) / (two_fk - 10.0 / 9.0 + loss + root)
+    if not phi > 0.0:  # propeller brake
+        a = k / np.maximum(k - 1.0, 1e-9) if k > 1.0 else 0.0
+    return a, k_prime / (1.0 - k_prime), k, k_prime
+
+
+@njit
+def _inductions(phi, sin_phi, cos_phi, cl, loss, local_solidity, out):  # flat arrays of one length, out (4, n)
+    for i in range(phi.size):
+        out[0, i], out[1, i], out[2, i], out[3, i] = induction(phi[i], sin_phi[i], cos_phi[i], cl[i], loss[i],
+                                                               local_solidity[i])
 
 
 def skewed_wake_factor(axial_induction: np.ndarray, skew_angle: float, tip_ratio: np.ndarray,
@@ -262,20 +278,24 @@ def skewed_wake_factor(axial_induction: np.ndarray, skew_angle: float, tip_ratio
     >>> round(float(skewed_wake_factor(np.array(0.0), 0.2, np.array(0.5), np.array(-1.0))), 6)
     0.926122
     """
-    chi = np.clip((1.0 + 0.6 * axial_induction) * skew_angle, -0.5 * math.pi, 0.5 * math.pi)
-    return 1.0 + PITT_PETERS * np.tan(0.5 * chi) * tip_ratio * cos_azimuth
+    shape, (a, ratio, cos) = _flat(axial_induction, tip_ratio, cos_azimuth)
+    out = np.empty_like(a)
+    for i in range(a.size):
+        out[i] = skew_factor(a[i], skew_angle, ratio[i], cos[i])
+    return out.reshape(shape)
 
 
-def _residual(phi: np.ndarray, vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade: BemBlade) -> np.ndarray:
-    """Ning (2014) eq. 24-25 residual of the BEM equations in the inflow angle."""
-    cl, _ = blade.polars.coefficients(phi - pitch - blade.twist)
-    loss = prandtl_loss(np.sin(phi), blade)
-    a, _, k, k_prime = induction_factors(phi, cl, loss, blade.local_solidity)
-    inverse_speed_ratio = vx / vy
-    tangential = np.cos(phi) * inverse_speed_ratio * (1.0 - k_prime)
-    momentum = np.sin(phi) / np.where(np.abs(1.0 - a) < 1e-12, 1e-12, 1.0 - a) - tangential
-    brake = np.sin(phi) * (1.0 - k) - tangential
-    return np.where(phi > 0.0, momentum, brake)
+@njit
+def skew_factor(axial_induction: float, skew_angle: float, tip_ratio: float, cos_azimuth: float) -> float:
+    """:func:`skewed_wake_factor` of one element."""
+    chi = np.minimum(np.maximum((1.0 + 0.6 * axial_induction) * skew_angle, -0.5 * math.pi), 0.5 * math.pi)
+    return 1.0 + PITT_PETERS * math.tan(0.5 * chi) * tip_ratio * cos_azimuth
+
+
+def _flat(*arrays) -> tuple[tuple[int, ...], list[np.ndarray]]:
+    """The common shape of ``arrays`` broadcast together, and each broadcast array as a flat float array."""
+    broadcast = np.broadcast_arrays(*(np.asarray(values, dtype=float) for values in arrays))
+    return broadcast[0].shape, [np.ascontiguousarray(values).reshape(-1) for values in broadcast]
 
 
 def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade: BemBlade,
@@ -301,40 +321,69 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
 
     Notes
     -----
-    Ning (2014) §2.3: the residual changes sign in (0, pi/2] in the windmill and
+    Ning (2014) §2.3: the residual of eqs. 24-25 changes sign in (0, pi/2] in the windmill and
     high-induction states; otherwise the propeller-brake bracket [-pi/4, 0) or (pi/2, pi)
     is used. Bisection then converges for every element. Elements without positive vx and
     vy (a parked rotor, reversed flow) get the inflow angle of the undisturbed flow,
     ``arctan2(vx, vy)``; a node at the tip or the hub gets 0 (no axial flow, :func:`induction_factors`).
     """
-    vx, vy = np.broadcast_arrays(np.asarray(vx, dtype=float), np.asarray(vy, dtype=float))
-    pitch = np.broadcast_to(pitch, vx.shape)
+    shape, flat = _flat(vx, vy, pitch, blade.twist, blade.loss_exponents[0], blade.loss_exponents[1],
+                        blade.local_solidity, blade.at_ends)
+    scale, intervals, offsets = blade.polars.grid_constants
+    out = np.empty(flat[0].size)
+    _inflow_angles(*flat, blade.polars.table, scale, intervals, np.broadcast_to(offsets, shape).reshape(-1), iterations,
+                   out)
+    return out.reshape(shape)
+
+
+@njit
+def _inflow_angles(vx, vy, pitch, twist, tip, hub, local_solidity, at_end, table, scale, intervals, offsets,
+                   iterations, out):  # flat arrays of one length
+    for i in range(out.size):
+        out[i] = inflow_angle(vx[i], vy[i], pitch[i] + twist[i], tip[i], hub[i], local_solidity[i], at_end[i] != 0.0,
+                              table, scale, intervals, offsets[i], iterations)
+
+
+@njit
+def inflow_angle(vx: float, vy: float, pitch_twist: float, tip_exponent: float, hub_exponent: float,
+                 local_solidity: float, at_end: bool, table: np.ndarray, scale: float, intervals: float, offset: int,
+                 iterations: int) -> float:
+    """:func:`solve_inflow_angle` of one element, its pitch and twist summed, its polar in ``table``
+    (:attr:`ElementPolars.table`) from row ``offset``."""
+    if not (vx > 1e-6 and vy > 1e-6):
+        return math.atan2(vx, vy)
+    if at_end:
+        return 0.0
     eps = 1e-6
-    windmill_inflow = (vx > 1e-6) & (vy > 1e-6)
-    no_induction = np.arctan2(vx, vy)
-    vx, vy = np.where(windmill_inflow, vx, 1.0), np.where(windmill_inflow, vy, 1.0)
-
-    def residual(phi: np.ndarray) -> np.ndarray:
-        return _residual(phi, vx, vy, pitch, blade)
-
-    def full(value: float) -> np.ndarray:
-        return np.full(vx.shape, value)
-
-    lower, upper = full(eps), full(math.pi / 2)
-    windmill = residual(lower) * residual(upper) < 0.0
-    brake = ~windmill & (residual(full(-math.pi / 4)) * residual(full(-eps)) < 0.0)
-    lower = np.where(windmill, eps, np.where(brake, -math.pi / 4, math.pi / 2))
-    upper = np.where(windmill, math.pi / 2, np.where(brake, -eps, math.pi - eps))
-    r_lower = residual(lower)
+    arguments = (vx, vy, pitch_twist, tip_exponent, hub_exponent, local_solidity, table, scale, intervals, offset)
+    if _residual(eps, *arguments) * _residual(math.pi / 2, *arguments) < 0.0:
+        lower, upper = eps, math.pi / 2
+    elif _residual(-math.pi / 4, *arguments) * _residual(-eps, *arguments) < 0.0:
+        lower, upper = -math.pi / 4, -eps
+    else:
+        lower, upper = math.pi / 2, math.pi - eps
+    r_lower = _residual(lower, *arguments)
     for _ in range(iterations):
         middle = 0.5 * (lower + upper)
-        r_middle = residual(middle)
-        same = r_middle * r_lower > 0.0
-        lower = np.where(same, middle, lower)
-        r_lower = np.where(same, r_middle, r_lower)
-        upper = np.where(same, upper, middle)
-    edge = np.broadcast_to(blade.at_ends, vx.shape)
-    return np.where(edge & windmill_inflow, 0.0, np.where(windmill_inflow, 0.5 * (lower + upper), no_induction))
+        r_middle = _residual(middle, *arguments)
+        if r_middle * r_lower > 0.0:
+            lower, r_lower = middle, r_middle
+        else:
+            upper = middle
+    return 0.5 * (lower + upper)
+
+
+@njit
+def _residual(phi, vx, vy, pitch_twist, tip_exponent, hub_exponent, local_solidity, table, scale, intervals, offset):
+    """Ning (2014) eqs. 24-25: the residual of the BEM equations in the inflow angle."""
+    row, fraction = grid_point(phi - pitch_twist, scale, intervals, offset)
+    sin_phi, cos_phi = math.sin(phi), math.cos(phi)
+    loss = loss_factor(sin_phi, tip_exponent, hub_exponent)
+    a, _, k, k_prime = induction(phi, sin_phi, cos_phi, interpolated(table, row, fraction, 0), loss, local_solidity)
+    tangential = cos_phi * (vx / vy) * (1.0 - k_prime)
+    if phi > 0.0:
+        return sin_phi / (1e-12 if abs(1.0 - a) < 1e-12 else 1.0 - a) - tangential
+    return sin_phi * (1.0 - k) - tangential
 
 
 def _axial_inflow(turbine: Turbine, blade: BemBlade, wind_speed: float, rotor_speed: float

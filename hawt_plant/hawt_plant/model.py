@@ -41,6 +41,7 @@ import numpy as np
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
+from hawt_plant.blade_elements import blade_element_loads
 from hawt_plant.modal import (blade_modal_properties, hub_centre_moments, polynomial_mode, rotor_inertia,
                               tower_modal_properties)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
@@ -53,10 +54,10 @@ from hawt_plant.wind_field import WindChange, WindField
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 
-_MIN_INFLOW = 0.1  # [m/s] normal inflow used in the dynamic-inflow time constants is at least this
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
 _PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
 _ONE = np.array(1.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
+_NO_UNSTEADY = (np.zeros((5, 1, 1)), np.zeros((1, 2, 5)), np.zeros((8, 1)))  # blade_element_loads's arrays, unused
 
 
 @dataclass(frozen=True)
@@ -183,11 +184,13 @@ class TurbineModel:
     wind : WindField
         Inflow; its ``mean_speed`` sets the initial operating point.
     config : ModelConfig, optional
+    azimuth : float
+        Initial azimuth of blade 1 [rad].
 
     Notes
     -----
     The model starts at the steady operating point of the wind's mean speed
-    (:meth:`reset_to_operating_point`). Same inputs give bit-identical outputs.
+    (:meth:`reset_to_operating_point` at ``azimuth``). Same inputs give bit-identical outputs.
 
     Examples
     --------
@@ -200,12 +203,12 @@ class TurbineModel:
     0.01
     """
 
-    def __init__(self, turbine: Turbine, wind: WindField, config: ModelConfig | None = None) -> None:
+    def __init__(self, turbine: Turbine, wind: WindField, config: ModelConfig | None = None,
+                 azimuth: float = 0.0) -> None:
         self._turbine = turbine
         self._wind = wind
         self._config = config or ModelConfig()
         self._setup_constants()
-        self._relaxation = np.array(self._config.bem_relaxation)  # 0-d: see _ONE
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
         self._unsteady = UnsteadyAirfoil(self._bem.polars, turbine.airfoils, turbine.blade_aerodynamics.airfoil,
                                          turbine.blade_aerodynamics.chord, self._b) \
@@ -222,7 +225,7 @@ class TurbineModel:
             self._samples[2, self._b, :nodes] = self._tower_drag.elevation
             self._samples[2, self._b, nodes:] = self._tower_drag.elevation[-1]
         self._output: TurbineOutput
-        self.reset_to_operating_point()
+        self.reset_to_operating_point(azimuth)
 
     # ------------------------------------------------------------------ public interface
 
@@ -348,8 +351,9 @@ class TurbineModel:
         cl, _ = bem.polars.coefficients(phi - pitch - bem.twist)
         loss = prandtl_loss(np.sin(phi), bem)
         self._induction[0], self._induction[1], _, _ = induction_factors(phi, cl, loss, bem.local_solidity)
-        if self._config.skewed_wake:
-            self._induction[0] *= self._skew_factor(self._induction[0])
+        skewed, angle, cos_azimuth = self._skew() if self._config.skewed_wake else (False, 0.0, None)
+        if skewed:
+            self._induction[0] *= skewed_wake_factor(self._induction[0], angle, self._tip_ratio, cos_azimuth[:, None])
         self._inflow_filter[:] = self._induction[0] * vx
 
     def _passage_mean_loads(self) -> tuple[float, np.ndarray]:
@@ -553,7 +557,7 @@ class TurbineModel:
         # Element loads are summed per blade against the span functions 1, s (from the root)
         # and phi: the rows of `loads` are [F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z]
         # for the out-of-plane (e_n), in-plane (e_t) and axial (e_z) components.
-        self._span_functions = np.column_stack((np.ones(n), span, mode))
+        self._span_functions = np.ascontiguousarray(np.column_stack((np.ones(n), span, mode)))
         # Positions and velocities of the elements are per blade combinations of 1, s_abs and phi.
         self._element_basis = np.vstack((np.ones(n), s_abs, mode))
         sums = np.array([mass.sum(), mass @ span, mass @ mode])
@@ -712,8 +716,6 @@ class TurbineModel:
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],  # phi F_z
             [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],  # phi F_t
         ])
-        self._induction_signs = np.empty((2, b, n))  # -1 for a, +1 for a': relative inflow (1 -+ a) v
-        self._induction_signs[0], self._induction_signs[1] = -1.0, 1.0
         self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
@@ -721,6 +723,12 @@ class TurbineModel:
         edge = self._rotor_bem.at_ends
         self._induction_bounds[:, 0][:, edge] = 1.0
         self._induction_bounds[:, 1][:, edge] = 0.0
+        # What blade_element_loads takes of the blade, in its order, and the blades' load sums it writes.
+        bem = self._rotor_bem
+        self._twist = bem.twist
+        self._blade_constants = (bem.polars.table, *bem.polars.grid_constants, bem.loss_exponents, bem.local_solidity,
+                                 self._induction_bounds, self._pressure_to_load, self._span_functions)
+        self._aero_sums = np.empty((2, b, 3))
 
     # ------------------------------------------------------------------ loads
 
@@ -786,39 +794,16 @@ class TurbineModel:
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix."""
-        bem = self._rotor_bem
-        b, n = self._b, self._n
-        pitch_twist = self._pitch[:, None] + bem.twist
-        iterations = self._config.bem_iterations if update_induction and not self._config.dynamic_inflow else 1
-        for k in range(iterations):
-            relative = self._inflow * (_ONE + self._induction_signs * self._induction)  # (1 - a) vx, (1 + a') vy
-            un, ut = relative
-            phi = np.arctan2(un, ut)
-            if self._unsteady is None:
-                cl, cd = bem.polars.coefficients(phi - pitch_twist)
-            elif update_induction:  # dynamic stall, its states kept at the last iteration; the induction
-                # follows the circulatory lift (the added mass's sheds no vorticity), the loads the whole lift
-                cl, added_mass, cd = self._unsteady.step(phi - pitch_twist, np.hypot(un, ut), self._config.dt,
-                                                         advance=k == iterations - 1)
-            else:  # equilibrium: the static polars, the dynamic stall states settled at this state
-                cl, cd = self._unsteady.settle(phi - pitch_twist)
-            sin_phi, cos_phi = np.sin(phi), np.cos(phi)
-            if update_induction:
-                loss = prandtl_loss(sin_phi, bem)
-                quasi_steady = _bounded_induction(phi, sin_phi, cos_phi, cl, loss, bem.local_solidity,
-                                                  self._induction_bounds)
-                if self._config.skewed_wake:
-                    quasi_steady[0] *= self._skew_factor(quasi_steady[0])
-                self._update_induction(quasi_steady)
-        if self._unsteady is not None and update_induction:
-            cl = cl + added_mass
-        # Element loads along e_n and e_t, summed per blade against 1, s and phi.
-        squared = relative * relative
-        q = (squared[0] + squared[1]) * self._pressure_to_load
-        element = self._element_loads
-        np.multiply(q, cl * cos_phi + cd * sin_phi, out=element[0])
-        np.multiply(q, cl * sin_phi - cd * cos_phi, out=element[1])
-        aero = np.dot(element.reshape(2 * b, n), self._span_functions).reshape(2, b, 3)
+        b = self._b
+        config, unsteady = self._config, self._unsteady
+        skewed, skew_angle, cos_azimuth = self._skew() if config.skewed_wake else (False, 0.0, self._trig[0])
+        aero = self._aero_sums
+        blade_element_loads(self._inflow, self._induction, self._inflow_filter, self._pitch[:, None] + self._twist,
+                            *self._blade_constants, update_induction, config.bem_iterations,
+                            config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
+                            self._tip_ratio, skewed, skew_angle, cos_azimuth, unsteady is not None,
+                            *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
+                            self._element_loads, aero)
         normal, tangential = np.add.reduce(aero, axis=1).tolist()  # over the blades
         cb = self._cos_cone
         self._aero_thrust = cb * normal[0]
@@ -866,40 +851,19 @@ class TurbineModel:
             self._residual_ss - projected_ss / m,
         )
 
-    def _skew_factor(self, axial_induction: np.ndarray) -> np.ndarray:
-        """Pitt & Peters's factor on the axial induction (B, N) for the wind at the rotor apex: its angle χ_0 to the
-        shaft axis x_s = (ct, 0, -st), and the most downwind azimuth, where its in-plane part (along e_zs =
-        (st, 0, ct) and e_ys) points; a blade's radial unit vector is cos ψ e_zs - sin ψ e_ys."""
+    def _skew(self) -> tuple[bool, float, np.ndarray]:
+        """Pitt & Peters's skewed wake for the wind at the rotor apex: whether it is skewed, its angle χ_0 to the
+        shaft axis x_s = (ct, 0, -st), and each blade's cos of its azimuth from the most downwind one, where the
+        wind's in-plane part (along e_zs = (st, 0, ct) and e_ys) points; a blade's radial unit vector is
+        cos ψ e_zs - sin ψ e_ys."""
         u, v, w = self._apex_wind
         ct, st = self._cos_tilt, self._sin_tilt
         along_z, along_y = u * st + w * ct, v
         in_plane = math.hypot(along_z, along_y)
         if in_plane == 0.0:
-            return np.ones_like(axial_induction)
-        cos_azimuth = (self._trig[0] * along_z - self._trig[1] * along_y) / in_plane
-        return skewed_wake_factor(axial_induction, math.atan2(in_plane, u * ct - w * st), self._tip_ratio,
-                                  cos_azimuth[:, None])
-
-    def _update_induction(self, induction: np.ndarray) -> None:
-        """Relaxed quasi-steady update, or Øye's dynamic inflow filter (Hansen 2008 §10.2).
-
-        ``induction`` holds the quasi-steady a and a', shape (2, B, N).
-        """
-        if not self._config.dynamic_inflow:
-            self._induction += self._relaxation * (induction - self._induction)
-            return
-        dt = self._config.dt
-        vx = np.maximum(self._inflow[0], _MIN_INFLOW)
-        quasi_steady = induction[0] * vx
-        intermediate, induced, previous = self._inflow_filter
-        tau1 = 1.1 / (1.0 - 1.3 * np.clip(self._induction[0], 0.0, 0.5)) * self._bem.tip_radius / vx
-        tau2 = (0.39 - 0.26 * (self._rotor_bem.radius / self._bem.tip_radius) ** 2) * tau1
-        forcing = quasi_steady + 0.6 * tau1 * (quasi_steady - previous) / dt
-        intermediate[:] = forcing + (intermediate - forcing) * np.exp(-dt / tau1)
-        induced[:] = intermediate + (induced - intermediate) * np.exp(-dt / tau2)
-        previous[:] = quasi_steady
-        np.divide(induced, vx, out=self._induction[0])
-        self._induction[1] = induction[1]
+            return False, 0.0, self._trig[0]
+        return (True, math.atan2(in_plane, u * ct - w * st),
+                (self._trig[0] * along_z - self._trig[1] * along_y) / in_plane)
 
     def _generator_acceleration(self, generator_torque: float) -> float:
         ratio = self._gearbox_ratio
@@ -1015,14 +979,3 @@ class TurbineModel:
         return {"effective_wind_mean": total / b, "effective_wind_cos": 2.0 / b * cos,
                 "effective_wind_sin": 2.0 / b * sin}
 
-
-def _bounded_induction(phi: np.ndarray, sin_phi: np.ndarray, cos_phi: np.ndarray, cl: np.ndarray,
-                       loss: np.ndarray, local_solidity: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """Induction factors of :func:`~hawt_plant.bem.induction_factors` for the stepping model,
-    bounded so that no transient runs away.
-
-    ``bounds`` are the lower and upper bounds of a and a', shape (2, 2) + phi.shape: a in
-    [-1, 0.99] and a' in [-1, 1]. Returns a and a' stacked, shape (2,) + phi.shape.
-    """
-    a, a_prime, _, _ = induction_factors(phi, cl, loss, local_solidity, sin_phi, cos_phi)
-    return np.minimum(np.maximum(np.array((a, a_prime)), bounds[0]), bounds[1])

@@ -161,8 +161,8 @@ def make_plant(values: Mapping[str, Any], progress: Callable[[str], None] = lamb
     options = aerodynamic_options(turbine, v)
     model = TurbineModel(turbine, wind, ModelConfig(
         dt=v["dt"], torque_disturbance=v["torque_disturbance"],
-        **{name: getattr(options, name) for name in AERODYNAMIC_OPTIONS}))
-    return turbine, model, model.reset_to_operating_point(v["initial_azimuth"])
+        **{name: getattr(options, name) for name in AERODYNAMIC_OPTIONS}), azimuth=v["initial_azimuth"])
+    return turbine, model, model.output
 
 
 def make_safety_system(turbine: Turbine, values: Mapping[str, Any]) -> SafetySystem:

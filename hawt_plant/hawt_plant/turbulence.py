@@ -25,6 +25,8 @@ from typing import Callable
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from hawt_plant.compiled import njit
+
 __all__ = [
     "REFERENCE_TURBULENCE_INTENSITY",
     "REFERENCE_WIND_SPEED",
@@ -53,7 +55,6 @@ TURBULENCE_MODELS = ("NTM", "ETM")
 _CACHE_FORMAT = 2  # bump when the cached array layout or the generation procedure changes
 _FREQUENCY_CHUNK = 64  # frequencies per pyconturb coherence chunk: speed vs. memory (~8 MB at 11x11)
 _COMPONENT_SIGMA_RATIOS = np.array([1.0, 0.8, 0.5])  # sigma_k / sigma_1 of u, v, w, IEC 61400-1 Ed. 3 Annex B
-_ZERO = np.array(0.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
 
 
 def ntm_standard_deviation(hub_speed: float, turbulence_class: str) -> float:
@@ -342,21 +343,17 @@ class TurbulentWind:
         inv_dz = 1.0 / (grid_z[1] - grid_z[0]) if n_z > 1 else 0.0
         inv_dy = 1.0 / (grid_y[1] - grid_y[0]) if n_y > 1 else 0.0
         inv_dt = 1.0 / self._time_step
-        self._inv_dt, self._t_cells = inv_dt, np.array(float(t_cells))
-        self._scale = np.array([[-inv_dt / self._mean_speed], [inv_dz], [inv_dy]])
-        self._shift = np.array([[self._x_offset * inv_dt / self._mean_speed],
-                                [-grid_z[0] * inv_dz], [-grid_y[0] * inv_dy]])
+        self._inv_dt, self._t_cells = inv_dt, float(t_cells)
+        self._scale = np.array([-inv_dt / self._mean_speed, inv_dz, inv_dy])
+        self._shift = np.array([self._x_offset * inv_dt / self._mean_speed, -grid_z[0] * inv_dz, -grid_y[0] * inv_dy])
         # Fractional indices are clamped to [0, upper] with the upper edge just inside the last
         # cell, so that truncation gives a cell index and weight 1 (to rounding) at the edge.
-        upper = np.array([[t_cells], [n_z - 1], [n_y - 1]], dtype=float)
+        upper = np.array([t_cells, n_z - 1, n_y - 1], dtype=float)
         self._upper = np.nextafter(upper, 0.0)
         self._strides = np.array([n_z * n_y, n_y, 1])
         corners = np.array([(it, iz, iy) for it in (0, 1) for iz in (0, 1) for iy in (0, 1)])
-        neighbour_strides = self._strides * (upper[:, 0] > 0)  # no neighbour on a 1-node axis
+        neighbour_strides = self._strides * (upper > 0)  # no neighbour on a 1-node axis
         self._corner_offsets = corners @ neighbour_strides  # (8,)
-        # Weights 1 - w_d and w_d of the two nodes along each axis d: c0 + c1 w_d.
-        self._pair_c0 = np.array([1.0, 0.0])[:, None, None]
-        self._pair_c1 = np.array([-1.0, 1.0])[:, None, None]
 
     @property
     def mean_speed(self) -> float:
@@ -422,19 +419,43 @@ class TurbulentWind:
         x, y, z = np.asarray(x, dtype=float), np.asarray(y, dtype=float), np.asarray(z, dtype=float)
         if not x.shape == y.shape == z.shape:
             raise ValueError(f"x, y, z: expected equal shapes, found {x.shape}, {y.shape}, {z.shape}")
-        index = np.array((x.ravel(), z.ravel(), y.ravel()))  # (3, n): fractional (t, z, y) index
-        index *= self._scale
-        index += self._shift
-        index[0] += t * self._inv_dt
-        np.mod(index[0], self._t_cells, out=index[0])
-        np.minimum(np.maximum(index, _ZERO, out=index), self._upper, out=index)
-        cell = index.astype(np.intp)  # index >= 0: truncation is floor
-        index -= cell  # now the position inside the cell, in [0, 1)
-        nodes = self._planes.take((self._strides @ cell)[:, None] + self._corner_offsets, axis=1)  # (3, n, 8)
-        pairs = self._pair_c0 + self._pair_c1 * index  # (2, 3, n)
-        # The weight of a corner is the product of its node's weights along t, z and y.
-        weights = pairs[:, None, None, 0] * pairs[None, :, None, 1] * pairs[None, None, :, 2]
-        return np.vecdot(nodes, weights.reshape(8, -1).T).reshape((3,) + x.shape)
+        out = np.empty((3, x.size))
+        _trilinear(float(t), x.reshape(-1), y.reshape(-1), z.reshape(-1), self._planes, self._scale, self._shift,
+                   self._inv_dt, self._t_cells, self._upper, self._strides, self._corner_offsets, out)
+        return out.reshape((3,) + x.shape)
+
+
+@njit
+def _trilinear(t, x, y, z, planes, scale, shift, inv_dt, t_cells, upper, strides, corner_offsets, out):
+    """:meth:`TurbulentWindField.velocity` at flat points: the 8 nodes around each point's fractional grid index
+    (t_f, z, y), weighted by the products of their weights 1 - w_d, w_d along each axis."""
+    index = np.empty(3)
+    cell = np.empty(3, dtype=np.intp)
+    weights = np.empty((3, 2))
+    for k in range(x.size):
+        index[0] = x[k] * scale[0] + shift[0] + t * inv_dt
+        index[0] = index[0] % t_cells
+        index[1] = z[k] * scale[1] + shift[1]
+        index[2] = y[k] * scale[2] + shift[2]
+        first = 0
+        for d in range(3):
+            value = np.minimum(np.maximum(index[d], 0.0), upper[d])
+            cell[d] = int(value)  # value >= 0: truncation is floor
+            weight = value - cell[d]
+            weights[d, 0], weights[d, 1] = 1.0 - weight, weight
+            first += strides[d] * cell[d]
+        for c in range(3):
+            out[c, k] = 0.0
+        corner = 0
+        for it in range(2):
+            for iz in range(2):
+                for iy in range(2):
+                    weight = weights[0, it] * weights[1, iz] * weights[2, iy]
+                    node = first + corner_offsets[corner]
+                    for c in range(3):
+                        out[c, k] += planes[c, node] * weight
+                    corner += 1
+
 
 def _even_grid(values: np.ndarray, name: str) -> np.ndarray:
     """Validate a 1-D, increasing, evenly spaced grid and return it as float array."""

@@ -20,11 +20,12 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from hawt_plant.airfoil_table import ElementPolars
+from hawt_plant.airfoil_table import ElementPolars, grid_point, interpolated
+from hawt_plant.compiled import njit
 from hawt_plant.turbine import AirfoilPolar
 
-__all__ = ["INDICIAL", "LEADING_EDGE_LAG", "SEPARATION_LAG", "UnsteadyAirfoil", "separation_function",
-           "zero_lift_angle"]
+__all__ = ["INDICIAL", "LEADING_EDGE_LAG", "SEPARATION_LAG", "STATES", "UnsteadyAirfoil", "hgm_settle", "hgm_step",
+           "separation_function", "zero_lift_angle"]
 
 INDICIAL = (0.165, 0.335, 0.0455, 0.3)
 """A1, A2, b1, b2 of the attached-flow indicial function 1 - A1 exp(-b1 s) - A2 exp(-b2 s) (Jones's fit of
@@ -35,8 +36,6 @@ SEPARATION_LAG = 6.0
 """T_f: time constant of the separation point in units of T_u = c / (2 V)."""
 
 _ATTACHED = 1.0 - 1e-6  # f_st above this is taken as 1 (fully attached)
-_MIN_SPEED = np.array(0.1)  # [m/s] relative speed used in the time constants is at least this
-_ONE, _TWO, _QUARTER = np.array(1.0), np.array(2.0), np.array(0.25)  # 0-d arrays: see hawt_plant.bem
 
 
 def zero_lift_angle(polar: AirfoilPolar, near: float) -> float:
@@ -176,23 +175,33 @@ class UnsteadyAirfoil:
         a1, a2, b1, b2 = INDICIAL
         self._polars = polars
         self._shape = (blades, n)
-        self._lag_gain = np.stack((a1 * unsteady, a2 * unsteady))[:, None, :]  # A_i, 0 where quasi-steady
-        # Rates λ V of the four lags per unit speed: b_i 2 / c, 2 / (T_p c), 2 / (T_f c).
-        self._rates = np.multiply.outer(np.array((b1, b2, 1.0 / LEADING_EDGE_LAG, 1.0 / SEPARATION_LAG)),
-                                        2.0 / chord)[:, None, :]
-        # Non-circulatory lift π T_u α' = (π c / 2)(Δα / V) / dt, and its angle in the potential lift.
-        self._added_mass = math.pi * chord / 2.0 * unsteady
+        # Per element (columns): A_1, A_2 (0 where quasi-steady); the rates λ V of the four lags per unit speed,
+        # b_1 2 / c, b_2 2 / c, 2 / (T_p c), 2 / (T_f c); the non-circulatory lift π T_u α' = (π c / 2)(Δα / V) / dt
+        # per unit Δα / (V dt), and its angle in the potential lift.
+        constants = np.empty((8, n))
+        constants[0], constants[1] = a1 * unsteady, a2 * unsteady
+        constants[2:6] = np.multiply.outer(np.array((b1, b2, 1.0 / LEADING_EDGE_LAG, 1.0 / SEPARATION_LAG)),
+                                           2.0 / chord)
+        constants[6] = math.pi * chord / 2.0 * unsteady
         with np.errstate(divide="ignore", invalid="ignore"):
-            self._added_mass_angle = np.where(unsteady > 0.0, self._added_mass / slope, 0.0)
-        self._dt = 0.0
+            constants[7] = np.where(unsteady > 0.0, constants[6] / slope, 0.0)
+        self._constants = constants
+        self._states = np.empty((STATES,) + self._shape)  # α, the deficits d_1, d_2, α_F, f''
         self.settle(np.zeros(self._shape))
+
+    @property
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The arrays :func:`hgm_step` and :func:`hgm_settle` take: the states (5, B, N), the table (N G, 2, 5)
+        on the polars' grid (:attr:`ElementPolars.grid_constants`) and the per-element constants (8, N)."""
+        return self._states, self._table, self._constants
 
     @property
     def states(self) -> dict[str, np.ndarray]:
         """Copies of the states, shape (B, N) each: ``alpha`` (angle of attack of the last step [rad]),
         ``alpha_effective`` (α_E [rad]), ``alpha_f`` (α_F [rad]) and ``separation`` (f'')."""
-        return {"alpha": self._alpha.copy(), "alpha_effective": self._alpha - self._lag[0] - self._lag[1],
-                "alpha_f": self._alpha_f.copy(), "separation": self._separation.copy()}
+        alpha, lag_1, lag_2, alpha_f, separation = self._states
+        return {"alpha": alpha.copy(), "alpha_effective": alpha - lag_1 - lag_2, "alpha_f": alpha_f.copy(),
+                "separation": separation.copy()}
 
     def settle(self, alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Put every element in the steady state of its angle of attack and return the static coefficients.
@@ -210,11 +219,9 @@ class UnsteadyAirfoil:
         alpha = np.array(alpha, dtype=float)
         if alpha.shape != self._shape:
             raise ValueError(f"alpha: expected shape {self._shape}, found {alpha.shape}")
-        self._alpha = alpha
-        self._lag = np.zeros((2,) + self._shape)
-        self._alpha_f = alpha.copy()
-        self._separation = self._lookup(alpha)[..., 3]
-        return self._polars.coefficients(alpha)
+        out = np.empty((2,) + self._shape)
+        _settle_all(alpha, *self.kernel_arrays, *self._polars.grid_constants, out)
+        return out[0], out[1]
 
     def step(self, alpha: np.ndarray, speed: np.ndarray, dt: float,
              advance: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -238,67 +245,92 @@ class UnsteadyAirfoil:
             The lift is their sum: the circulatory lift (the first two terms of eq. 22) and the non-circulatory
             (added-mass) lift π T_u α', apart because only the first sheds vorticity into the wake.
         """
-        if dt != self._dt:
-            if not dt > 0.0:
-                raise ValueError(f"dt: expected > 0 s, found {dt}")
-            self._dt = dt
-            self._exponent_rates = -dt * self._rates
-            self._added_mass_step = np.array(self._added_mass / dt)
-            self._added_mass_angle_step = np.array(self._added_mass_angle / dt)
-        speed = np.maximum(speed, _MIN_SPEED)
-        exponent = speed * self._exponent_rates  # -λ dt of the four lags, shape (4, B, N)
-        decay_minus_one = np.expm1(exponent)
-        decay = decay_minus_one + _ONE
-        change = alpha - self._alpha
-        ramp = decay_minus_one[:2] / exponent[:2]  # (1 - e) / (λ dt)
-        ramp *= change
-        ramp *= self._lag_gain
-        lag = self._lag * decay[:2]
-        lag += ramp
-        deficit = lag[0] + lag[1]  # α - α_E
-        angles = np.empty((2,) + self._shape)
-        alpha_e, alpha_f = angles
-        np.subtract(alpha, deficit, out=alpha_e)
-        rate = change / speed  # Δα / V
-        potential = rate * self._added_mass_angle_step
-        potential += alpha_e
-        np.subtract(self._alpha_f, potential, out=alpha_f)
-        alpha_f *= decay[2]
-        alpha_f += potential
-        values = self._lookup(angles)
-        at_e, f_target = values[0], values[1, ..., 3]
-        points = np.empty((2,) + self._shape)  # f'' and f_st(α_E)
-        separation, f_st = points
-        np.subtract(self._separation, f_target, out=separation)
-        separation *= decay[3]
-        separation += f_target
-        f_st[...] = at_e[..., 3]
-        circulatory = separation - f_st
-        circulatory *= at_e[..., 2]
-        circulatory += at_e[..., 0]
-        added_mass = rate * self._added_mass_step
-        cl = circulatory + added_mass
-        roots = np.sqrt(points)
-        root_sum = _TWO - roots[0]
-        root_sum -= roots[1]
-        drag_change = roots[1] - roots[0]  # sqrt f_st - sqrt f''
-        drag_change *= root_sum
-        drag_change *= _QUARTER
-        drag_change *= at_e[..., 4]
-        cd = deficit * cl
-        cd += at_e[..., 1]
-        cd += drag_change
-        if advance:
-            self._alpha = np.array(alpha, dtype=float)
-            self._lag = lag
-            self._alpha_f = alpha_f
-            self._separation = separation
-        return circulatory, added_mass, cd
+        if not dt > 0.0:
+            raise ValueError(f"dt: expected > 0 s, found {dt}")
+        alpha, speed = np.broadcast_arrays(np.asarray(alpha, dtype=float), np.asarray(speed, dtype=float))
+        if alpha.shape != self._shape:
+            raise ValueError(f"alpha: expected shape {self._shape}, found {alpha.shape}")
+        out = np.empty((3,) + self._shape)
+        _step_all(np.ascontiguousarray(alpha), np.ascontiguousarray(speed), dt, advance, *self.kernel_arrays,
+                  *self._polars.grid_constants, out)
+        return out[0], out[1], out[2]
 
-    def _lookup(self, alpha: np.ndarray) -> np.ndarray:
-        """Tabulated cl_st, cd_st, cl_att - cl_fs, f_st and cd_st - cd0 at ``alpha`` (..., N): shape (..., N, 5)."""
-        index, fraction = self._polars.locate(alpha)
-        rows = self._table.take(index, axis=0)
-        values = rows[..., 1, :] * fraction[..., None]
-        values += rows[..., 0, :]
-        return values
+
+STATES = 5
+"""Number of states of an element: α of the last step, the shed-wake deficits d_1 and d_2, α_F and f''."""
+
+
+@njit
+def _lookup(table, scale, intervals, offset, alpha, k):
+    row, fraction = grid_point(alpha, scale, intervals, offset)
+    return interpolated(table, row, fraction, k)
+
+
+@njit
+def hgm_settle(i: int, j: int, alpha: float, states: np.ndarray, table: np.ndarray, constants: np.ndarray,
+               scale: float, intervals: float, offsets: np.ndarray) -> tuple[float, float]:
+    """:meth:`UnsteadyAirfoil.settle` of element ``j`` of blade ``i``: its states put in the steady state of
+    ``alpha``; returns the static cl, cd there."""
+    row, fraction = grid_point(alpha, scale, intervals, offsets[j])
+    states[0, i, j] = alpha
+    states[1, i, j] = 0.0
+    states[2, i, j] = 0.0
+    states[3, i, j] = alpha
+    states[4, i, j] = interpolated(table, row, fraction, 3)
+    return interpolated(table, row, fraction, 0), interpolated(table, row, fraction, 1)
+
+
+@njit
+def hgm_step(i: int, j: int, alpha: float, speed: float, dt: float, advance: bool, states: np.ndarray,
+             table: np.ndarray, constants: np.ndarray, scale: float, intervals: float,
+             offsets: np.ndarray) -> tuple[float, float, float]:
+    """:meth:`UnsteadyAirfoil.step` of element ``j`` of blade ``i``: circulatory lift, added-mass lift and drag
+    (eqs. 22, 24, 26 with the exact step of the class notes)."""
+    offset = offsets[j]
+    speed = np.maximum(speed, 0.1)
+    change = alpha - states[0, i, j]
+    # shed wake: d_i <- e_i d_i + A_i Δα (1 - e_i) / (λ_i dt), e_i = exp(-λ_i dt)
+    exponent = speed * (-dt * constants[2, j])
+    decay_minus_one = math.expm1(exponent)
+    lag_1 = states[1, i, j] * (decay_minus_one + 1.0) + decay_minus_one / exponent * change * constants[0, j]
+    exponent = speed * (-dt * constants[3, j])
+    decay_minus_one = math.expm1(exponent)
+    lag_2 = states[2, i, j] * (decay_minus_one + 1.0) + decay_minus_one / exponent * change * constants[1, j]
+    deficit = lag_1 + lag_2  # α - α_E
+    alpha_e = alpha - deficit
+    rate = change / speed  # Δα / V
+    potential = rate * (constants[7, j] / dt) + alpha_e
+    alpha_f = (states[3, i, j] - potential) * (math.expm1(speed * (-dt * constants[4, j])) + 1.0) + potential
+    f_target = _lookup(table, scale, intervals, offset, alpha_f, 3)
+    separation = (states[4, i, j] - f_target) * (math.expm1(speed * (-dt * constants[5, j])) + 1.0) + f_target
+    row, fraction = grid_point(alpha_e, scale, intervals, offset)
+    f_st = interpolated(table, row, fraction, 3)
+    circulatory = (separation - f_st) * interpolated(table, row, fraction, 2) + interpolated(table, row, fraction, 0)
+    added_mass = rate * (constants[6, j] / dt)
+    root_separation, root_static = math.sqrt(separation), math.sqrt(f_st)
+    drag_change = (root_static - root_separation) * (2.0 - root_separation - root_static) * 0.25 \
+        * interpolated(table, row, fraction, 4)
+    cd = deficit * (circulatory + added_mass) + interpolated(table, row, fraction, 1) + drag_change
+    if advance:
+        states[0, i, j] = alpha
+        states[1, i, j] = lag_1
+        states[2, i, j] = lag_2
+        states[3, i, j] = alpha_f
+        states[4, i, j] = separation
+    return circulatory, added_mass, cd
+
+
+@njit
+def _settle_all(alpha, states, table, constants, scale, intervals, offsets, out):
+    for i in range(alpha.shape[0]):
+        for j in range(alpha.shape[1]):
+            out[0, i, j], out[1, i, j] = hgm_settle(i, j, alpha[i, j], states, table, constants, scale, intervals,
+                                                    offsets)
+
+
+@njit
+def _step_all(alpha, speed, dt, advance, states, table, constants, scale, intervals, offsets, out):
+    for i in range(alpha.shape[0]):
+        for j in range(alpha.shape[1]):
+            out[0, i, j], out[1, i, j], out[2, i, j] = hgm_step(i, j, alpha[i, j], speed[i, j], dt, advance, states,
+                                                                table, constants, scale, intervals, offsets)

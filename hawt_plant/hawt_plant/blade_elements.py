@@ -1,0 +1,122 @@
+"""The aerodynamics of every blade element in one step of the plant, compiled.
+
+One loop over the B x N elements does what the stepping model needs of blade-element momentum theory, from
+the inflow without induction (vx, vy) to each blade's load sums:
+
+1. the relative inflow ((1 - a) vx, (1 + a') vy) and its angle phi, with the induction carried from the
+   last step;
+2. lift and drag: the static polars (:mod:`hawt_plant.airfoil_table`) or the Hansen-Gaunaa-Madsen dynamic
+   stall step (:func:`hawt_plant.unsteady_airfoil.hgm_step`);
+3. when the step updates the induction: Prandtl's losses and Ning's induction factors with Buhl's correction
+   (:func:`hawt_plant.bem.loss_factor`, :func:`hawt_plant.bem.induction`, Ning 2014 eqs. 13-23), bounded so
+   that no transient runs away (a in [-1, 0.99], a' in [-1, 1]; a = 1, a' = 0 at a node at the tip or the hub),
+   Pitt & Peters's skewed wake (:func:`hawt_plant.bem.skew_factor`), then either a relaxed fixed-point update
+   a <- a + r (a_qs - a), repeated ``iterations`` times, or Øye's dynamic inflow filter (Hansen, Aerodynamics
+   of Wind Turbines, 2008, §10.2);
+4. the element loads dF_n = q (c_l cos phi + c_d sin phi), dF_t = q (c_l sin phi - c_d cos phi),
+   q = 1/2 rho W^2 c dr, and their sums per blade against the span functions (1, s, phi).
+
+Each element is independent of the others within a step, so iterating per element gives what iterating over
+all elements at once would. The formulas themselves live in the modules named above, as scalar compiled
+functions that their array interfaces call too: this module holds only the order of a step.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from hawt_plant.airfoil_table import grid_point, interpolated
+from hawt_plant.bem import induction, loss_factor, skew_factor
+from hawt_plant.compiled import njit
+from hawt_plant.unsteady_airfoil import hgm_settle, hgm_step
+
+__all__ = ["MIN_INFLOW", "blade_element_loads"]
+
+MIN_INFLOW = 0.1
+"""[m/s] The normal inflow used in the dynamic-inflow time constants is at least this."""
+
+
+@njit
+def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflow_filter: np.ndarray,
+                        pitch_twist: np.ndarray, polar_table: np.ndarray, scale: float, intervals: float,
+                        offsets: np.ndarray, loss_exponents: np.ndarray, local_solidity: np.ndarray,
+                        bounds: np.ndarray, pressure_to_load: np.ndarray, span_functions: np.ndarray,
+                        update: bool, iterations: int, relaxation: float, dynamic_inflow: bool, dt: float,
+                        tip_radius: float, tip_ratio: np.ndarray, skewed: bool, skew_angle: float,
+                        cos_azimuth: np.ndarray, unsteady: bool, unsteady_states: np.ndarray,
+                        unsteady_table: np.ndarray, unsteady_constants: np.ndarray, element_loads: np.ndarray,
+                        sums: np.ndarray) -> None:
+    """One step of every blade element (module notes); updates the induction when ``update``.
+
+    Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'), ``element_loads`` (dF_n, dF_t): (2, B, N);
+    ``inflow_filter`` (3, B, N), Øye's intermediate and induced velocity and the last quasi-steady one;
+    ``pitch_twist``, ``local_solidity``, ``pressure_to_load`` (1/2 rho c dr), ``tip_ratio`` (r / R): (B, N);
+    ``loss_exponents`` (2, B, N); ``bounds`` (lower, upper) x (a, a') (2, 2, B, N); ``span_functions`` (N, 3);
+    ``cos_azimuth`` (B,), each blade's azimuth from the most downwind position of the disk (used when
+    ``skewed``); ``polar_table`` and the grid constants of :class:`~hawt_plant.airfoil_table.ElementPolars`, the
+    ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` (used when
+    ``unsteady``). Without ``update`` the static polars give the loads (the dynamic stall states are settled at
+    this state). Writes ``element_loads`` and ``sums`` (2, B, 3): dF_n and dF_t summed against 1, s and phi.
+    """
+    blades, elements = pitch_twist.shape
+    sums[:] = 0.0
+    passes = iterations if update and not dynamic_inflow else 1
+    for i in range(blades):
+        for j in range(elements):
+            vx, vy = inflow[0, i, j], inflow[1, i, j]
+            for k in range(passes):
+                un = vx * (1.0 - induction_factors[0, i, j])
+                ut = vy * (1.0 + induction_factors[1, i, j])
+                phi = math.atan2(un, ut)
+                alpha = phi - pitch_twist[i, j]
+                added_mass = 0.0
+                if not unsteady:
+                    row, fraction = grid_point(alpha, scale, intervals, offsets[j])
+                    cl, cd = interpolated(polar_table, row, fraction, 0), interpolated(polar_table, row, fraction, 1)
+                elif update:  # the induction follows the circulatory lift (the added mass's sheds no vorticity)
+                    cl, added_mass, cd = hgm_step(i, j, alpha, math.hypot(un, ut), dt, k == passes - 1,
+                                                  unsteady_states, unsteady_table, unsteady_constants, scale,
+                                                  intervals, offsets)
+                else:
+                    cl, cd = hgm_settle(i, j, alpha, unsteady_states, unsteady_table, unsteady_constants, scale,
+                                        intervals, offsets)
+                sin_phi, cos_phi = math.sin(phi), math.cos(phi)
+                if update:
+                    loss = loss_factor(sin_phi, loss_exponents[0, i, j], loss_exponents[1, i, j])
+                    a, a_prime, _, _ = induction(phi, sin_phi, cos_phi, cl, loss, local_solidity[i, j])
+                    a = np.minimum(np.maximum(a, bounds[0, 0, i, j]), bounds[1, 0, i, j])
+                    a_prime = np.minimum(np.maximum(a_prime, bounds[0, 1, i, j]), bounds[1, 1, i, j])
+                    if skewed:
+                        a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
+                    if dynamic_inflow:
+                        _oye(i, j, a, vx, dt, tip_radius, tip_ratio[i, j], induction_factors, inflow_filter)
+                    else:
+                        induction_factors[0, i, j] += relaxation * (a - induction_factors[0, i, j])
+                        a_prime = induction_factors[1, i, j] + relaxation * (a_prime - induction_factors[1, i, j])
+                    induction_factors[1, i, j] = a_prime
+            cl += added_mass
+            q = (un * un + ut * ut) * pressure_to_load[i, j]
+            normal = q * (cl * cos_phi + cd * sin_phi)
+            tangential = q * (cl * sin_phi - cd * cos_phi)
+            element_loads[0, i, j], element_loads[1, i, j] = normal, tangential
+            for m in range(3):
+                sums[0, i, m] += normal * span_functions[j, m]
+                sums[1, i, m] += tangential * span_functions[j, m]
+
+
+@njit
+def _oye(i: int, j: int, axial: float, vx: float, dt: float, tip_radius: float, tip_ratio: float,
+         induction_factors: np.ndarray, inflow_filter: np.ndarray) -> None:
+    """Øye's dynamic inflow filter of one element (Hansen 2008 §10.2): the induced velocity a vx follows the
+    quasi-steady one through two first-order lags, tau_1 = 1.1 / (1 - 1.3 a) R / V_0 and
+    tau_2 = (0.39 - 0.26 (r/R)^2) tau_1, the first with a lead 0.6 tau_1."""
+    speed = np.maximum(vx, MIN_INFLOW)
+    quasi_steady = axial * speed
+    tau_1 = 1.1 / (1.0 - 1.3 * np.minimum(np.maximum(induction_factors[0, i, j], 0.0), 0.5)) * tip_radius / speed
+    tau_2 = (0.39 - 0.26 * (tip_ratio * tip_ratio)) * tau_1
+    forcing = quasi_steady + 0.6 * tau_1 * (quasi_steady - inflow_filter[2, i, j]) / dt
+    intermediate = forcing + (inflow_filter[0, i, j] - forcing) * math.exp(-dt / tau_1)
+    induced = intermediate + (inflow_filter[1, i, j] - intermediate) * math.exp(-dt / tau_2)
+    inflow_filter[0, i, j], inflow_filter[1, i, j], inflow_filter[2, i, j] = intermediate, induced, quasi_steady
+    induction_factors[0, i, j] = induced / speed

@@ -1,0 +1,82 @@
+"""Compiling the plant's per-element physics: numba, with a cache that can never be stale.
+
+The per-step arithmetic of the plant (blade-element aerodynamics, dynamic stall, the induction) is written
+once, in Python, as scalar functions and loops decorated with :func:`njit`; numba compiles them to machine
+code on first use and keeps the result on disk. There is no second, interpreted copy of that physics.
+
+numba's own cache checks only the time stamp of the file that holds a compiled function, not of the files
+whose functions it calls, so a change to one module could leave another's compiled code calling the old
+version. Here the cache folder is keyed instead by a hash of the content of every module of this package:
+any change to the plant's sources selects a new, empty folder and everything is compiled again. A cache
+folder is therefore never used for sources other than its own.
+
+The folder is ``$NUMBA_CACHE_DIR`` when the user sets it (numba's own setting, then the user's to keep
+in step), otherwise ``$XDG_CACHE_HOME/hawt/compiled/<hash>`` (``~/.cache`` by default). It is deliberately
+not under ``$HAWT_CACHE_DIR``: what is cached there (wind fields) depends on inputs, this only on the
+sources, and ``scripts/setup.sh`` fills it once (``python -m hawt_plant.compiled``).
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+from typing import Callable
+
+__all__ = ["cache_folder", "njit", "source_hash"]
+
+_PACKAGE = Path(__file__).resolve().parent
+_CHOSEN = os.environ.get("NUMBA_CACHE_DIR")  # the user's (or a parent process's) folder, before this module sets it
+
+
+def source_hash(package: Path = _PACKAGE) -> str:
+    """A short hash of the content of every module of ``package`` (``hawt_plant``): the key of the compiled
+    cache."""
+    digest = hashlib.sha256()
+    for path in sorted(package.glob("*.py")):
+        digest.update(path.name.encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def cache_folder() -> Path:
+    """Where numba keeps the compiled functions of these sources (see the module notes)."""
+    if _CHOSEN:
+        return Path(_CHOSEN)
+    root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return root / "hawt" / "compiled" / source_hash()
+
+
+os.environ["NUMBA_CACHE_DIR"] = str(cache_folder())  # read by numba when it is first imported (just below), and
+# inherited by the processes this one starts
+
+import numba  # noqa: E402  (after its cache folder is set)
+from numba.core import config as _numba_config  # noqa: E402
+
+_numba_config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]  # in case numba was imported before this module
+
+
+def njit(function: Callable) -> Callable:
+    """Compile ``function`` in nopython mode, cached on disk, with numpy's floating-point error model
+    (a division by zero gives inf or NaN as in numpy, it does not raise) and without fast-math, so that
+    results are IEEE arithmetic in the order written and runs stay deterministic."""
+    return numba.njit(cache=True, error_model="numpy", fastmath=False)(function)
+
+
+def compile_all() -> None:
+    """Compile (or load from the cache) every kernel of the plant, by building and stepping a model with every
+    option that has a kernel of its own: what ``scripts/setup.sh`` runs, so that no run pays for compiling."""
+    import numpy as np  # a model imports this module: these imports cannot be at the top
+
+    from hawt_plant.model import ModelConfig, TurbineModel
+    from hawt_plant.shear_wind import PowerLawWind
+    from hawt_plant.turbine import nrel_5mw
+
+    model = TurbineModel(nrel_5mw(), PowerLawWind(11.4, shear_exponent=0.2),
+                         ModelConfig(unsteady_airfoil=True, skewed_wake=True))
+    model.step(model.output.pitch, model.output.generator_torque)
+    model._unsteady.step(np.zeros((3, model.turbine.blade_aerodynamics.span.size)), np.ones(1), 0.01)
+
+
+if __name__ == "__main__":
+    compile_all()
+    print(f"hawt: compiled the plant's kernels ({cache_folder()})")

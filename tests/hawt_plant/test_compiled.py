@@ -1,0 +1,63 @@
+"""Specification of hawt_plant.compiled: the plant's kernels are compiled, and never from other sources."""
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+from numba.core.registry import CPUDispatcher
+
+import hawt_plant
+from hawt_plant import airfoil_table, bem, blade_elements, turbulence, unsteady_airfoil
+from hawt_plant.compiled import cache_folder, source_hash
+from hawt_plant.model import ModelConfig, TurbineModel
+from hawt_plant.shear_wind import PowerLawWind
+from hawt_plant.turbine import nrel_5mw
+
+PACKAGE = Path(hawt_plant.__file__).resolve().parent
+
+
+def test_the_per_step_formulas_are_compiled_functions():
+    """Each formula of a step is a numba dispatcher, which the model's step calls compiled."""
+    for function in (blade_elements.blade_element_loads, bem.induction, bem.loss_factor, bem.skew_factor,
+                     bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, turbulence._trilinear):
+        assert isinstance(function, CPUDispatcher), function
+
+
+def test_the_cache_is_keyed_by_the_content_of_every_plant_module(tmp_path):
+    """A changed byte in any module selects another cache folder; a touched file (time stamp only) does not."""
+    copy = tmp_path / "hawt_plant"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    assert source_hash(copy) == source_hash(PACKAGE)
+    os.utime(copy / "bem.py", (0, 0))
+    assert source_hash(copy) == source_hash(PACKAGE)
+    module = copy / "tower_drag.py"  # a module no kernel lives in: its change still counts
+    module.write_text(module.read_text() + "\n")
+    assert source_hash(copy) != source_hash(PACKAGE)
+    assert cache_folder().name == source_hash()
+
+
+def test_numba_cache_dir_set_by_the_user_is_where_the_kernels_go(tmp_path):
+    """NUMBA_CACHE_DIR, numba's own setting, overrides the keyed folder, and the kernels are written there."""
+    code = ("from hawt_plant.compiled import cache_folder; from hawt_plant.bem import loss_factor; "
+            "loss_factor(0.5, 1.0, 1.0); print(cache_folder())")
+    result = subprocess.run([sys.executable, "-c", code], env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)},
+                            capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == str(tmp_path)
+    assert any(tmp_path.rglob("*.nbi"))  # numba's index of a cached function
+
+
+def test_a_compiled_step_is_deterministic():
+    """Two models stepped alike agree bit for bit (no fast-math, no threads)."""
+    def run() -> np.ndarray:
+        model = TurbineModel(nrel_5mw(), PowerLawWind(14.0, shear_exponent=0.2),
+                             ModelConfig(unsteady_airfoil=True, skewed_wake=True, bem_iterations=2))
+        out = model.output
+        rows = []
+        for k in range(200):
+            out = model.step(out.pitch + 0.01 * np.sin(0.05 * k), out.generator_torque)
+            rows.append(np.concatenate((out.root_moment_oop, [out.rotor_speed, out.tower_base_fa_moment])))
+        return np.array(rows)
+
+    np.testing.assert_array_equal(run(), run())
