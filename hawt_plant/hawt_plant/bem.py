@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from hawt_plant.airfoil_table import ElementPolars, grid_point, interpolated
-from hawt_plant.compiled import njit
+from hawt_plant.compiled import flat, njit
 from hawt_plant.turbine import Turbine
 
 __all__ = [
@@ -168,7 +168,7 @@ def prandtl_loss(sin_phi: np.ndarray, blade: BemBlade) -> np.ndarray:
         (Ning 2014 eqs. 13-15; Hansen, Aerodynamics of Wind Turbines, eq. 6.34); no hub
         loss when the hub radius is 0. At least 1e-4, except exactly 0 at a node at the tip or the hub.
     """
-    shape, (s, tip, hub) = _flat(sin_phi, blade.loss_exponents[0], blade.loss_exponents[1])
+    shape, (s, tip, hub) = flat(sin_phi, blade.loss_exponents[0], blade.loss_exponents[1])
     return _losses(s, tip, hub).reshape(shape)
 
 
@@ -226,9 +226,9 @@ def induction_factors(phi: np.ndarray, cl: np.ndarray, loss: np.ndarray, local_s
     phi = np.asarray(phi, dtype=float)
     sin_phi = np.sin(phi) if sin_phi is None else sin_phi
     cos_phi = np.cos(phi) if cos_phi is None else cos_phi
-    shape, flat = _flat(phi, sin_phi, cos_phi, cl, loss, local_solidity)
-    out = np.empty((4, flat[0].size))
-    _inductions(*flat, out)
+    shape, arrays = flat(phi, sin_phi, cos_phi, cl, loss, local_solidity)
+    out = np.empty((4, arrays[0].size))
+    _inductions(*arrays, out)
     a, a_prime, k, k_prime = out.reshape((4,) + shape)
     return a, a_prime, k, k_prime
 
@@ -278,7 +278,7 @@ def skewed_wake_factor(axial_induction: np.ndarray, skew_angle: float, tip_ratio
     >>> round(float(skewed_wake_factor(np.array(0.0), 0.2, np.array(0.5), np.array(-1.0))), 6)
     0.926122
     """
-    shape, (a, ratio, cos) = _flat(axial_induction, tip_ratio, cos_azimuth)
+    shape, (a, ratio, cos) = flat(axial_induction, tip_ratio, cos_azimuth)
     out = np.empty_like(a)
     for i in range(a.size):
         out[i] = skew_factor(a[i], skew_angle, ratio[i], cos[i])
@@ -290,12 +290,6 @@ def skew_factor(axial_induction: float, skew_angle: float, tip_ratio: float, cos
     """:func:`skewed_wake_factor` of one element."""
     chi = np.minimum(np.maximum((1.0 + 0.6 * axial_induction) * skew_angle, -0.5 * math.pi), 0.5 * math.pi)
     return 1.0 + PITT_PETERS * math.tan(0.5 * chi) * tip_ratio * cos_azimuth
-
-
-def _flat(*arrays) -> tuple[tuple[int, ...], list[np.ndarray]]:
-    """The common shape of ``arrays`` broadcast together, and each broadcast array as a flat float array."""
-    broadcast = np.broadcast_arrays(*(np.asarray(values, dtype=float) for values in arrays))
-    return broadcast[0].shape, [np.ascontiguousarray(values).reshape(-1) for values in broadcast]
 
 
 def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade: BemBlade,
@@ -327,11 +321,11 @@ def solve_inflow_angle(vx: np.ndarray, vy: np.ndarray, pitch: np.ndarray, blade:
     vy (a parked rotor, reversed flow) get the inflow angle of the undisturbed flow,
     ``arctan2(vx, vy)``; a node at the tip or the hub gets 0 (no axial flow, :func:`induction_factors`).
     """
-    shape, flat = _flat(vx, vy, pitch, blade.twist, blade.loss_exponents[0], blade.loss_exponents[1],
-                        blade.local_solidity, blade.at_ends)
+    shape, arrays = flat(vx, vy, pitch, blade.twist, blade.loss_exponents[0], blade.loss_exponents[1],
+                         blade.local_solidity, blade.at_ends)
     scale, intervals, offsets = blade.polars.grid_constants
-    out = np.empty(flat[0].size)
-    _inflow_angles(*flat, blade.polars.table, scale, intervals, np.broadcast_to(offsets, shape).reshape(-1), iterations,
+    out = np.empty(arrays[0].size)
+    _inflow_angles(*arrays, blade.polars.table, scale, intervals, np.broadcast_to(offsets, shape).reshape(-1), iterations,
                    out)
     return out.reshape(shape)
 

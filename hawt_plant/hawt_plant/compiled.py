@@ -22,7 +22,9 @@ import os
 from pathlib import Path
 from typing import Callable
 
-__all__ = ["cache_folder", "njit", "source_hash"]
+import numpy as np
+
+__all__ = ["cache_folder", "flat", "njit", "source_hash"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _CHOSEN = os.environ.get("NUMBA_CACHE_DIR")  # the user's (or a parent process's) folder, before this module sets it
@@ -62,11 +64,17 @@ def njit(function: Callable) -> Callable:
     return numba.njit(cache=True, error_model="numpy", fastmath=False)(function)
 
 
+def flat(*arrays) -> tuple[tuple[int, ...], list]:
+    """The common shape of ``arrays`` broadcast together, and each broadcast array as a flat, contiguous float
+    array: what a compiled loop over the elements of an array interface takes."""
+    broadcast = np.broadcast_arrays(*(np.asarray(values, dtype=float) for values in arrays))
+    return broadcast[0].shape, [np.ascontiguousarray(values).reshape(-1) for values in broadcast]
+
+
 def compile_all() -> None:
     """Compile (or load from the cache) every kernel of the plant, by building and stepping a model with every
     option that has a kernel of its own: what ``scripts/setup.sh`` runs, so that no run pays for compiling."""
-    import numpy as np  # a model imports this module: these imports cannot be at the top
-
+    # a model imports this module, so these imports cannot be at its top
     from hawt_plant.model import ModelConfig, TurbineModel
     from hawt_plant.shear_wind import PowerLawWind
     from hawt_plant.turbine import nrel_5mw
@@ -74,7 +82,6 @@ def compile_all() -> None:
     model = TurbineModel(nrel_5mw(), PowerLawWind(11.4, shear_exponent=0.2),
                          ModelConfig(unsteady_airfoil=True, skewed_wake=True))
     model.step(model.output.pitch, model.output.generator_torque)
-    model._unsteady.step(np.zeros((3, model.turbine.blade_aerodynamics.span.size)), np.ones(1), 0.01)
 
 
 if __name__ == "__main__":

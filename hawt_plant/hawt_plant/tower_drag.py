@@ -13,10 +13,12 @@ first modes.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from hawt_plant.compiled import njit
 from hawt_plant.modal import polynomial_mode
 from hawt_plant.turbine import Turbine
 
@@ -85,10 +87,25 @@ class TowerDrag:
     def loads(self, u: np.ndarray, v: np.ndarray, fa_rate: float, ss_rate: float) -> TowerDragLoads:
         """The drag of the wind (u downwind, v to +y [m/s] at each node) on the tower moving at the tower-top
         velocities ``fa_rate``, ``ss_rate`` [m/s]."""
-        relative_u = u - self.fa_shape * fa_rate
-        relative_v = v - self.ss_shape * ss_rate
-        scale = self.coefficient * np.sqrt(relative_u * relative_u + relative_v * relative_v)
+        u, v = np.asarray(u, dtype=float), np.asarray(v, dtype=float)
+        if not u.shape == v.shape == self.elevation.shape:
+            raise ValueError(f"u, v: expected {self.elevation.size} values each, found shapes {u.shape}, {v.shape}")
+        return TowerDragLoads(*_drag(u, v, float(fa_rate), float(ss_rate), self.coefficient, self.fa_shape,
+                                     self.ss_shape, self.lever))
+
+
+@njit
+def _drag(u, v, fa_rate, ss_rate, coefficient, fa_shape, ss_shape, lever):
+    """:meth:`TowerDrag.loads`: the node forces 1/2 rho Cd D w |V_rel| V_rel summed against the mode shapes and the
+    arms to the base."""
+    fa_force = ss_force = base_fa = base_ss = 0.0
+    for k in range(u.size):
+        relative_u = u[k] - fa_shape[k] * fa_rate
+        relative_v = v[k] - ss_shape[k] * ss_rate
+        scale = coefficient[k] * math.sqrt(relative_u * relative_u + relative_v * relative_v)
         force_x, force_y = scale * relative_u, scale * relative_v
-        return TowerDragLoads(fa_force=np.dot(force_x, self.fa_shape), ss_force=np.dot(force_y, self.ss_shape),
-                              base_fa_moment=np.dot(force_x, self.lever),
-                              base_ss_moment=-np.dot(force_y, self.lever))
+        fa_force += force_x * fa_shape[k]
+        ss_force += force_y * ss_shape[k]
+        base_fa += force_x * lever[k]
+        base_ss -= force_y * lever[k]
+    return fa_force, ss_force, base_fa, base_ss

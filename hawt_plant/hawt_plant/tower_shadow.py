@@ -1,10 +1,12 @@
 """Tower shadow: potential flow around the tower (a doublet in uniform flow) and, behind it, its wake."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from hawt_plant.compiled import flat, njit
 from hawt_plant.turbine import Tower
 
 __all__ = ["TowerShadow", "WAKE_DEFICIT_LIMIT", "potential_flow_disturbance", "wake_deficit"]
@@ -12,9 +14,6 @@ __all__ = ["TowerShadow", "WAKE_DEFICIT_LIMIT", "potential_flow_disturbance", "w
 WAKE_DEFICIT_LIMIT = -0.5
 """Largest wake deficit (AeroDyn: "to avoid excessive flow reversal behind the tower")."""
 
-# Constants of the per-step formulas as 0-d arrays: numpy 2 combines an array of a few dozen
-# elements with a 0-d array about twice as fast as with a Python float.
-_ZERO, _MINUS_TWO, _INSIDE = np.array(0.0), np.array(-2.0), np.array(1e-12)
 
 
 def potential_flow_disturbance(x: np.ndarray, y: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -45,10 +44,20 @@ def potential_flow_disturbance(x: np.ndarray, y: np.ndarray, radius: np.ndarray)
     the largest speed-up, ``a^2 / (8 x^2)`` at ``|y| = sqrt(3) |x|``, is 1/8 of it
     (seed000_fratini.md AC-11).
     """
+    shape, (x, y, radius) = flat(x, y, radius)
+    out = np.empty((2, x.size))
+    for k in range(x.size):
+        out[0, k], out[1, k] = potential_flow(x[k], y[k], radius[k])
+    return out[0].reshape(shape), out[1].reshape(shape)
+
+
+@njit
+def potential_flow(x: float, y: float, radius: float) -> tuple[float, float]:
+    """:func:`potential_flow_disturbance` at one point."""
     x2, y2, a2 = x * x, y * y, radius * radius
-    r2 = np.maximum(x2 + y2, a2 + _INSIDE)
+    r2 = np.maximum(x2 + y2, a2 + 1e-12)
     q = a2 / (r2 * r2)
-    return q * (y2 - x2), _MINUS_TWO * q * x * y
+    return q * (y2 - x2), -2.0 * q * x * y
 
 
 def wake_deficit(x: np.ndarray, y: np.ndarray, radius: np.ndarray, drag_coefficient: float) -> np.ndarray:
@@ -75,12 +84,25 @@ def wake_deficit(x: np.ndarray, y: np.ndarray, radius: np.ndarray, drag_coeffici
     AeroDyn's ``TwrShadow = 1`` (OpenFAST AeroDyn theory, "Tower shadow models"), the shadow
     model of downwind rotors; points inside the tower are evaluated on its surface (r >= 1).
     """
-    safe = np.where(radius > 0.0, radius, 1.0)
-    xr, yr = x / safe, y / safe
-    root = np.sqrt(np.maximum(np.sqrt(xr * xr + yr * yr), 1.0))
-    inside = (xr > 0.0) & (np.abs(yr) < root) & (radius > 0.0)
-    deficit = -drag_coefficient / root * np.cos(0.5 * np.pi * yr / root) ** 2
-    return np.where(inside, np.maximum(deficit, WAKE_DEFICIT_LIMIT), 0.0)
+    shape, (x, y, radius) = flat(x, y, radius)
+    out = np.empty(x.size)
+    for k in range(x.size):
+        out[k] = wake(x[k], y[k], radius[k], drag_coefficient)
+    return out.reshape(shape)
+
+
+@njit
+def wake(x: float, y: float, radius: float, drag_coefficient: float) -> float:
+    """:func:`wake_deficit` at one point."""
+    if not radius > 0.0:
+        return 0.0
+    xr, yr = x / radius, y / radius
+    root = math.sqrt(np.maximum(math.sqrt(xr * xr + yr * yr), 1.0))
+    if not (xr > 0.0 and abs(yr) < root):
+        return 0.0
+    cos = math.cos(0.5 * math.pi * yr / root)
+    deficit = -drag_coefficient / root * (cos * cos)
+    return np.maximum(deficit, WAKE_DEFICIT_LIMIT)
 
 
 @dataclass(frozen=True, eq=False)
@@ -138,9 +160,26 @@ class TowerShadow:
         See :func:`potential_flow_disturbance` and :func:`wake_deficit`; zero above the tower top
         and, for an upwind rotor, downwind of the tower centreline.
         """
+        shape, (x, y, z) = flat(x, y, z)
+        out = np.empty((2, x.size))
         elevation, outline = self._outline
-        radius = np.interp(z, elevation, outline, right=0.0)
-        if not self.downwind:
-            return potential_flow_disturbance(x, y, radius * (x < _ZERO))
-        du, dv = potential_flow_disturbance(x, y, radius)
-        return du + wake_deficit(x, y, radius, self.drag_coefficient), dv
+        _disturbances(x, y, z, elevation, outline, self.downwind, self.drag_coefficient, out)
+        return out[0].reshape(shape), out[1].reshape(shape)
+
+
+@njit
+def shadow(x: float, y: float, z: float, elevation: np.ndarray, outline: np.ndarray, downwind: bool,
+           drag_coefficient: float) -> tuple[float, float]:
+    """:meth:`TowerShadow.disturbance` at one point, the tower's radius ``outline`` at ``elevation`` up to just below
+    its top."""
+    radius = 0.0 if z > elevation[-1] else np.interp(z, elevation, outline)
+    if not downwind:
+        return potential_flow(x, y, radius if x < 0.0 else 0.0)
+    du, dv = potential_flow(x, y, radius)
+    return du + wake(x, y, radius, drag_coefficient), dv
+
+
+@njit
+def _disturbances(x, y, z, elevation, outline, downwind, drag_coefficient, out):
+    for k in range(x.size):
+        out[0, k], out[1, k] = shadow(x[k], y[k], z[k], elevation, outline, downwind, drag_coefficient)
