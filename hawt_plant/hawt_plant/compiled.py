@@ -67,8 +67,10 @@ def njit(function: Callable) -> Callable:
 def flat(*arrays) -> tuple[tuple[int, ...], list]:
     """The common shape of ``arrays`` broadcast together, and each broadcast array as a flat, contiguous float
     array: what a compiled loop over the elements of an array interface takes."""
-    broadcast = np.broadcast_arrays(*(np.asarray(values, dtype=float) for values in arrays))
-    return broadcast[0].shape, [np.ascontiguousarray(values).reshape(-1) for values in broadcast]
+    arrays = [np.asarray(values, dtype=float) for values in arrays]
+    if any(values.shape != arrays[0].shape for values in arrays):
+        arrays = np.broadcast_arrays(*arrays)
+    return arrays[0].shape, [np.ascontiguousarray(values).reshape(-1) for values in arrays]
 
 
 def compile_all() -> None:

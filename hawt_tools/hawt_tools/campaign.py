@@ -219,16 +219,19 @@ def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: An
 
     trips = [f"{event['kind']} at t={event['step'] * dt:.2f} s" for event in run.events
              if event["level"] >= 40 and event["kind"] in TRIP_EVENTS]
-    return case_row(case, channels, command, dt, time.monotonic() - start, trips)
+    faults = [event["detail"].split(" from step")[0] + f" at t={event['step'] * dt:.2f} s" for event in run.events
+              if event["kind"] == "fault"]
+    return case_row(case, channels, command, dt, time.monotonic() - start, trips, faults)
 
 
 def case_row(case: Case, channels: Dict[str, np.ndarray], command: np.ndarray, dt: float,
-             wall: float, trips: Sequence[str] = ()) -> Dict[str, Any]:
-    """The numbers of one case: identity, DEL (N·m, 1 Hz) and extremes of every load channel, operation, pitch, and
-    ``trips`` (the safety system's, each ``kind at t=… s``; empty if none), whose loads are a feathered turbine's."""
+             wall: float, trips: Sequence[str] = (), faults: Sequence[str] = ()) -> Dict[str, Any]:
+    """The numbers of one case: identity, DEL (N·m, 1 Hz) and extremes of every load channel, operation, pitch,
+    ``trips`` (the safety system's, each ``kind at t=… s``; empty if none), whose loads are a feathered turbine's,
+    and ``faults`` (the injected faults that acted, each ``what at t=… s``)."""
     summary = summarize(channels)
     row: Dict[str, Any] = {"controller": case.controller.name, "wind_speed": case.speed, "seed": case.seed,
-                           "key": case.key, "wall_s": wall, "trips": "; ".join(trips)}
+                           "key": case.key, "wall_s": wall, "trips": "; ".join(trips), "faults": "; ".join(faults)}
     for name, entry in summary["del"].items():
         row[f"del.{name}"] = entry["value"]
     for name, (values, _) in load_channels(make_record(channels)).items():  # derived channels too
@@ -368,9 +371,14 @@ def run_campaign(campaign: Campaign, output: Path, workers: Optional[int] = None
     todo = [case for case in cases if not stored[case.key].exists()]
     failed: Dict[str, str] = {}
     interrupted = False
-    report(f"{_counted(len(cases), 'case')} ({_counted(len(campaign.controllers), 'controller')} x "
-           f"{_counted(len(campaign.speeds), 'speed')} x {_counted(len(campaign.seeds), 'seed')}, "
-           f"{campaign.transient + campaign.duration:g} s each); {len(cases) - len(todo)} already done in {output}")
+    dlc = DLCS[campaign.dlc]
+    fault = "" if not campaign.fault else (f"; fault '{campaign.fault}' at {dlc.fault_time(campaign.transient, 1):g} s"
+                                           + (" and later, by case" if dlc.fault_delays else ""))
+    report(f"{_counted(len(cases), 'case')} of DLC {campaign.dlc} ({_counted(len(campaign.controllers), 'controller')}"
+           f" x {_counted(len(campaign.speeds), 'speed')} x "
+           f"{_counted(len(campaign.seeds), 'case' if dlc.transients else 'seed')}, "
+           f"{campaign.transient + campaign.duration:g} s each{fault}); {len(cases) - len(todo)} already done in "
+           f"{output}")
     if todo:
         for folder in (output / "cases", *([output / "bags"] if bags else ())):  # before any wind or worker
             try:

@@ -3,7 +3,8 @@
 A campaign file is YAML::
 
     turbine: iea15                    # optional: a packaged turbine's name, or a turbine's folder or definition file
-    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1, 1.3-1.5
+    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1, 1.3-1.5, 2.1, 2.3
+    fault: pitch_runaway blade=1 to=fine  # DLC 2.x only: the fault of every case (hawt_plant.faults), without at=
     wind:
       speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing
       seeds: 3                        # seeds 1..3 per bin, or a list [4, 7]
@@ -25,7 +26,12 @@ channel times γ_f 1.35, with the case that set it; 1.4 and 1.5, the extreme coh
 (ECD) and the extreme wind shear (EWS) of :mod:`hawt_plant.iec_extreme`, deterministic transients starting
 ``GUST_START`` s into the analysed time, reported as 1.3 is. A transient DLC's seeds are its cases per speed
 (1.4: 1 ECD turning towards +y, 2 towards -y; 1.5: 1 and 2 vertical shear faster above or below the hub, 3 and 4
-horizontal), all of them unless ``seeds`` picks some.
+horizontal), all of them unless ``seeds`` picks some. DLC 2.1 and 2.3 add a fault of the plant
+(:mod:`hawt_plant.faults`, the ``fault`` key, an entry without ``at=``): 2.1, normal turbulence with a control
+system fault (default: blade 1's pitch actuator runs away to feather) ``GUST_START`` s into the analysed time,
+γ_f 1.35; 2.3, the extreme operating gust starting then with a loss of the electrical network (default
+``grid_loss``) at the gust's start, in its dip and at its peak (cases 1-3, ``EOG_FAULT_DELAYS``; the IEC asks for
+the timing that loads most), γ_f 1.1 (abnormal).
 
 Every case is a run of a controller's graph (its launch ``arguments`` and ``-p``-style
 ``parameters``) with the plant's wind set by the campaign. The ``turbine`` is every graph's ``turbine``
@@ -40,10 +46,13 @@ from pathlib import Path
 from typing import Any, Dict, List, Mapping, Tuple
 
 from hawt_analysis.lifetime import IEC_CLASS_MEAN_SPEED, WindDistribution
+from hawt_core.parameter_table import ParameterError
+from hawt_plant.faults import parse_faults
+from hawt_plant.gusts import EOG_DURATION
 from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml, resolve_turbine
 
 __all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "graph_arguments",
-           "TURBULENCE_CLASSES", "DLCS", "DesignLoadCase", "GUST_START", "site_wind_class"]
+           "TURBULENCE_CLASSES", "DLCS", "DesignLoadCase", "EOG_FAULT_DELAYS", "GUST_START", "site_wind_class"]
 
 TURBULENCE_CLASSES = ("A", "B", "C")
 
@@ -51,28 +60,44 @@ TURBULENCE_CLASSES = ("A", "B", "C")
 @dataclass(frozen=True)
 class DesignLoadCase:
     """What every case of an IEC 61400-1 Ed. 3 DLC runs: turbulence (``turbulence_model`` NTM or ETM, a seed per
-    case), or a deterministic transient, one (plant ``wind_type``, ``gust_sign``) per case of a speed."""
+    case), or a deterministic transient, one (plant ``wind_type``, ``gust_sign``) per case of a speed; and, for a
+    DLC 2.x, the default ``fault`` (a :mod:`hawt_plant.faults` entry without ``at=``), ``GUST_START`` s into the
+    analysed time plus the case's ``fault_delays`` entry (one per transient; 0 without transients)."""
 
     turbulence_model: str = ""
     transients: Tuple[Tuple[str, int], ...] = ()
+    fault: str = ""
+    fault_delays: Tuple[float, ...] = ()
 
     def label(self, seed: int) -> str:
         """How a case of this DLC is named beside its speed."""
         if not self.transients:
             return f"seed {seed}"
         kind, sign = self.transients[seed - 1]
+        if self.fault_delays:
+            return f"{kind.replace('_', ' ').upper()}, fault at +{self.fault_delays[seed - 1]:.2f} s"
         return f"{kind.replace('_', ' ').upper()} {'+' if sign > 0 else '-'}"
 
+    def fault_time(self, transient: float, seed: int) -> float:
+        """When the fault of case ``seed`` acts [s simulated]: ``GUST_START`` into the analysed time that starts at
+        ``transient``, plus the case's delay."""
+        return transient + GUST_START + (self.fault_delays[seed - 1] if self.fault_delays else 0.0)
 
+
+GUST_START = 10.0
+"""Time [s] into the analysed window at which a transient DLC's gust or shear starts (it lasts 10-12 s)."""
+EOG_FAULT_DELAYS = (0.0, 2.46, EOG_DURATION / 2.0)
+"""DLC 2.3's fault times after the EOG starts [s]: at its start, in its dip (slowest wind, at 0.234 T) and at its
+peak (fastest, T / 2); each a whole number of 0.01 s steps."""
 DLCS = {"1.1": DesignLoadCase("NTM"), "1.2": DesignLoadCase("NTM"), "1.3": DesignLoadCase("ETM"),
         "1.4": DesignLoadCase(transients=(("ecd", 1), ("ecd", -1))),
         "1.5": DesignLoadCase(transients=(("ews_vertical", 1), ("ews_vertical", -1), ("ews_horizontal", 1),
-                                          ("ews_horizontal", -1)))}
+                                          ("ews_horizontal", -1))),
+        "2.1": DesignLoadCase("NTM", fault="pitch_runaway blade=1 to=feather"),
+        "2.3": DesignLoadCase(transients=(("eog", 1),) * 3, fault="grid_loss", fault_delays=EOG_FAULT_DELAYS)}
 """The design-load cases a campaign runs."""
-GUST_START = 10.0
-"""Time [s] into the analysed window at which a transient DLC's gust or shear starts (it lasts 10-12 s)."""
 _EXTRAPOLATION_SEEDS = 3
-_KEYS = {"": ("turbine", "dlc", "wind", "site", "duration", "transient", "controllers"),
+_KEYS = {"": ("turbine", "dlc", "fault", "wind", "site", "duration", "transient", "controllers"),
          "wind": ("speeds", "seeds", "turbulence_class", "shear_exponent"),
          "site": ("wind_class", "mean", "shape"),
          "controller": ("graph", "arguments", "parameters")}
@@ -110,6 +135,8 @@ class Campaign:
     turbine: str = ""
     """Every graph's ``turbine`` argument: a packaged name or an absolute path ('': each graph's default)."""
     dlc: str = "1.2"
+    fault: str = ""
+    """A DLC 2.x's fault of every case (a :mod:`hawt_plant.faults` entry without ``at=``; '' for the others)."""
 
 
 class _Reader:
@@ -187,14 +214,17 @@ def load_campaign(path: Path) -> Campaign:
         read.fail(_line(top, "controllers"), "controllers: expected a mapping NAME: {graph: GRAPH, ...}, found "
                   f"{controllers!r}")
     turbine = _turbine(read, top.get("turbine", ""), _line(top, "turbine"))
-    if transients and duration < GUST_START + 20.0:
-        read.fail(_line(top, "duration"), f"duration: DLC {dlc}'s transient starts {GUST_START:g} s into the "
-                  f"analysed time and lasts up to 12 s: expected at least {GUST_START + 20.0:g} s, found {duration:g}")
+    if (transients or DLCS[dlc].fault) and duration < GUST_START + 20.0:
+        what = "transient starts" if transients else "fault acts"
+        read.fail(_line(top, "duration"), f"duration: DLC {dlc}'s {what} {GUST_START:g} s into the analysed time "
+                  f"and its loads follow for up to 12 s: expected at least {GUST_START + 20.0:g} s, found {duration:g}")
+    fault = _fault(read, top.get("fault", DLCS[dlc].fault), _line(top, "fault"), dlc)
     if dlc == "1.1" and len(seeds) < _EXTRAPOLATION_SEEDS:
         read.fail(_line(wind, "seeds"), f"wind.seeds: DLC 1.1 extrapolates each bin's run maxima, which needs at "
                   f"least {_EXTRAPOLATION_SEEDS} seeds per bin, found {len(seeds)}")
     return Campaign(
         path=path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine, dlc=dlc,
+        fault=fault,
         controllers=tuple(_controller(read, name, entry, _line(controllers, name), turbine)
                           for name, entry in controllers.items()),
         turbulence_class=read.choice(wind.get("turbulence_class", "B"), _line(wind, "turbulence_class"),
@@ -207,6 +237,24 @@ def load_campaign(path: Path) -> Campaign:
 def site_wind_class(site: WindDistribution) -> str:
     """The IEC wind class whose annual mean speed the site has (the ETM's V_ave); class I for any other site."""
     return next((name for name, mean in IEC_CLASS_MEAN_SPEED.items() if mean == site.mean), "I")
+
+
+def _fault(read: _Reader, value: Any, line: int, dlc: str) -> str:
+    """The campaign's fault entry, checked as the plant checks its ``faults`` entries (a blade number against the
+    turbine's blades when the graphs are checked, before any case runs)."""
+    if not DLCS[dlc].fault:
+        if value:
+            read.fail(line, f"fault: DLC {dlc} has no fault; faults belong to DLC " +
+                      " and ".join(name for name, case in DLCS.items() if case.fault))
+        return ""
+    if not isinstance(value, str) or "at=" in value:
+        read.fail(line, f"fault: expected one fault entry 'KIND key=value ...' without at= (the DLC times it), "
+                  f"found {value!r}")
+    try:
+        parse_faults([f"{value} at=0"], 0.01)
+    except ParameterError as error:
+        read.fail(line, f"fault: {str(error).removeprefix('faults: ')}")
+    return value.strip()
 
 
 def _dlc_text(value: Any) -> str:
@@ -286,6 +334,8 @@ def case_overrides(campaign: Campaign, speed: float, seed: int) -> List[str]:
                 f"plant.step_time:={campaign.transient + GUST_START!r}"]
     else:
         wind = ["plant.wind_type:=turbulent", f"plant.seed:={seed}", f"plant.turbulence_model:={dlc.turbulence_model}"]
+    if campaign.fault:
+        wind.append(f"plant.faults:=['{campaign.fault} at={dlc.fault_time(campaign.transient, seed)!r}']")
     return [*wind, f"plant.wind_speed:={speed!r}", f"plant.turbulence_class:={campaign.turbulence_class}",
             f"plant.wind_class:={site_wind_class(campaign.site)}",
             f"plant.shear_exponent:={campaign.shear_exponent!r}", f"plant.duration:={total!r}"]

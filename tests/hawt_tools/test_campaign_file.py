@@ -112,12 +112,56 @@ def test_a_transient_dlc_runs_each_of_its_gusts_at_every_speed_starting_in_the_a
     ("dlc: 1.4\n" + GOOD.replace("seeds: 2", "seeds: [3]").replace("duration: 20", "duration: 40"),
      "campaign.yaml:4: wind.seeds: DLC 1.4 has 2 cases per speed (1 ECD +, 2 ECD -), found [3]"),
     ("dlc: 1.5\n" + GOOD, "campaign.yaml:7: duration: DLC 1.5's transient starts 10 s into the analysed time and "
-                          "lasts up to 12 s: expected at least 30 s, found 20"),
+                          "its loads follow for up to 12 s: expected at least 30 s, found 20"),
+    ("dlc: 2.1\n" + GOOD, "campaign.yaml:7: duration: DLC 2.1's fault acts 10 s into the analysed time and its loads "
+                          "follow for up to 12 s: expected at least 30 s, found 20"),
 ])
 def test_a_transient_dlc_refuses_cases_it_does_not_have_and_a_window_too_short(tmp_path, text, message):
     with pytest.raises(CampaignError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")
                        .replace("]", r"\]").replace("+", r"\+")):
         load_campaign(_write(tmp_path, text))
+
+
+def test_dlc_2_1_runs_normal_turbulence_with_a_control_system_fault_in_the_analysed_time(tmp_path):
+    """DLC 2.1: every seed in normal turbulence, blade 1's pitch running away to feather by default, GUST_START s
+    into the analysed time (transient 5 s: at 15 s); `fault:` names another; the cases are not 1.2's."""
+    long = GOOD.replace("duration: 20", "duration: 40")
+    default, grid = (load_campaign(_write(tmp_path, "dlc: 2.1\n" + extra + long)) for extra in ("", "fault: grid_loss\n"))
+    overrides = case_overrides(default, 13.0, 2)
+    assert {"plant.wind_type:=turbulent", "plant.seed:=2", "plant.turbulence_model:=NTM",
+            "plant.faults:=['pitch_runaway blade=1 to=feather at=15.0']"} <= set(overrides)
+    assert "plant.faults:=['grid_loss at=15.0']" in case_overrides(grid, 13.0, 1)
+    fatigue = load_campaign(_write(tmp_path, long))
+    assert not {c.key for c in plan_cases(default)} & {c.key for c in plan_cases(fatigue)}
+
+
+def test_dlc_2_3_loses_the_grid_at_the_start_the_dip_and_the_peak_of_an_extreme_operating_gust(tmp_path):
+    campaign = load_campaign(_write(tmp_path, "dlc: 2.3\n" + GOOD.replace("  seeds: 2\n", "").replace(
+        "duration: 20", "duration: 40")))
+    assert campaign.seeds == (1, 2, 3)
+    for seed, at in ((1, 15.0), (2, 17.46), (3, 20.25)):
+        assert {"plant.wind_type:=eog", "plant.step_time:=15.0", f"plant.faults:=['grid_loss at={at!r}']"} <= set(
+            case_overrides(campaign, 13.0, seed))
+
+
+@pytest.mark.parametrize("text, message", [
+    ("dlc: 1.3\nfault: grid_loss\n", "campaign.yaml:2: fault: DLC 1.3 has no fault; faults belong to DLC 2.1 and 2.3"),
+    ("dlc: 2.1\nfault: grid_loss at=30\n", "campaign.yaml:2: fault: expected one fault entry 'KIND key=value ...' "
+                                           "without at= (the DLC times it), found 'grid_loss at=30'"),
+    ("dlc: 2.1\nfault: pitch_runaway blade=1 to=fien\n", "campaign.yaml:2: fault: entry 'pitch_runaway blade=1 "
+                                                        "to=fien at=0': to: expected feather or fine, found 'fien'"),
+])
+def test_a_fault_is_checked_in_the_file_with_its_line(tmp_path, text, message):
+    with pytest.raises(CampaignError) as raised:
+        load_campaign(_write(tmp_path, text + GOOD.replace("duration: 20", "duration: 40")))
+    assert str(raised.value) == str(tmp_path / message)
+
+
+def test_a_fault_on_a_blade_the_turbine_lacks_is_refused_before_any_wind(tmp_path):
+    campaign = load_campaign(_write(tmp_path, "dlc: 2.1\nfault: pitch_stuck blade=4\n" + GOOD.replace(
+        "duration: 20", "duration: 40")))
+    with pytest.raises(CampaignError, match="blade"):
+        plan_cases(campaign)
 
 
 def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_cli):
