@@ -70,9 +70,11 @@ def lifetime_text(lifetime: Sequence[Mapping[str, Any]]) -> str:
     return "\n".join(lines + changes_table("", controllers, rows))
 
 
-def ultimate_text(ultimate: Sequence[Mapping[str, Any]]) -> str:
+def ultimate_text(ultimate: Sequence[Mapping[str, Any]], over: Sequence[str] = ()) -> str:
     """The design loads γ_f·F_k (magnitudes) of the main channels per controller, changes against the first, then
-    what governs each: the case, or the extrapolation with its interval (``hawt_tools.campaign.ultimate_table``)."""
+    what governs each: the case, or the extrapolation with its interval (``hawt_tools.campaign.ultimate_table``);
+    ``over`` names the DLCs a table of :func:`hawt_analysis.ultimate.governing_loads` was taken over, and each
+    governing case then its DLC."""
     if not ultimate:
         return ""
     controllers = list(dict.fromkeys(entry["controller"] for entry in ultimate))
@@ -80,11 +82,16 @@ def ultimate_text(ultimate: Sequence[Mapping[str, Any]]) -> str:
     channels = main_channels(entry["channel"] for entry in ultimate)
     rows = [(f"{name} design", [abs(entry_of[(c, channel)]["design"]) if (c, channel) in entry_of else math.nan
                                 for c in controllers], 1e-6, "MN·m") for channel, name in channels.items()]
+    dlcs = list(over) or list(dict.fromkeys(entry["dlc"] for entry in ultimate))
     first = ultimate[0]
-    lines = [f"ultimate loads, DLC {first['dlc']}: design load = γ_f {first['factor']:g} × characteristic load"]
+    several = len(dlcs) > 1
+    lines = [f"ultimate loads over DLC {', '.join(dlcs)}: design load = the largest γ_f × characteristic load"
+             if several else
+             f"ultimate loads, DLC {first['dlc']}: design load = γ_f {first['factor']:g} × characteristic load"]
     lines += changes_table("", controllers, rows) + ["governed by:"]
-    lines += [f"  {c}, {name}: {entry_of[(c, channel)]['case']} ({entry_of[(c, channel)]['basis']})"
-              for c in controllers for channel, name in channels.items() if (c, channel) in entry_of]
+    lines += [f"  {c}, {name}: " + (f"DLC {e['dlc']} (γ_f {e['factor']:g}), " if several else "")
+              + f"{e['case']} ({e['basis']})"
+              for c in controllers for channel, name in channels.items() if (e := entry_of.get((c, channel)))]
     return "\n".join(lines)
 
 

@@ -26,7 +26,8 @@ from numpy.typing import ArrayLike
 from scipy import optimize, stats
 
 __all__ = ["DESIGN_SITUATIONS", "PARTIAL_SAFETY_FACTORS", "EXTRAPOLATED_FACTOR", "FIFTY_YEARS",
-           "partial_safety_factor", "UltimateLoad", "ultimate_loads", "Extrapolation", "fifty_year_load"]
+           "partial_safety_factor", "UltimateLoad", "ultimate_loads", "governing_loads", "Extrapolation",
+           "fifty_year_load"]
 
 DESIGN_SITUATIONS = {
     "1.1": "N", "1.3": "N", "1.4": "N", "1.5": "N",
@@ -94,6 +95,23 @@ def ultimate_loads(rows: Iterable[Mapping[str, object]], channels: Sequence[str]
             if key not in best or abs(load.design) > abs(best[key].design):
                 best[key] = load
     return [best[key] for key in sorted(best)]
+
+
+def governing_loads(tables: Iterable[Sequence[Mapping[str, object]]]) -> List[Dict[str, object]]:
+    """The design load of each controller and channel over several DLCs' tables (entries with ``controller``,
+    ``channel``, ``design``, ``dlc`` and what governs): the entry of the largest |γ_f·F_k| (IEC 61400-1 Ed. 3
+    §7.6.2, the design load is the largest over the load cases); a DLC without a value (NaN) governs only where no
+    other has one."""
+    best: Dict[Tuple[object, object], Dict[str, object]] = {}
+    for table in tables:
+        for entry in table:
+            key = (entry["controller"], entry["channel"])
+            design = abs(float(entry["design"]))
+            held = best.get(key)
+            if held is None or (design > abs(float(held["design"]))) or (
+                    math.isnan(float(held["design"])) and not math.isnan(design)):
+                best[key] = dict(entry)
+    return list(best.values())
 
 
 @dataclass(frozen=True)

@@ -33,6 +33,17 @@ system fault (default: blade 1's pitch actuator runs away to feather) ``GUST_STA
 ``grid_loss``) at the gust's start, in its dip and at its peak (cases 1-3, ``EOG_FAULT_DELAYS``; the IEC asks for
 the timing that loads most), γ_f 1.1 (abnormal).
 
+A file may run several DLCs, each with its own ``speeds``, ``seeds`` and ``fault`` (what an entry leaves out is the
+file's ``wind.speeds``, ``wind.seeds`` and the DLC's own fault), the rest shared (``campaigns/ultimate.yaml``)::
+
+    dlc:
+      1.3: {speeds: [11, 17, 25], seeds: 2}
+      1.4: {speeds: [9.4, 11.4, 13.4]}
+      2.3: {speeds: [9.4, 13.4, 25], fault: grid_loss}
+
+:func:`load_campaigns` reads it as one :class:`Campaign` per DLC; ``hawt campaign`` runs each into a folder of its
+own and takes the design load of every channel over all of them (:func:`hawt_analysis.ultimate.governing_loads`).
+
 Every case is a run of a controller's graph (its launch ``arguments`` and ``-p``-style
 ``parameters``) with the plant's wind set by the campaign. The ``turbine`` is every graph's ``turbine``
 argument, as ``turbine:=`` gives it to ``hawt run``: the plant's turbine and, through ``$(turbine-tuning …)``,
@@ -52,7 +63,7 @@ from hawt_plant.gusts import EOG_DURATION
 from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml, resolve_turbine
 
 __all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "graph_arguments",
-           "TURBULENCE_CLASSES", "DLCS", "DesignLoadCase", "EOG_FAULT_DELAYS", "GUST_START", "site_wind_class"]
+           "load_campaigns", "TURBULENCE_CLASSES", "DLCS", "DesignLoadCase", "EOG_FAULT_DELAYS", "GUST_START", "site_wind_class"]
 
 TURBULENCE_CLASSES = ("A", "B", "C")
 
@@ -100,8 +111,9 @@ _EXTRAPOLATION_SEEDS = 3
 _KEYS = {"": ("turbine", "dlc", "fault", "wind", "site", "duration", "transient", "controllers"),
          "wind": ("speeds", "seeds", "turbulence_class", "shear_exponent"),
          "site": ("wind_class", "mean", "shape"),
-         "controller": ("graph", "arguments", "parameters")}
-_REQUIRED = {"": ("wind", "duration", "controllers"), "wind": ("speeds",), "controller": ("graph",)}
+         "controller": ("graph", "arguments", "parameters"),
+         "dlc": ("speeds", "seeds", "fault")}
+_REQUIRED = {"": ("wind", "duration", "controllers"), "controller": ("graph",)}
 
 
 class CampaignError(GraphError):
@@ -180,7 +192,24 @@ def _join(where: str, key: str) -> str:
 
 
 def load_campaign(path: Path) -> Campaign:
-    """Read and check a campaign file (module notes); the graphs are checked by `check_campaign_cases`.
+    """Read and check a campaign file of one DLC (module notes); :func:`load_campaigns` reads one of several.
+
+    Raises
+    ------
+    CampaignError
+        Naming file, line and key: unknown or missing keys, values of the wrong type or out of range, or a file
+        of several DLCs.
+    """
+    campaigns = load_campaigns(path)
+    if len(campaigns) > 1:
+        raise CampaignError(f"{path}: {len(campaigns)} DLCs ({', '.join(c.dlc for c in campaigns)}): expected one here")
+    return campaigns[0]
+
+
+def load_campaigns(path: Path) -> Tuple[Campaign, ...]:
+    """Read and check a campaign file (module notes): one campaign, or one per DLC where ``dlc`` maps DLCs to their
+    ``speeds``, ``seeds`` and ``fault`` (each defaulting to the file's ``wind.speeds``, ``wind.seeds`` and the DLC's
+    own fault); everything else is shared. The graphs are checked by :func:`hawt_tools.campaign.plan_cases`.
 
     Raises
     ------
@@ -195,18 +224,55 @@ def load_campaign(path: Path) -> Campaign:
     read = _Reader(path)
     top = read.mapping(data, 1, "", "")
     wind = read.mapping(top["wind"], _line(top, "wind"), "wind", "wind")
-    speeds = wind["speeds"]
+    dlcs = top.get("dlc", "1.2")
+    if not isinstance(dlcs, dict):
+        return (_campaign(read, top, wind, _dlc_text(dlcs), _line(top, "dlc"),
+                          {key: _setting(mapping, key, where) for key, mapping, where in
+                           (("speeds", wind, "wind"), ("seeds", wind, "wind"), ("fault", top, ""))}),)
+    if not dlcs:
+        read.fail(_line(top, "dlc"), "dlc: expected a DLC or a mapping DLC: {speeds, seeds, fault}, found {}")
+    if "fault" in top:
+        read.fail(_line(top, "fault"), "fault: with several DLCs, each DLC 2.x takes its fault in its entry")
+    campaigns = []
+    for key, entry in dlcs.items():
+        where = f"dlc.{_dlc_text(key)}"
+        entry = read.mapping(entry if entry is not None else {}, _line(dlcs, key), where, "dlc")
+        settings = {name: _setting(wind, name, "wind") if name in wind and name not in entry
+                    else _setting(entry, name, where) for name in ("speeds", "seeds", "fault")}
+        campaigns.append(_campaign(read, top, wind, _dlc_text(key), _line(dlcs, key), settings))
+    if len({c.dlc for c in campaigns}) < len(campaigns):
+        read.fail(_line(top, "dlc"), "dlc: a DLC named twice")
+    return tuple(campaigns)
+
+
+def _setting(mapping: Mapping, key: str, where: str) -> Tuple[Any, int, str]:
+    """A key's value (None where it is not given), its line and its name in errors."""
+    return mapping.get(key), _line(mapping, key), _join(where, key)
+
+
+def _campaign(read: _Reader, top: Mapping, wind: Mapping, dlc_value: str, dlc_line: int,
+              settings: Mapping[str, Tuple[Any, int, str]]) -> Campaign:
+    """One DLC's campaign: its ``speeds``, ``seeds`` and ``fault`` from ``settings`` (:func:`_setting`), the rest
+    from the file's ``top`` and ``wind``."""
+    dlc = read.choice(dlc_value, dlc_line, "dlc", tuple(DLCS))
+    speeds, line, name = settings["speeds"]
+    if speeds is None:
+        read.fail(dlc_line if name.startswith("dlc") else _line(top, "wind"),
+                  f"{name.rpartition('.')[0]}: missing key 'speeds'")
     if not isinstance(speeds, list) or not speeds:
-        read.fail(_line(wind, "speeds"), f"wind.speeds: expected a list of wind speeds [m/s], found {speeds!r}")
-    speeds = tuple(read.number(v, _line(wind, "speeds"), "wind.speeds", 3.0, 30.0) for v in speeds)
+        read.fail(line, f"{name}: expected a list of wind speeds [m/s], found {speeds!r}")
+    speeds = tuple(read.number(v, line, name, 3.0, 30.0) for v in speeds)
     if any(b <= a for a, b in zip(speeds, speeds[1:])):
-        read.fail(_line(wind, "speeds"), f"wind.speeds: expected increasing speeds, found {list(speeds)}")
-    dlc = read.choice(_dlc_text(top.get("dlc", "1.2")), _line(top, "dlc"), "dlc", tuple(DLCS))
+        read.fail(line, f"{name}: expected increasing speeds, found {list(speeds)}")
     transients = DLCS[dlc].transients
-    seeds = _seeds(read, wind.get("seeds", len(transients) or 1), _line(wind, "seeds"))
+    value, line, name = settings["seeds"]
+    seeds = _seeds(read, len(transients) or 1 if value is None else value, line, name)
     if transients and not set(seeds) <= set(range(1, len(transients) + 1)):
-        read.fail(_line(wind, "seeds"), f"wind.seeds: DLC {dlc} has {len(transients)} cases per speed (" + ", ".join(
+        read.fail(line, f"{name}: DLC {dlc} has {len(transients)} cases per speed (" + ", ".join(
             f"{i} {DLCS[dlc].label(i)}" for i in range(1, len(transients) + 1)) + f"), found {list(seeds)}")
+    if dlc == "1.1" and len(seeds) < _EXTRAPOLATION_SEEDS:
+        read.fail(line, f"{name}: DLC 1.1 extrapolates each bin's run maxima, which needs at least "
+                  f"{_EXTRAPOLATION_SEEDS} seeds per bin, found {len(seeds)}")
     duration = read.number(top["duration"], _line(top, "duration"), "duration", 10.0, 36000.0)
     transient = read.number(top.get("transient", 60.0), _line(top, "transient"), "transient", 0.0, 3600.0)
     controllers = top["controllers"]
@@ -218,12 +284,10 @@ def load_campaign(path: Path) -> Campaign:
         what = "transient starts" if transients else "fault acts"
         read.fail(_line(top, "duration"), f"duration: DLC {dlc}'s {what} {GUST_START:g} s into the analysed time "
                   f"and its loads follow for up to 12 s: expected at least {GUST_START + 20.0:g} s, found {duration:g}")
-    fault = _fault(read, top.get("fault", DLCS[dlc].fault), _line(top, "fault"), dlc)
-    if dlc == "1.1" and len(seeds) < _EXTRAPOLATION_SEEDS:
-        read.fail(_line(wind, "seeds"), f"wind.seeds: DLC 1.1 extrapolates each bin's run maxima, which needs at "
-                  f"least {_EXTRAPOLATION_SEEDS} seeds per bin, found {len(seeds)}")
+    value, line, name = settings["fault"]
+    fault = _fault(read, DLCS[dlc].fault if value is None else value, line, dlc, name)
     return Campaign(
-        path=path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine, dlc=dlc,
+        path=read.path, speeds=speeds, seeds=seeds, duration=duration, transient=transient, turbine=turbine, dlc=dlc,
         fault=fault,
         controllers=tuple(_controller(read, name, entry, _line(controllers, name), turbine)
                           for name, entry in controllers.items()),
@@ -239,21 +303,21 @@ def site_wind_class(site: WindDistribution) -> str:
     return next((name for name, mean in IEC_CLASS_MEAN_SPEED.items() if mean == site.mean), "I")
 
 
-def _fault(read: _Reader, value: Any, line: int, dlc: str) -> str:
+def _fault(read: _Reader, value: Any, line: int, dlc: str, name: str = "fault") -> str:
     """The campaign's fault entry, checked as the plant checks its ``faults`` entries (a blade number against the
     turbine's blades when the graphs are checked, before any case runs)."""
     if not DLCS[dlc].fault:
         if value:
-            read.fail(line, f"fault: DLC {dlc} has no fault; faults belong to DLC " +
+            read.fail(line, f"{name}: DLC {dlc} has no fault; faults belong to DLC " +
                       " and ".join(name for name, case in DLCS.items() if case.fault))
         return ""
     if not isinstance(value, str) or "at=" in value:
-        read.fail(line, f"fault: expected one fault entry 'KIND key=value ...' without at= (the DLC times it), "
+        read.fail(line, f"{name}: expected one fault entry 'KIND key=value ...' without at= (the DLC times it), "
                   f"found {value!r}")
     try:
         parse_faults([f"{value} at=0"], 0.01)
     except ParameterError as error:
-        read.fail(line, f"fault: {str(error).removeprefix('faults: ')}")
+        read.fail(line, f"{name}: {str(error).removeprefix('faults: ')}")
     return value.strip()
 
 
@@ -272,13 +336,13 @@ def _turbine(read: _Reader, value: Any, line: int) -> str:
         raise CampaignError(str(error)) from None
 
 
-def _seeds(read: _Reader, value: Any, line: int) -> Tuple[int, ...]:
+def _seeds(read: _Reader, value: Any, line: int, name: str = "wind.seeds") -> Tuple[int, ...]:
     if isinstance(value, int) and not isinstance(value, bool) and value >= 1:
         return tuple(range(1, value + 1))
     if isinstance(value, list) and value and all(isinstance(v, int) and not isinstance(v, bool) and v >= 0
                                                  for v in value) and len(set(value)) == len(value):
         return tuple(value)
-    read.fail(line, f"wind.seeds: expected a count (1 or more) or a list of distinct seeds >= 0, found {value!r}")
+    read.fail(line, f"{name}: expected a count (1 or more) or a list of distinct seeds >= 0, found {value!r}")
 
 
 def _site(read: _Reader, value: Any, line: int) -> WindDistribution:

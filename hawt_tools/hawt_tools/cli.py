@@ -751,22 +751,52 @@ def _cmd_turbine_show(args: argparse.Namespace) -> int:
 
 
 def _cmd_campaign(args: argparse.Namespace) -> int:
-    """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder."""
-    from hawt_analysis.campaign_report import lifetime_text, ultimate_text, write_campaign_report
-    from hawt_core.stop_signals import stop_signals
-    from hawt_tools.campaign import lifetime_table, run_campaign, ultimate_table, write_tables
-    from hawt_tools.campaign_file import load_campaign
+    """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder. A
+    file of several DLCs runs each into its folder ``dlc-N.N`` and prints the design loads over them all, which
+    ``ultimate.csv`` in the output folder keeps."""
+    import pandas
+
+    from hawt_analysis.campaign_report import ultimate_text
+    from hawt_analysis.ultimate import governing_loads
+    from hawt_tools.campaign_file import load_campaigns
 
     if args.workers is not None and args.workers < 1:
         raise GraphError(f"--workers {args.workers}: expected 1 or more")
     scheduler = _scheduler_address(args.scheduler)
-    campaign = load_campaign(Path(args.campaign))
+    campaigns = load_campaigns(Path(args.campaign))
     output = _output_path(args.output or Path(args.campaign).stem, "-o", folder=True)
+    several = len(campaigns) > 1
+    tables, failed = [], 0
+    for campaign in campaigns:  # a DLC with failed cases leaves the others to run; an interruption stops them all
+        if several:
+            print(f"DLC {campaign.dlc}:", flush=True)
+        status, ultimate = _run_campaign(campaign, output / f"dlc-{campaign.dlc}" if several else output, args,
+                                         scheduler)
+        if status == 130:
+            return status
+        failed = failed or status
+        tables.append(ultimate)
+    if several and any(tables):
+        governing = governing_loads(tables)
+        pandas.DataFrame(governing).to_csv(output / "ultimate.csv", index=False)
+        print(ultimate_text(governing, [campaign.dlc for campaign in campaigns]))
+        print(f"design loads over the DLCs: {output / 'ultimate.csv'}")
+    return failed
+
+
+def _run_campaign(campaign, output: Path, args: argparse.Namespace, scheduler: str) -> tuple[int, list]:
+    """One DLC's campaign into ``output``: its exit status (0, 130 interrupted, 1 failed cases) and its ultimate
+    table."""
+    from hawt_analysis.campaign_report import lifetime_text, ultimate_text, write_campaign_report
+    from hawt_core.stop_signals import stop_signals
+    from hawt_tools.campaign import lifetime_table, run_campaign, ultimate_table, write_tables
+
     # Ctrl-C or SIGTERM stops the campaign, keeping what finished, also in a process started with SIGINT ignored
     # (a script's background job, a test runner's worker)
     with stop_signals(signal.default_int_handler):
         done = run_campaign(campaign, output, args.workers, scheduler, args.bags,
                             report=lambda line: print(line, flush=True))
+    ultimate = []
     if done.rows:
         tables = write_tables(campaign, done.rows, output)
         lifetime = lifetime_table(campaign, done.rows)
@@ -784,12 +814,12 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
     if done.interrupted:
         print(f"hawt campaign: interrupted; {len(done.rows)} finished case(s) kept in {output}: run the same command "
               "again to resume", file=sys.stderr)
-        return 130
+        return 130, ultimate
     if done.failed:
         for line in done.failed.values():
             print(f"hawt campaign: failed: {line}", file=sys.stderr)
-        return 1
-    return 0
+        return 1, ultimate
+    return 0, ultimate
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from scipy import optimize, stats
 
-from hawt_analysis.ultimate import FIFTY_YEARS, fifty_year_load, partial_safety_factor, ultimate_loads
+from hawt_analysis.ultimate import (FIFTY_YEARS, fifty_year_load, governing_loads, partial_safety_factor,
+                                    ultimate_loads)
 
 TEN_MINUTES = 600.0
 REDUCED_VARIATE = -math.log(-math.log1p(-TEN_MINUTES / FIFTY_YEARS))
@@ -41,6 +42,21 @@ def test_the_governing_case_has_the_largest_factored_load_and_keeps_its_sign():
     assert table["ipc", "flap"].case == "ecd_11" and table["ipc", "flap"].design == pytest.approx(13.5)
     assert table["ipc", "tilt"].characteristic == -8.0 and table["ipc", "tilt"].design == pytest.approx(-10.8)
     assert table["baseline", "flap"].dlc == "2.3" and table["baseline", "flap"].design == pytest.approx(15.4)
+
+
+def test_over_several_dlcs_each_channel_takes_the_largest_factored_load_and_names_its_dlc():
+    """IEC 61400-1 §7.6.2: the design load is the largest over the load cases; a DLC that has none (NaN, an
+    incomplete extrapolation) governs only a channel no other DLC has."""
+    def entry(dlc, channel, design):
+        return {"controller": "ipc", "channel": channel, "design": design, "dlc": dlc, "case": f"case of {dlc}"}
+
+    extreme = [entry("1.3", "flap", 12.0e6), entry("1.3", "tilt", -3.0e6), entry("1.3", "yaw", math.nan)]
+    fault = [entry("2.3", "flap", 11.0e6), entry("2.3", "tilt", -5.0e6), entry("2.3", "tower", 90.0e6)]
+    governing = {e["channel"]: e for e in governing_loads([extreme, fault])}
+    assert {channel: (e["dlc"], e["design"]) for channel, e in governing.items() if channel != "yaw"} == {
+        "flap": ("1.3", 12.0e6), "tilt": ("2.3", -5.0e6), "tower": ("2.3", 90.0e6)}
+    assert math.isnan(governing["yaw"]["design"])
+    assert governing_loads([[entry("1.1", "yaw", math.nan)], [entry("1.4", "yaw", 2.0e6)]])[0]["dlc"] == "1.4"
 
 
 def test_many_maxima_of_one_bin_give_the_known_fifty_year_value():

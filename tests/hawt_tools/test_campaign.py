@@ -382,3 +382,28 @@ def test_a_fault_case_names_the_fault_that_acted_and_the_turbine_answers_it(tmp_
     assert bool(row["trips"]) == tripped, row["trips"]
     if dlc == "2.3":
         assert row["rotor_speed.max"] > 1.1 * nrel_5mw().schedule.rated_rotor_speed
+
+
+def test_a_campaign_of_several_dlcs_runs_each_into_its_folder_and_tables_the_design_loads_over_them(tmp_path,
+                                                                                                  hawt_cli):
+    """DLC 1.4 at rated (both ECD directions) and DLC 2.3 with the grid lost at the gust's peak: each DLC's tables
+    in dlc-N.N, then the largest γ_f·F_k of every channel over both, with the DLC and case that govern it, printed
+    and in ultimate.csv."""
+    path = tmp_path / "ultimate.yaml"
+    path.write_text("dlc:\n  1.4: {speeds: [11.4]}\n  2.3: {speeds: [13.4], seeds: [3]}\nduration: 30\n"
+                    "transient: 5\nwind: {turbulence_class: B}\ncontrollers:\n  baseline: {graph: baseline}\n")
+    output = tmp_path / "out"
+    result = subprocess.run([*hawt_cli, "campaign", str(path), "-o", str(output), "--workers", "2"],
+                            capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr
+    assert (output / "dlc-1.4" / "ultimate.csv").is_file() and (output / "dlc-2.3" / "ultimate.csv").is_file()
+    over = pandas.read_csv(output / "ultimate.csv")
+    each = pandas.concat([pandas.read_csv(output / f"dlc-{dlc}" / "ultimate.csv", dtype={"dlc": str})
+                          for dlc in ("1.4", "2.3")], ignore_index=True)
+    for _, row in over.iterrows():
+        mine = each[each["channel"] == row["channel"]]
+        assert abs(row["design"]) == mine["design"].abs().max()
+        assert f"{row['dlc']:g}" == mine.loc[mine["design"].abs().idxmax(), "dlc"]
+    assert "ultimate loads over DLC 1.4, 2.3: design load = the largest γ_f × characteristic load" in result.stdout
+    assert re.search(r"baseline, blade 1 root out-of-plane: DLC (1\.4 \(γ_f 1\.35\), 11\.4 m/s ECD|2\.3 \(γ_f 1\.1\), "
+                     r"13\.4 m/s EOG)", result.stdout)

@@ -8,7 +8,7 @@ import pytest
 
 from hawt_analysis.lifetime import WindDistribution
 from hawt_tools.campaign import case_graph, plan_cases
-from hawt_tools.campaign_file import CampaignError, case_overrides, load_campaign
+from hawt_tools.campaign_file import CampaignError, case_overrides, load_campaign, load_campaigns
 from hawt_tools.graph_file import ParameterFile
 from turbine_folders import copied_turbine
 
@@ -172,10 +172,53 @@ def test_the_command_refuses_a_bad_file_in_one_line_with_exit_2(tmp_path, hawt_c
     assert "integral_gian" in result.stderr and not (tmp_path / "out").exists()
 
 
-@pytest.mark.parametrize("name", ["dlc12.yaml", "two_bladed_ac17.yaml"])
+@pytest.mark.parametrize("name", ["dlc12.yaml", "two_bladed_ac17.yaml", "ultimate.yaml"])
 def test_the_shipped_campaign_files_are_valid(name):
-    campaign = load_campaign(Path(__file__).resolve().parents[2] / "campaigns" / name)
-    assert len(plan_cases(campaign)) == len(campaign.controllers) * len(campaign.speeds) * len(campaign.seeds)
+    for campaign in load_campaigns(Path(__file__).resolve().parents[2] / "campaigns" / name):
+        assert len(plan_cases(campaign)) == len(campaign.controllers) * len(campaign.speeds) * len(campaign.seeds)
+
+
+SEVERAL = """\
+dlc:
+  1.4: {speeds: [9.4, 11.4]}
+  2.1: {seeds: [4], fault: grid_loss}
+  2.3:
+wind: {speeds: [13, 18], seeds: 2}
+duration: 40
+transient: 5
+controllers:
+  baseline: {graph: baseline}
+"""
+
+
+def test_a_file_of_several_dlcs_is_a_campaign_each_with_its_own_speeds_seeds_and_fault(tmp_path):
+    """Each DLC's entry gives its speeds, seeds and fault; what it leaves out is the file's wind.speeds and
+    wind.seeds (a transient DLC: all its cases) and the DLC's own fault; the rest is shared."""
+    gusts, faulted, grid = load_campaigns(_write(tmp_path, SEVERAL))
+    assert (gusts.dlc, gusts.speeds, gusts.seeds, gusts.fault) == ("1.4", (9.4, 11.4), (1, 2), "")
+    assert (faulted.dlc, faulted.speeds, faulted.seeds, faulted.fault) == ("2.1", (13.0, 18.0), (4,), "grid_loss")
+    assert (grid.dlc, grid.speeds, grid.seeds, grid.fault) == ("2.3", (13.0, 18.0), (1, 2), "grid_loss")
+    assert {gusts.duration, faulted.transient, grid.controllers[0].graph} == {40.0, 5.0, "baseline"}
+    with pytest.raises(CampaignError, match="3 DLCs"):
+        load_campaign(_write(tmp_path, SEVERAL))
+
+
+@pytest.mark.parametrize("text, message", [
+    (SEVERAL.replace("{seeds: [4], fault: grid_loss}", "{seeds: [4], fualt: grid_loss}"),
+     "campaign.yaml:3: dlc.2.1.fualt: unknown key (did you mean 'fault'?)"),
+    (SEVERAL.replace("  2.3:\n", "  1.3: {fault: grid_loss}\n"),
+     "campaign.yaml:4: dlc.1.3.fault: DLC 1.3 has no fault; faults belong to DLC 2.1 and 2.3"),
+    ("fault: grid_loss\n" + SEVERAL, "campaign.yaml:1: fault: with several DLCs, each DLC 2.x takes its fault in its "
+                                     "entry"),
+    (SEVERAL.replace("wind: {speeds: [13, 18], seeds: 2}", "wind: {seeds: 2}"),
+     "campaign.yaml:3: dlc.2.1: missing key 'speeds'"),
+    (SEVERAL.replace("  2.3:\n", "  1.40: {}\n"), "campaign.yaml:4: duplicate key 1.4"),
+    (SEVERAL.replace("  2.3:\n", "  '1.4': {}\n"), "campaign.yaml:1: dlc: a DLC named twice"),
+])
+def test_a_bad_dlc_entry_is_one_line_naming_its_line_and_key(tmp_path, text, message):
+    with pytest.raises(CampaignError) as raised:
+        load_campaigns(_write(tmp_path, text))
+    assert str(raised.value) == str(tmp_path / message)
 
 
 def _parameter_files(graph):
