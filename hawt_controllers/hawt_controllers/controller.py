@@ -248,6 +248,22 @@ def update_or_hold(core: "Controller", step: int, loads: Any, state: Any,
     return contributions, None
 
 
+class MeasuredFactor:
+    """The factor on a demand that is worthless without its input (a dead blade-root load sensor, issue 34): each
+    step without its input takes it linearly towards 0 over the controller's ramp time, each step with it back
+    towards 1 (at once for a ramp time of 0). A controller multiplies its output by it and answers its last
+    unscaled output, faded, in :meth:`Controller.without_input`."""
+
+    def __init__(self) -> None:
+        self.value = 1.0
+
+    def step(self, measured: bool, dt: float, ramp_time: float) -> float:
+        """The factor of this step, moved one step of ``dt`` [s] towards 1 if ``measured``, else towards 0."""
+        rate = math.inf if ramp_time == 0.0 else 1.0 / ramp_time
+        self.value = min(self.value + rate * dt, 1.0) if measured else max(self.value - rate * dt, 0.0)
+        return self.value
+
+
 class OutputRamp:
     """A factor that goes linearly 0 → 1 after :meth:`start` and 1 → 0 after :meth:`stop` (bumpless switching).
 

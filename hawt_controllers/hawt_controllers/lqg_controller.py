@@ -31,7 +31,7 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_val
 from hawt_core.plant_description import PlantDescription
 from hawt_core.topics import WIND_ESTIMATE
 
-from .controller import Contribution, Controller, HarmonicContribution, OutputRamp
+from .controller import Contribution, Controller, HarmonicContribution, MeasuredFactor, OutputRamp
 from .exceptions import ConfigurationError
 from .linear_models import load_models
 from .lqg_design import LqgDesign, LqgWeights, design_lqg
@@ -50,6 +50,7 @@ class LqgIpcController(Controller):
 
     TYPE = "lqg_ipc"
     ESTIMATE = (WIND_ESTIMATE, "WindEstimate")
+    WITHOUT_INPUT = "output fading out over its ramp time"
     PARAMETERS = (
         ParameterSpec("linear_models", "", "the plant's linear models (.npz of hawt linearize; empty: the "
                       "NREL 5 MW's)", read_only=True),
@@ -77,6 +78,8 @@ class LqgIpcController(Controller):
         self.pitches = [m.pitch for m in self.models]
         self.ramp = OutputRamp(plant.dt)
         self.start = (0.0, 0.0)  # what the output blends from as the ramp goes 0 -> 1
+        self.measured = MeasuredFactor()  # 1 while the moments are finite (without_input)
+        self.unmeasured = (0.0, 0.0)  # the last demand before that factor
         self.active_law = 0
 
     def _designs(self, values: Mapping[str, Any]) -> List[LqgDesign]:
@@ -113,10 +116,18 @@ class LqgIpcController(Controller):
             law.track_actuator(cyclic.cos, cyclic.sin)
         demands = [law.demand(moments.cos, moments.sin) for law in self.laws]
         cos, sin = demands[self.active_law]
-        applied = (factor * cos + (1.0 - factor) * self.start[0], factor * sin + (1.0 - factor) * self.start[1])
+        self.unmeasured = (factor * cos + (1.0 - factor) * self.start[0],
+                           factor * sin + (1.0 - factor) * self.start[1])
+        measured = self.measured.step(True, self.plant.dt, self.ramp_time())
+        applied = (measured * self.unmeasured[0], measured * self.unmeasured[1])
         for law in self.laws:  # every estimator is told what was applied: this controller's contribution
             law.advance(applied)
         return (HarmonicContribution(1, *applied, 0.0),)
+
+    def without_input(self, held: Tuple[Contribution, ...]) -> Tuple[HarmonicContribution, ...]:
+        """Without the blade-root moments the estimators hold and the last demand fades out over ``ramp_time``."""
+        measured = self.measured.step(False, self.plant.dt, self.ramp_time())
+        return (HarmonicContribution(1, measured * self.unmeasured[0], measured * self.unmeasured[1], 0.0),)
 
     def estimate(self) -> Mapping[str, Any]:
         """The wind estimate û and the turbine states of the law in use (hawt_msgs/WindEstimate)."""

@@ -38,7 +38,7 @@ from hawt_core.command_interfaces import harmonic_interface
 from hawt_core.parameter_table import ParameterSpec
 from hawt_core.plant_description import PlantDescription
 
-from .controller import Contribution, Controller, HarmonicContribution, OutputRamp
+from .controller import Contribution, Controller, HarmonicContribution, MeasuredFactor, OutputRamp
 from .exceptions import InputError
 from .harmonic_estimator import HarmonicEstimator
 from .hub_frame import main_bearing_to_hub
@@ -55,6 +55,7 @@ class MainBearingIpcController(Controller):
     """Zalkind & Pao's 2P main-bearing IPC on harmonic 1 (see the module notes)."""
 
     TYPE = "main_bearing_ipc"
+    WITHOUT_INPUT = "output fading out over its ramp time"
     PARAMETERS = (
         ParameterSpec("revolutions", 2.0, "window N_R of the harmonic estimator", "rev", minimum=0.5, maximum=10.0,
                       read_only=True),
@@ -72,6 +73,7 @@ class MainBearingIpcController(Controller):
         super().__init__(values, plant)
         self.estimator = HarmonicEstimator(2, self.values["revolutions"], max_harmonic=1)
         self.ramp = OutputRamp(plant.dt)
+        self.measured = MeasuredFactor()  # 1 while the hub moments are finite (without_input)
         self.integral = 0j
         self.phasor = 0j
         self.error = 0j
@@ -101,6 +103,14 @@ class MainBearingIpcController(Controller):
                 phasor *= v["max_amplitude"] / abs(phasor)
             self.phasor = phasor
         factor = self.ramp.advance()
+        measured = self.measured.step(True, self.plant.dt, self.ramp_time())
+        return (HarmonicContribution(1, measured * factor * self.phasor.real, measured * factor * self.phasor.imag,
+                                     0.0),)
+
+    def without_input(self, held: Tuple[Contribution, ...]) -> Tuple[HarmonicContribution, ...]:
+        """Without finite hub moments the estimator and the integral hold and the demand fades out over
+        ``ramp_time``."""
+        factor = self.ramp.advance() * self.measured.step(False, self.plant.dt, self.ramp_time())
         return (HarmonicContribution(1, factor * self.phasor.real, factor * self.phasor.imag, 0.0),)
 
     def on_activate(self, ramp_time: Optional[float], initial: Sequence[Contribution], loads: Any) -> None:

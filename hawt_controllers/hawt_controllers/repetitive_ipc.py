@@ -32,7 +32,7 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_val
 from hawt_core.plant_description import PlantDescription
 
 from ._validation import finite_floats
-from .controller import BladeContribution, Contribution, Controller, OutputRamp, mean_pitch
+from .controller import BladeContribution, Contribution, Controller, MeasuredFactor, OutputRamp, mean_pitch
 from .exceptions import InputError
 from .pi import PIController
 from .repetitive import AzimuthMemory, RepetitiveConfig, convergence_problem, memory_config, memory_parameters
@@ -53,6 +53,7 @@ class RepetitiveIpcController(Controller):
     """Per-blade repetitive flap-moment control (see the module notes)."""
 
     TYPE = "repetitive_ipc"
+    WITHOUT_INPUT = "output fading out over its ramp time"
     PARAMETERS = (
         ParameterSpec("learning_gain", 0.3, "g: fraction of each revolution's flap-moment error the next one "
                       "removes (0: no learning, the companion PI alone)", minimum=0.0, maximum=1.99),
@@ -89,6 +90,8 @@ class RepetitiveIpcController(Controller):
         self.memories = [AzimuthMemory(config, scale) for _ in range(plant.blades)]
         self.companion = PIController((plant.blades,))
         self.ramp = OutputRamp(plant.dt)
+        self.measured = MeasuredFactor()  # 1 while the moments are finite (without_input)
+        self.unmeasured = (0.0,) * plant.blades  # the last increments before that factor
         self.reference = math.nan
         self._apply_freeze()
 
@@ -148,7 +151,15 @@ class RepetitiveIpcController(Controller):
         for i, (memory, error, extra) in enumerate(zip(self.memories, errors, companion)):
             learnt = memory.step(psi + spacing * i, error)
             increments.append(factor * min(max(learnt + extra, -limit), limit))
-        return (BladeContribution(tuple(increments)),)
+        self.unmeasured = tuple(increments)
+        measured = self.measured.step(True, self.plant.dt, self.ramp_time())
+        return (BladeContribution(tuple(measured * value for value in increments)),)
+
+    def without_input(self, held: Tuple[Contribution, ...]) -> Tuple[BladeContribution, ...]:
+        """Without every blade's moment the memories and the PI hold and the last increments fade out over
+        ``ramp_time``."""
+        measured = self.measured.step(False, self.plant.dt, self.ramp_time())
+        return (BladeContribution(tuple(measured * value for value in self.unmeasured)),)
 
     def on_activate(self, ramp_time: Optional[float], initial: Sequence[Contribution], loads: Any) -> None:
         if self.ramp.value == 0.0:

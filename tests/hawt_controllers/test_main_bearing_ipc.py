@@ -93,3 +93,33 @@ def test_it_waits_for_a_full_window_and_for_activation_and_claims_harmonic_1():
     first = next(i for i, o in enumerate(outputs) if o.cos or o.sin) + 500
     assert omega * 0.01 * first == pytest.approx(2 * 2 * math.pi, abs=0.05)  # two revolutions after the start
     assert max(math.hypot(o.cos, o.sin) for o in outputs) <= math.radians(3.0) + 1e-15
+
+
+def test_without_finite_hub_moments_the_demand_fades_out_over_the_ramp_time_and_back_in():
+    """A NaN hub moment is refused input (update_or_hold): the demand falls linearly from its last value to 0 over
+    ramp_time, and once the moments are finite again it comes back as fast, from where the law stood."""
+    from hawt_controllers.controller import update_or_hold
+
+    controller = MainBearingIpcController({"ramp_time": 1.0, "integral_gain": 5.0}, PLANT)
+    controller.on_activate(0.0, (), None)
+    omega, held = 1.5, ()
+
+    def step(k, tilt_scale=1.0):
+        psi = omega * 0.01 * k
+        tilt, yaw = hub_to_main_bearing(2e6 * math.cos(psi), 0.0, psi)
+        state = SimpleNamespace(hub_tilt_moment=float(tilt) * tilt_scale, hub_yaw_moment=float(yaw))
+        return update_or_hold(controller, k, SimpleNamespace(azimuth=psi % (2 * math.pi)), state, held)
+
+    for k in range(1500):
+        held, refusal = step(k)
+    assert refusal is None and math.hypot(held[0].cos, held[0].sin) > 0.0
+    last = math.hypot(held[0].cos, held[0].sin)
+    demands = []
+    for k in range(1500, 1650):
+        held, refusal = step(k, math.nan)
+        demands.append(math.hypot(held[0].cos, held[0].sin))
+    assert "not finite" in refusal and controller.WITHOUT_INPUT == "output fading out over its ramp time"
+    np.testing.assert_allclose(demands[:100], last * (1.0 - np.arange(1, 101) * 0.01), rtol=1e-9, atol=1e-15)
+    assert max(demands[100:]) == 0.0
+    back = [math.hypot(out[0].cos, out[0].sin) for out, _ in (step(k) for k in range(1650, 1760))]
+    assert back[0] > 0.0 and back[-1] > 0.5 * last

@@ -58,6 +58,28 @@ def test_a_dead_blade_root_sensor_fades_the_ipc_out_with_an_event_and_no_nan_rea
     assert np.abs(speed[1000:] / RATED - 1.0).max() < 0.02
 
 
+@pytest.mark.parametrize("graph, node, topic", [
+    ("lqg", "lqg_ipc", "control/ipc/h1"),
+    ("repetitive", "repetitive_ipc", "control/blade_pitch"),
+])
+def test_a_dead_blade_root_sensor_fades_lqg_and_repetitive_ipc_out_as_it_does_the_ipc(graph, node, topic):
+    """Blade 2's load sensor dead at 10 s: the LQG (Selvam) and the repetitive IPC (Fratini) report the refused
+    input once and say they fade out; their demand falls linearly from the last one to 0 over their 2 s ramp, not
+    held, so the individual pitch is 0 from 12 s, and no command is NaN."""
+    run, topics = _run(graph, "['load_dead blade=2 at=10']", 14)
+    (refused,) = [e for e in _events(run, "invalid_input") if e["source"] == f"/wt1/{node}"]
+    assert refused["step"] == 1000 and "NaN" in refused["detail"] and "fading out" in refused["detail"]
+    command = topics["control/pitch_command"]
+    assert np.isfinite(command["pitch"]).all() and np.isfinite(command["individual"]).all()
+    individual = np.abs(command["individual"])
+    assert individual[900:1000].max() > np.radians(0.1)  # working before
+    assert individual[1200:].max() == 0.0  # faded out over its 2 s ramp
+    rows = topics[topic]
+    demand = np.hypot(rows["cos"], rows["sin"]) if "cos" in rows else np.abs(rows["increment"]).max(axis=1)
+    fade = 1.0 - np.arange(1, 201) * DT / 2.0
+    np.testing.assert_allclose(demand[1000:1200], fade * demand[999], rtol=1e-9, atol=1e-15)
+
+
 def test_a_grid_loss_at_18_m_s_takes_the_torque_off_and_the_pitch_loop_holds_the_rotor_below_the_overspeed_warning():
     """baseline, grid lost at 5 s: an ERROR fault event at step 500; the generator torque falls at the generator's
     rate limit and is 0 once rated torque / max_torque_rate has passed; the collective pitch loop alone then holds the
