@@ -26,7 +26,9 @@ Where each acts, as in the field:
   actuator settles there within its response); run away, it is driven to its angle limit, which it reaches
   at its rate limit. Grid loss sets the generator torque command to 0 from step k: the converter can no
   longer load the generator. The plant's generator follows its command within ``max_torque_rate`` (that is
-  the model's generator, :mod:`hawt_plant.model`), so the torque falls at that rate, not at once. They
+  the model's generator, :mod:`hawt_plant.model`), so the torque falls at that rate, not at once; the
+  protection's grid monitor sees the loss at the end of that step and shuts the turbine down
+  (:class:`hawt_plant.safety_system.Protection`, a ``protection_trip``). They
   act after the safety system too: a tripped plant feathers the blades that still answer; a stuck blade
   stays where it is.
 
@@ -238,6 +240,11 @@ class PlantFaults:
         self._held: Dict[Fault, float] = {}
         self._moments: Optional[np.ndarray] = None
         self._pitch: Optional[np.ndarray] = None
+
+    def grid_connected(self, step: int) -> bool:
+        """Whether the generator was on the network over ``step`` (False from a ``grid_loss`` fault's step on): what
+        the protection's grid monitor reads (:class:`hawt_plant.safety_system.Protection`)."""
+        return not any(f.kind == "grid_loss" and f.step <= step for f in self._actuators)
 
     def starting(self, step: int) -> Tuple[Fault, ...]:
         """The faults that start acting at ``step`` (to be reported)."""

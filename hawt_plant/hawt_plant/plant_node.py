@@ -403,8 +403,9 @@ class PlantNode(Node):
             self.events(*fault_event(fault, self.values["dt"], self.actuator), step=self.step_index,
                         stamp=_stamp(self.output.time))
         out = self.output = self.faults.step(self.model, self.step_index, *self.command)
+        grid = self.faults.grid_connected(self.step_index)
         self.step_index += 1
-        for finding in self.safety.protect(out):
+        for finding in self.safety.protect(out, grid):
             self.events(*protection_event(finding, self.safety), step=self.step_index, stamp=_stamp(out.time))
         if self.step_index % max(1, int(round(self.values["report_period"] / self.values["dt"]))) == 0:
             self._progress()

@@ -152,7 +152,10 @@ class Protection:
     - tower-top acceleration: √(a_x² + a_y²) > a_trip;
     - pitch asymmetry: max_i θ_i − min_i θ_i > Δθ_trip;
     - pitch rate: max_i |θ_i(k) − θ_i(k−1)| / Δt > θ̇_trip (the plant's actuator is rate-limited, so
-      only a failed actuator reaches it).
+      only a failed actuator reaches it);
+    - grid loss: the generator is off the network (the converter's grid monitor, which a
+      :mod:`hawt_plant.faults` ``grid_loss`` fails): the turbine cannot be loaded and is shut down at
+      the first step that sees it.
 
     A measurement that is not finite is a trip as well: the protection cannot vouch for a turbine
     it cannot see. The first trip found is the one reported; :class:`SafetySystem` latches it.
@@ -167,8 +170,9 @@ class Protection:
         self._warned = {"rotor": False, "generator": False}
 
     def check(self, rotor_speed: float, generator_speed: float, tower_top_fa_accel: float,
-              tower_top_ss_accel: float, pitch: np.ndarray) -> list[ProtectionFinding]:
-        """The warnings and the trip (at most one, last) of one step's measurements (SI units, pitch per blade)."""
+              tower_top_ss_accel: float, pitch: np.ndarray, grid_connected: bool = True) -> list[ProtectionFinding]:
+        """The warnings and the trip (at most one, last) of one step's measurements (SI units, pitch per blade,
+        whether the generator is on the network)."""
         angles = np.asarray(pitch, dtype=float).tolist()  # B plain floats: cheaper than numpy for B = 3
         previous, self._previous_pitch = self._previous_pitch, angles
         limits, found = self.limits, []
@@ -203,6 +207,8 @@ class Protection:
             if rate > limits.pitch_rate_trip:
                 return found + [ProtectionFinding(True, f"pitch rate {math.degrees(rate):.3g} deg/s above the trip "
                                                         f"level {math.degrees(limits.pitch_rate_trip):.3g} deg/s")]
+        if not grid_connected:
+            return found + [ProtectionFinding(True, "grid loss: the generator is off the network")]
         return found
 
 
@@ -315,17 +321,19 @@ class SafetySystem:
         self.trip(reason, pitch)
         return reason
 
-    def protect(self, output: Any) -> list[ProtectionFinding]:
+    def protect(self, output: Any, grid_connected: bool = True) -> list[ProtectionFinding]:
         """Run the protection on one step's measurements (:meth:`Protection.check`), tripping on a trip it finds;
         what it found, to be reported (nothing once tripped, or without a protection).
 
         ``output`` is the model's output of the step (:class:`hawt_plant.model.TurbineOutput`, or anything with its
-        ``rotor_speed``, ``generator_speed``, ``tower_top_fa_accel``, ``tower_top_ss_accel`` and ``pitch``).
+        ``rotor_speed``, ``generator_speed``, ``tower_top_fa_accel``, ``tower_top_ss_accel`` and ``pitch``);
+        ``grid_connected`` whether the generator was on the network over it
+        (:meth:`hawt_plant.faults.PlantFaults.grid_connected`).
         """
         if self.tripped or self.protection is None:
             return []
         found = self.protection.check(output.rotor_speed, output.generator_speed, output.tower_top_fa_accel,
-                                      output.tower_top_ss_accel, output.pitch)
+                                      output.tower_top_ss_accel, output.pitch, grid_connected)
         if found and found[-1].trip:
             self.trip(found[-1].reason, output.pitch)
         return found

@@ -210,7 +210,7 @@ class InProcessRun:
             self.events.append({"step": k, "source": "in_process", "level": level, "kind": kind, "detail": detail})
         self.output = self.faults.step(self.model, k, *self.command)
         self.step_index += 1
-        for finding in self.safety.protect(self.output):
+        for finding in self.safety.protect(self.output, self.faults.grid_connected(k)):
             level, kind, detail = protection_event(finding, self.safety)
             self.events.append({"step": self.step_index, "source": "in_process", "level": level, "kind": kind,
                                 "detail": detail})

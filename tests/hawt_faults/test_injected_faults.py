@@ -80,21 +80,24 @@ def test_a_dead_blade_root_sensor_fades_lqg_and_repetitive_ipc_out_as_it_does_th
     np.testing.assert_allclose(demand[1000:1200], fade * demand[999], rtol=1e-9, atol=1e-15)
 
 
-def test_a_grid_loss_at_18_m_s_takes_the_torque_off_and_the_pitch_loop_holds_the_rotor_below_the_overspeed_warning():
-    """baseline, grid lost at 5 s: an ERROR fault event at step 500; the generator torque falls at the generator's
-    rate limit and is 0 once rated torque / max_torque_rate has passed; the collective pitch loop alone then holds the
-    rotor, whose speed peaks below the protection's warning level, so nothing trips (what a controller that
-    detects the grid loss and shuts down would do is not modelled)."""
+def test_a_grid_loss_at_18_m_s_is_seen_by_the_grid_monitor_which_shuts_the_turbine_down():
+    """baseline, grid lost at 5 s: an ERROR fault event at step 500; the protection's grid monitor sees the loss at the
+    end of that step and trips (step 501), feathering every blade at the actuator's rate limit; the generator torque
+    falls at the generator's rate limit and is 0 once rated torque / max_torque_rate has passed; the rotor never
+    overspeeds."""
     run, topics = _run("baseline", "['grid_loss at=5']", 20)
     (fault,) = _events(run, "fault")
     assert (fault["step"], fault["level"]) == (500, 40)
+    (trip,) = _events(run, "protection_trip")
+    assert trip["step"] == 501 and trip["detail"].startswith("grid loss: the generator is off the network")
     torque = topics["plant/state"]["generator_torque"]
     assert torque[500] > 0.9 * TURBINE.generator.rated_torque
     falls = TURBINE.generator.rated_torque / TURBINE.generator.max_torque_rate
     assert np.all(torque[500 + int(np.ceil(falls / DT)) + 2:] == 0.0)
+    pitch = topics["plant/blade_loads"]["pitch"]
+    np.testing.assert_allclose(np.diff(pitch[600:1000], axis=0), TURBINE.pitch_actuator.max_rate * DT, rtol=1e-2)
     speed = topics["plant/blade_loads"]["rotor_speed"]
-    assert speed.max() < TURBINE.protection.rotor_speed_warning and speed.max() > 1.05 * RATED
-    assert _events(run, "protection_trip") == [] and _events(run, "protection_warning") == []
+    assert speed[500:].max() < 1.01 * RATED and _events(run, "protection_warning") == []
 
 
 def test_a_pitch_runaway_to_feather_on_one_blade_trips_the_pitch_asymmetry_protection_which_feathers_all():

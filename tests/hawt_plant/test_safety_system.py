@@ -191,6 +191,12 @@ def test_an_overspeed_warning_comes_once_per_excursion():
     assert warnings[0][0] == "rotor overspeed warning: 1.41 rad/s above 1.4 rad/s (trip at 1.5 rad/s)"
 
 
+def test_the_grid_monitor_trips_when_the_generator_is_off_the_network():
+    """A lost grid (the converter's monitor) is a trip however normal the other measurements are."""
+    assert _findings(grid_connected=False) == [(True, "grid loss: the generator is off the network")]
+    assert _findings(grid_connected=True) == []
+
+
 def test_the_safety_system_trips_on_the_protections_trip_and_then_finds_nothing_more():
     """protect() trips the system with the finding's reason; later steps, whatever they measure, find nothing; the
     trip's event is an ERROR protection_trip saying what the trip does."""

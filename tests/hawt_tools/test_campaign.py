@@ -20,7 +20,6 @@ import yaml
 
 from hawt_analysis.campaign_report import lifetime_text
 from hawt_bag.step_comparison import step_differences
-from hawt_plant.turbine import nrel_5mw
 from hawt_tools.campaign import SCHEDULER_TIMEOUT, plan_cases, read_lifetime, run_case, write_tables
 from hawt_tools.campaign_file import case_overrides, load_campaign
 
@@ -362,26 +361,23 @@ def test_a_case_whose_safety_system_trips_says_so_and_its_commanded_rate_is_the_
     assert row["pitch.max_command_rate"] <= math.radians(8.0) * (1 + 1e-9)
 
 
-@pytest.mark.parametrize("dlc, seed, fault, tripped", [
-    ("2.3", 3, "grid loss: generator torque command 0 at t=20.25 s", False),
+@pytest.mark.parametrize("dlc, seed, fault, trip", [
+    ("2.3", 3, "grid loss: generator torque command 0 at t=20.25 s", "protection_trip at t=20.26 s"),
     ("2.1", 1, "pitch actuator of blade 1 running away to feather (1.5708 rad) at its rate limit 0.139626 rad/s at "
-               "t=15.00 s", True),
+               "t=15.00 s", "protection_trip at t=17.25 s"),
 ])
-def test_a_fault_case_names_the_fault_that_acted_and_the_turbine_answers_it(tmp_path, dlc, seed, fault, tripped):
-    """DLC 2.3 at 13 m/s, the grid lost at the extreme operating gust's peak: nothing loads the generator and the
-    rotor runs up past rated. DLC 2.1, blade 1's pitch running away to feather in turbulence: the safety system
-    trips. Each case's row names the fault as the plant's event has it, at its time (5 s transient + 10 s, + 5.25 s
-    for the gust's peak)."""
+def test_a_fault_case_names_the_fault_that_acted_and_the_trip_that_answered_it(tmp_path, dlc, seed, fault, trip):
+    """DLC 2.3 at 13 m/s, the grid lost at the extreme operating gust's peak: the grid monitor trips the protection
+    at the next step. DLC 2.1, blade 1's pitch running away to feather in turbulence: the pitch asymmetry trips it
+    2.25 s later. Each case's row names the fault as the plant's event has it, at its time (5 s transient + 10 s,
+    + 5.25 s for the gust's peak), and the trip."""
     path = tmp_path / "fault.yaml"
     path.write_text(f"dlc: {dlc}\nwind: {{speeds: [13], seeds: [{seed}]}}\nduration: 30\ntransient: 5\n"
                     "controllers:\n  baseline: {graph: baseline}\n")
     campaign = load_campaign(path)
     (case,) = plan_cases(campaign)
     row = run_case(case, campaign)
-    assert row["faults"] == fault
-    assert bool(row["trips"]) == tripped, row["trips"]
-    if dlc == "2.3":
-        assert row["rotor_speed.max"] > 1.1 * nrel_5mw().schedule.rated_rotor_speed
+    assert (row["faults"], row["trips"]) == (fault, trip)
 
 
 def test_a_campaign_of_several_dlcs_runs_each_into_its_folder_and_tables_the_design_loads_over_them(tmp_path,
