@@ -45,11 +45,10 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         update: bool, iterations: int, relaxation: float, dynamic_inflow: bool, dt: float,
                         tip_radius: float, tip_ratio: np.ndarray, skewed: bool, skew_angle: float,
                         cos_azimuth: np.ndarray, unsteady: bool, unsteady_states: np.ndarray,
-                        unsteady_table: np.ndarray, unsteady_constants: np.ndarray, element_loads: np.ndarray,
-                        sums: np.ndarray) -> None:
+                        unsteady_table: np.ndarray, unsteady_constants: np.ndarray, sums: np.ndarray) -> None:
     """One step of every blade element (module notes); updates the induction when ``update``.
 
-    Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'), ``element_loads`` (dF_n, dF_t): (2, B, N);
+    Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
     ``inflow_filter`` (3, B, N), Øye's intermediate and induced velocity and the last quasi-steady one;
     ``pitch_twist``, ``local_solidity``, ``pressure_to_load`` (1/2 rho c dr), ``tip_ratio`` (r / R): (B, N);
     ``loss_exponents`` (2, B, N); ``bounds`` (lower, upper) x (a, a') (2, 2, B, N); ``span_functions`` (N, 3);
@@ -57,7 +56,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     ``skewed``); ``polar_table`` and the grid constants of :class:`~hawt_plant.airfoil_table.ElementPolars`, the
     ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` (used when
     ``unsteady``). Without ``update`` the static polars give the loads (the dynamic stall states are settled at
-    this state). Writes ``element_loads`` and ``sums`` (2, B, 3): dF_n and dF_t summed against 1, s and phi.
+    this state). Writes ``sums`` (2, B, 3): each blade's dF_n and dF_t summed against 1, s and phi.
     """
     blades, elements = pitch_twist.shape
     sums[:] = 0.0
@@ -99,7 +98,6 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
             q = (un * un + ut * ut) * pressure_to_load[i, j]
             normal = q * (cl * cos_phi + cd * sin_phi)
             tangential = q * (cl * sin_phi - cd * cos_phi)
-            element_loads[0, i, j], element_loads[1, i, j] = normal, tangential
             for m in range(3):
                 sums[0, i, m] += normal * span_functions[j, m]
                 sums[1, i, m] += tangential * span_functions[j, m]

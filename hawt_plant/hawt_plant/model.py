@@ -693,7 +693,6 @@ class TurbineModel:
         self._inflow_operands = np.empty((3 * b + 3, n))
         self._inflow_operands[3 * b:] = self._element_basis
         self._inflow = np.empty((2, b, n))
-        self._element_loads = np.empty((2, b, n))
         # Inertial load sums of the accelerations [fa, ss, flap 1..B] as one product: the tower
         # rows follow the azimuth (set each step), a blade's flap acceleration acts on its own
         # F_n, s F_n and phi F_n.
@@ -803,7 +802,7 @@ class TurbineModel:
                             config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
                             self._tip_ratio, skewed, skew_angle, cos_azimuth, unsteady is not None,
                             *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
-                            self._element_loads, aero)
+                            aero)
         normal, tangential = np.add.reduce(aero, axis=1).tolist()  # over the blades
         cb = self._cos_cone
         self._aero_thrust = cb * normal[0]
