@@ -138,7 +138,8 @@ def _figure_lifetime(lifetime, path: Path) -> Path:
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set_xticks(np.arange(len(channels)), list(channels.values()), fontsize=8)
     ax.set(ylabel=f"lifetime DEL change against {controllers[0]} [%]")
-    ax.legend(fontsize=8)
+    if len(controllers) > 1:  # one controller has no change against itself, no bar to name
+        ax.legend(fontsize=8)
     ax.grid(axis="y", alpha=0.3)
     figure.savefig(path, dpi=90)
     return path

@@ -47,3 +47,14 @@ def test_the_report_page_heads_each_figure_with_what_it_shows(tmp_path):
     assert [html.unescape(heading) for heading in re.findall(r"<h2>(.*?)</h2>", page)] == [
         "DEL of the main channels against wind speed (mean over the seeds, each seed a dot)",
         "lifetime DEL change against baseline", "pitch activity against wind speed"]
+
+
+def test_a_campaign_of_one_controller_writes_its_report_without_a_warning(tmp_path, recwarn):
+    """One controller has no change to draw against itself: its lifetime figure has no bars, and no empty legend
+    (matplotlib's "No artists with labels found" warning)."""
+    baseline = LIFETIME[:len(CHANNELS) + 1]
+    rows = [{"controller": "baseline", "wind_speed": speed, "seed": 1, "wohler": dict.fromkeys(CHANNELS, 10.0),
+             **{f"del.{channel}": 1e6 for channel in CHANNELS}, "pitch.travel": 1.0, "pitch.max_command_rate": 0.1}
+            for speed in (12.0, 16.0)]
+    write_campaign_report("hawt campaign: one.yaml", rows, baseline, tmp_path, {})
+    assert [str(w.message) for w in recwarn] == []
