@@ -82,7 +82,7 @@ def ultimate_text(ultimate: Sequence[Mapping[str, Any]], over: Sequence[str] = (
     channels = main_channels(entry["channel"] for entry in ultimate)
     rows = [(f"{name} design", [abs(entry_of[(c, channel)]["design"]) if (c, channel) in entry_of else math.nan
                                 for c in controllers], 1e-6, "MN·m") for channel, name in channels.items()]
-    dlcs = list(over) or list(dict.fromkeys(entry["dlc"] for entry in ultimate))
+    dlcs = list(over) or sorted({str(entry["dlc"]) for entry in ultimate}, key=float)
     first = ultimate[0]
     several = len(dlcs) > 1
     lines = [f"ultimate loads over DLC {', '.join(dlcs)}: design load = the largest γ_f × characteristic load"

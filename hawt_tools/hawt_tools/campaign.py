@@ -44,7 +44,7 @@ from hawt_tools.graph_file import Graph, GraphError, ParameterFile, load_graph
 
 __all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "case_graph", "check_scheduler", "code_version", "plan_cases",
            "prepare_wind", "run_case", "run_campaign", "lifetime_table", "ultimate_table", "write_tables",
-           "read_lifetime", "turbine_digest"]
+           "read_lifetime", "read_ultimate", "turbine_digest"]
 
 SCHEDULER_TIMEOUT = 10.0
 """Seconds ``--scheduler`` has to answer (TCP connection, Dask handshake and identity); the client's timeout too."""
@@ -564,4 +564,16 @@ def read_lifetime(directory: Path, prefix: str = "") -> List[Dict[str, Any]]:
     if not path.is_file():
         raise CampaignError(f"{directory}: no lifetime.csv (not a campaign folder, or its campaign ran no case yet)")
     rows = pandas.read_csv(path).to_dict("records")
+    return [{**row, "controller": prefix + str(row["controller"])} for row in rows]
+
+
+def read_ultimate(directory: Path, prefix: str = "") -> List[Dict[str, Any]]:
+    """The design loads a campaign wrote into ``directory`` (``ultimate.csv``: an ultimate-load DLC's, or those over
+    the DLCs of a file of several), each controller named ``prefix + name``; none if it wrote none."""
+    import pandas
+
+    path = Path(directory) / "ultimate.csv"
+    if not path.is_file():
+        return []
+    rows = pandas.read_csv(path, dtype={"dlc": str, "case": str, "basis": str}).to_dict("records")
     return [{**row, "controller": prefix + str(row["controller"])} for row in rows]

@@ -14,7 +14,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Callable, Dict, List, NoReturn, Optional
+from typing import Any, Callable, Dict, List, NoReturn, Optional
 
 import yaml
 
@@ -78,6 +78,7 @@ def _cmd_graph_show(args: argparse.Namespace) -> int:
     """A graph's launch arguments with their defaults, its nodes with their parameter files, and its programs."""
     from hawt_tools.graph_file import ParameterFile, declared_arguments
     from hawt_tools.launcher import package_prefix
+    from hawt_tools.node_parameters import node_parameter_sources
 
     path = find_graph(args.graph)
     graph = load_graph(path, launch_arguments(args.arguments), package_prefix)
@@ -90,19 +91,29 @@ def _cmd_graph_show(args: argparse.Namespace) -> int:
     for argument in declared:
         print(f"  {argument.name:<{name_width}}  {defaults[argument.name]:<{default_width}}  "
               f"{argument.description}".rstrip())
-    print("nodes (namespace/name, package/executable, then parameters in the order they apply):")
+    print("nodes (namespace/name, package/executable, then parameters in the order they apply; a value a later "
+          "source replaces says what applies):")
     label_width = max(len(node.label) for node in graph.nodes)
     for node in graph.nodes:
         print(f"  {node.label:<{label_width}}  {node.package}/{node.executable}")
+        applied = node_parameter_sources(node)
         for source in node.parameters:
             lines = [f"from {source.path}"] if isinstance(source, ParameterFile) else (
-                f"{name}: {json.dumps(value)}" for name, value in source.values)
+                f"{name}: {json.dumps(value)}" + _replaced(value, *applied[name]) for name, value in source.values)
             print("".join(f"    {line}\n" for line in lines), end="")
     if graph.programs:
         print("programs (executable actions, run by hawt launch only):")
     for program in graph.programs:
         print(f"  {program.name}: {' '.join(program.command)}")
     return 0
+
+
+def _replaced(value: Any, applied: Any, origin: Any) -> str:
+    """What ``hawt graph show`` adds to a graph's inline value that a later source replaces: the value that applies
+    and where it comes from (a parameter file, or a later inline group)."""
+    if applied == value:
+        return ""
+    return f"  (applies: {json.dumps(applied)}, from {origin.path or 'a later value in the graph'})"
 
 
 def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Optional[float], composed: bool,
@@ -337,18 +348,31 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 
 def _compare_campaigns(args: argparse.Namespace, only_folders: bool) -> int:
-    """Lifetime DELs and AEP of campaign folders' controllers side by side, changes against the first."""
-    from hawt_analysis.campaign_report import lifetime_text
-    from hawt_tools.campaign import read_lifetime
+    """Lifetime DELs and AEP, and design loads, of campaign folders' controllers side by side, changes against the
+    first. A folder of several DLCs has design loads only (its DLCs' folders have their lifetime tables)."""
+    from hawt_analysis.campaign_report import lifetime_text, ultimate_text
+    from hawt_tools.campaign import read_lifetime, read_ultimate
+    from hawt_tools.campaign_file import CampaignError
 
     if not only_folders:
         raise GraphError("give bags or campaign folders, not both")
     if args.report:
         raise GraphError("--report: each campaign folder has its report.html already")
     several = len(args.bags) > 1
-    lifetime = [row for path in args.bags
-                for row in read_lifetime(Path(path), f"{Path(path).name}/" if several else "")]
-    print(json.dumps(lifetime) if args.json else lifetime_text(lifetime))
+    lifetime, ultimate = [], []
+    for path in map(Path, args.bags):
+        prefix = f"{path.name}/" if several else ""
+        designs = read_ultimate(path, prefix)
+        try:
+            lifetime += read_lifetime(path, prefix)
+        except CampaignError:
+            if not designs:
+                raise
+        ultimate += designs
+    if args.json:
+        print(json.dumps({"lifetime": lifetime, "ultimate": ultimate}))
+        return 0
+    print("\n".join(text for text in (lifetime_text(lifetime) if lifetime else "", ultimate_text(ultimate)) if text))
     return 0
 
 
@@ -1071,8 +1095,10 @@ def _parser() -> argparse.ArgumentParser:
     compare = commands.add_parser("compare", help="several runs (or campaign folders) side by side, changes "
                                                   "against the first")
     compare.add_argument("bags", nargs="+", metavar="FILE.mcap|CAMPAIGN_DIR",
-                         help="bags, or the output folders of hawt campaign (their lifetime DELs and AEP)")
-    compare.add_argument("--json", action="store_true", help="print the comparison as JSON")
+                         help="bags, or the output folders of hawt campaign (their lifetime DELs and AEP, and "
+                              "their design loads where they have ultimate.csv)")
+    compare.add_argument("--json", action="store_true", help="print the comparison as JSON (campaign folders: "
+                                                             "{\"lifetime\": […], \"ultimate\": […]})")
     compare.add_argument("--report", metavar="DIR", help="write index.html, plots and comparison.json into DIR")
     compare.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when a bag holds several")
     compare.set_defaults(run=_cmd_compare)

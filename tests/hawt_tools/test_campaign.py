@@ -403,3 +403,29 @@ def test_a_campaign_of_several_dlcs_runs_each_into_its_folder_and_tables_the_des
     assert "ultimate loads over DLC 1.4, 2.3: design load = the largest γ_f × characteristic load" in result.stdout
     assert re.search(r"baseline, blade 1 root out-of-plane: DLC (1\.4 \(γ_f 1\.35\), 11\.4 m/s ECD|2\.3 \(γ_f 1\.1\), "
                      r"13\.4 m/s EOG)", result.stdout)
+
+
+def test_compare_reads_design_loads_from_campaign_folders_of_one_dlc_or_several(tmp_path, capsys):
+    """hawt compare of campaign folders also puts their design loads side by side (ultimate.csv), changes against the
+    first; a folder of several DLCs has only those (its DLCs' folders hold the lifetime tables)."""
+    from hawt_tools.cli import main
+
+    def folder(name, flap, with_lifetime):
+        path = tmp_path / name
+        path.mkdir()
+        pandas.DataFrame([{"controller": "ipc", "channel": "root_moment_oop_1", "characteristic": flap / 1.35,
+                           "factor": 1.35, "design": flap, "dlc": "1.4", "case": "11.4 m/s ECD +",
+                           "basis": "largest extreme of the cases"}]).to_csv(path / "ultimate.csv", index=False)
+        if with_lifetime:
+            pandas.DataFrame([{"controller": "ipc", "quantity": "AEP [J]", "m": math.nan, "value": 3.6e13,
+                               "cases": "all 2 cases", "missing": ""}]).to_csv(path / "lifetime.csv", index=False)
+        return str(path)
+
+    assert main(["compare", folder("before", 20.0e6, True), folder("after", 18.0e6, False)]) == 0
+    out = capsys.readouterr().out
+    assert "ultimate loads, DLC 1.4: design load = γ_f 1.35 × characteristic load" in out
+    row = next(line for line in out.splitlines() if line.startswith("blade 1 root out-of-plane design"))
+    assert row.split()[-4:] == ["20", "18", "-10.0", "%"]
+    assert "before/ipc, blade 1 root out-of-plane: 11.4 m/s ECD + (largest extreme of the cases)" in out
+    assert main(["compare", "--json", str(tmp_path / "after")]) == 0
+    assert json.loads(capsys.readouterr().out)["ultimate"][0]["design"] == 18.0e6

@@ -53,3 +53,20 @@ def test_graph_summary_is_the_first_sentence_of_the_leading_comment_after_its_ti
     assert graph_summary(graph) == "two nodes passing loads"
     graph.write_text("launch: []\n")
     assert graph_summary(graph) == ""
+
+
+def test_an_inline_value_a_tuning_file_replaces_says_what_applies(tmp_path: Path, capsys, monkeypatch):
+    """The ipc graph sets each harmonic's `active: true` before the turbine's tuning, which has the last word: where
+    the tuning leaves a harmonic inactive (as `hawt design ipc` does past the rate budget), graph show says so."""
+    from turbine_folders import copied_turbine
+
+    turbine = copied_turbine(tmp_path / "turbine")
+    tuning = turbine / "ipc.yaml"
+    tuning.write_text(tuning.read_text().replace("/**/ipc_h3:\n  ros__parameters:\n",
+                                                 "/**/ipc_h3:\n  ros__parameters:\n    active: false\n"))
+    monkeypatch.chdir(tmp_path)
+    assert main(["graph", "show", "ipc", "turbine:=turbine"]) == 0
+    out = capsys.readouterr().out
+    h2, h3 = (out.split(f"/wt1/ipc_h{n} ")[1].split("\n  /")[0] for n in (2, 3))
+    assert "active: true\n" in h2 and "applies" not in h2
+    assert f"active: true  (applies: false, from {tuning})" in h3
