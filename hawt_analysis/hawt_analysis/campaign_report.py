@@ -164,18 +164,48 @@ def _figure_pitch(rows, path: Path) -> Path:
     return path
 
 
+def _figure_governing(series, path: Path) -> Path:
+    """Each main channel's time series in the case that governs its design load, per controller, the extreme
+    marked."""
+    from matplotlib.figure import Figure
+
+    by_channel: Dict[str, list] = {}
+    for entry in series:
+        by_channel.setdefault(entry["channel"], []).append(entry)
+    channels = main_channels(by_channel)
+    figure = Figure(figsize=(11, 2.6 * math.ceil(len(channels) / 2)), layout="constrained")
+    axes = figure.subplots(math.ceil(len(channels) / 2), 2, squeeze=False).ravel()
+    for ax, (channel, name) in zip(axes, channels.items()):
+        for entry in by_channel[channel]:
+            time, values = np.asarray(entry["time"]), np.asarray(entry["values"]) / 1e6
+            line, = ax.plot(time, values, lw=0.8, label=f"{entry['controller']}: {entry['case']}")
+            extreme = int(np.argmax(np.abs(values)))
+            ax.plot(time[extreme], values[extreme], "o", color=line.get_color())
+        ax.set(title=name, xlabel="time [s]", ylabel="[MN·m]")
+        ax.legend(fontsize=6, loc="best")
+        ax.grid(alpha=0.3)
+    for ax in axes[len(channels):]:
+        ax.set_visible(False)
+    figure.savefig(path, dpi=90)
+    return path
+
+
 def write_campaign_report(title: str, rows: Sequence[Mapping[str, Any]], lifetime: Sequence[Mapping[str, Any]],
-                          directory: Path, tables: Mapping[str, Path],
-                          ultimate: Sequence[Mapping[str, Any]] = ()) -> Path:
+                          directory: Path, tables: Mapping[str, Path], ultimate: Sequence[Mapping[str, Any]] = (),
+                          governing: Sequence[Mapping[str, Any]] = ()) -> Path:
     """Write ``report.html`` and its PNGs into ``directory``; return the page. The title of an incomplete campaign
     ends with ``incomplete: N of M cases``, and the missing cases head the text; an ultimate-load campaign's design
-    loads (`ultimate_text`) follow the lifetime table."""
+    loads (`ultimate_text`) follow the lifetime table, and the time series of the cases that govern them
+    (``hawt_tools.campaign.governing_series``) are a figure."""
     title = " — ".join([title, *dict.fromkeys(cases for cases, _ in _incomplete(lifetime))])
     figures = {"DEL_against_wind_speed.png": (_figure_del_against_speed, rows, "DEL of the main channels against wind "
                                               "speed (mean over the seeds, each seed a dot)"),
                "lifetime_DEL_change.png": (_figure_lifetime, lifetime, f"lifetime DEL change against "
                                            f"{lifetime[0]['controller']}"),
                "pitch_activity.png": (_figure_pitch, rows, "pitch activity against wind speed")}
+    if governing:
+        figures["governing_cases.png"] = (_figure_governing, governing, "the cases that govern the design loads: "
+                                          "each channel's time series in the analysed time, its extreme marked")
     images = [draw(data, directory / name) for name, (draw, data, _) in figures.items()]
     text = "\n\n".join(part for part in (lifetime_text(lifetime), ultimate_text(ultimate)) if part)
     return write_html_page(directory / "report.html", title, text, images,

@@ -75,13 +75,18 @@ class UltimateLoad:
     """γ_f · F_k, the largest over the cases."""
     dlc: str
     case: str
+    wind_speed: float = math.nan
+    """The governing case's wind speed [m/s] and seed (its number among a transient DLC's cases), where rows give
+    them: what re-runs it (``hawt_tools.campaign.governing_series``)."""
+    seed: int = 0
 
 
 def ultimate_loads(rows: Iterable[Mapping[str, object]], channels: Sequence[str]) -> List[UltimateLoad]:
     """Per controller and channel, the case with the largest γ_f·|F_k|, from campaign rows.
 
-    Each row names its ``controller``, ``case`` and ``dlc`` and holds ``max.<channel>`` and ``min.<channel>`` (the
-    campaign's per-case extremes); F_k of a case is whichever of the two has the larger magnitude.
+    Each row names its ``controller``, ``case`` and ``dlc`` (and may give its ``wind_speed`` and ``seed``) and holds
+    ``max.<channel>`` and ``min.<channel>`` (the campaign's per-case extremes); F_k of a case is whichever of the two
+    has the larger magnitude.
     """
     best: Dict[Tuple[str, str], UltimateLoad] = {}
     for row in rows:
@@ -91,7 +96,7 @@ def ultimate_loads(rows: Iterable[Mapping[str, object]], channels: Sequence[str]
             characteristic = high if abs(high) >= abs(low) else low
             key = (str(row["controller"]), channel)
             load = UltimateLoad(key[0], channel, characteristic, factor, factor * characteristic, str(row["dlc"]),
-                                str(row["case"]))
+                                str(row["case"]), float(row.get("wind_speed", math.nan)), int(row.get("seed", 0)))
             if key not in best or abs(load.design) > abs(best[key].design):
                 best[key] = load
     return [best[key] for key in sorted(best)]

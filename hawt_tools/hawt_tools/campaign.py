@@ -32,7 +32,7 @@ import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 import yaml
@@ -44,7 +44,7 @@ from hawt_tools.graph_file import Graph, GraphError, ParameterFile, load_graph
 
 __all__ = ["SCHEDULER_TIMEOUT", "Case", "CampaignRun", "case_graph", "check_scheduler", "code_version", "plan_cases",
            "prepare_wind", "run_case", "run_campaign", "lifetime_table", "ultimate_table", "write_tables",
-           "read_lifetime", "read_ultimate", "turbine_digest"]
+           "read_lifetime", "read_ultimate", "turbine_digest", "governing_series"]
 
 SCHEDULER_TIMEOUT = 10.0
 """Seconds ``--scheduler`` has to answer (TCP connection, Dask handshake and identity); the client's timeout too."""
@@ -192,9 +192,23 @@ def prepare_wind(config: ControllerConfig, campaign: Campaign, speed: float, see
 def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: Any = None) -> Dict[str, Any]:
     """Run one case in process (on a worker); its row of numbers (module notes). ``wind`` is the `prepare_wind`
     task it waits for. With ``bag``, the whole run (transient included) is written there as `hawt run` would."""
-    from hawt_tools.in_process import RunRecord, build_run, write_run
+    from hawt_plant.safety_system import TRIP_EVENTS
 
     start = time.monotonic()
+    run, channels, command = _simulate(case, campaign, bag)
+    dt = run.description.dt
+    trips = [f"{event['kind']} at t={event['step'] * dt:.2f} s" for event in run.events
+             if event["level"] >= 40 and event["kind"] in TRIP_EVENTS]
+    faults = [event["detail"].split(" from step")[0] + f" at t={event['step'] * dt:.2f} s" for event in run.events
+              if event["kind"] == "fault"]
+    return case_row(case, channels, command, dt, time.monotonic() - start, trips, faults)
+
+
+def _simulate(case: Case, campaign: Campaign, bag: Optional[str] = None) -> Tuple[Any, Dict[str, np.ndarray],
+                                                                                np.ndarray]:
+    """Step a case in process: the run, the channels of its analysed time and the loop assembler's command there."""
+    from hawt_tools.in_process import RunRecord, build_run, write_run
+
     graph = case_graph(case.controller, campaign)
     run = build_run(graph, _overrides(graph, case.controller, campaign, case.speed, case.seed))
     dt = run.description.dt
@@ -215,13 +229,28 @@ def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: An
         command[k] = run.previous  # the loop assembler's, as control/pitch_command carries it (not a trip's feather)
     if bag:
         write_run(run, book, Path(bag))
-    from hawt_plant.safety_system import TRIP_EVENTS
+    return run, channels, command
 
-    trips = [f"{event['kind']} at t={event['step'] * dt:.2f} s" for event in run.events
-             if event["level"] >= 40 and event["kind"] in TRIP_EVENTS]
-    faults = [event["detail"].split(" from step")[0] + f" at t={event['step'] * dt:.2f} s" for event in run.events
-              if event["kind"] == "fault"]
-    return case_row(case, channels, command, dt, time.monotonic() - start, trips, faults)
+
+def governing_series(campaign: Campaign, ultimate: Sequence[Mapping[str, Any]]) -> List[Dict[str, Any]]:
+    """The time series of each load channel of an ultimate table (:func:`ultimate_table`) in the case that governs
+    it, per controller: ``controller``, ``channel``, ``case``, ``time`` [s] and ``values``. The governing cases are run
+    again in process (a case is deterministic: its extreme is the table's to the bit); DLC 1.1's extrapolated
+    loads have no one case and no series."""
+    planned = {(case.controller.name, case.speed, case.seed): case for case in plan_cases(campaign)}
+    runs: Dict[Tuple[str, float, int], Dict[str, np.ndarray]] = {}
+    series = []
+    for entry in ultimate:
+        key = (entry["controller"], float(entry.get("wind_speed", math.nan)), int(entry.get("seed", 0)))
+        if key not in planned:
+            continue
+        if key not in runs:
+            _, channels, _ = _simulate(planned[key], campaign)
+            runs[key] = {"time": channels["time"],
+                         **{name: values for name, (values, _) in load_channels(make_record(channels)).items()}}
+        series.append({"controller": key[0], "channel": entry["channel"], "case": entry["case"],
+                       "time": runs[key]["time"], "values": runs[key][entry["channel"]]})
+    return series
 
 
 def case_row(case: Case, channels: Dict[str, np.ndarray], command: np.ndarray, dt: float,

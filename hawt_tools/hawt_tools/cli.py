@@ -813,7 +813,7 @@ def _run_campaign(campaign, output: Path, args: argparse.Namespace, scheduler: s
     table."""
     from hawt_analysis.campaign_report import lifetime_text, ultimate_text, write_campaign_report
     from hawt_core.stop_signals import stop_signals
-    from hawt_tools.campaign import lifetime_table, run_campaign, ultimate_table, write_tables
+    from hawt_tools.campaign import governing_series, lifetime_table, run_campaign, ultimate_table, write_tables
 
     # Ctrl-C or SIGTERM stops the campaign, keeping what finished, also in a process started with SIGINT ignored
     # (a script's background job, a test runner's worker)
@@ -830,10 +830,15 @@ def _run_campaign(campaign, output: Path, args: argparse.Namespace, scheduler: s
                   if campaign.dlc not in ("1.1", "1.2") else ":"))
         print(lifetime_text(lifetime))
         ultimate = ultimate_table(campaign, done.rows)
+        governing = []
         if ultimate:
             print(ultimate_text(ultimate))
+            cases = {(e["controller"], e.get("wind_speed"), e.get("seed")) for e in ultimate if e["dlc"] != "1.1"}
+            if cases and not (done.failed or done.interrupted):
+                print(f"running the {len(cases)} governing case(s) again for their time series (report)", flush=True)
+                governing = governing_series(campaign, ultimate)
         page = write_campaign_report(f"hawt campaign: {campaign.path.name}", done.rows, lifetime, output, tables,
-                                     ultimate)
+                                     ultimate, governing)
         print(f"tables: {', '.join(str(path) for path in tables.values())}\nreport: {page}")
     if done.interrupted:
         print(f"hawt campaign: interrupted; {len(done.rows)} finished case(s) kept in {output}: run the same command "

@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 from typing import List
 
+import numpy as np
 import pandas
 import pytest
 import yaml
@@ -429,3 +430,27 @@ def test_compare_reads_design_loads_from_campaign_folders_of_one_dlc_or_several(
     assert "before/ipc, blade 1 root out-of-plane: 11.4 m/s ECD + (largest extreme of the cases)" in out
     assert main(["compare", "--json", str(tmp_path / "after")]) == 0
     assert json.loads(capsys.readouterr().out)["ultimate"][0]["design"] == 18.0e6
+
+
+def test_the_cases_that_govern_the_design_loads_run_again_to_the_bit_and_draw_their_time_series(tmp_path):
+    """DLC 1.4 at rated, both ECD directions: each channel's governing case, run again, reaches exactly the
+    characteristic load of the table (a case is deterministic), and the report draws those series."""
+    from hawt_analysis.campaign_report import write_campaign_report
+    from hawt_tools.campaign import governing_series, lifetime_table, ultimate_table
+
+    path = tmp_path / "ecd.yaml"
+    path.write_text("dlc: 1.4\nwind: {speeds: [11.4]}\nduration: 30\ntransient: 5\n"
+                    "controllers:\n  baseline: {graph: baseline}\n")
+    campaign = load_campaign(path)
+    rows = [run_case(case, campaign) for case in plan_cases(campaign)]
+    ultimate = ultimate_table(campaign, rows)
+    series = governing_series(campaign, ultimate)
+    assert {e["channel"] for e in series} == {e["channel"] for e in ultimate}
+    for entry in ultimate:
+        (mine,) = [s for s in series if s["channel"] == entry["channel"]]
+        assert mine["case"] == entry["case"]
+        extreme = mine["values"][np.argmax(np.abs(mine["values"]))]
+        assert extreme == entry["characteristic"]
+    page = write_campaign_report("hawt campaign: ecd.yaml", rows, lifetime_table(campaign, rows), tmp_path, {},
+                                 ultimate, series).read_text(encoding="utf-8")
+    assert (tmp_path / "governing_cases.png").is_file() and "the cases that govern the design loads" in page
