@@ -7,6 +7,7 @@ per-case dicts of ``hawt_tools.campaign``; the lifetime table is ``hawt_tools.ca
 """
 import math
 import re
+import textwrap
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Sequence, Tuple
 
@@ -211,3 +212,42 @@ def write_campaign_report(title: str, rows: Sequence[Mapping[str, Any]], lifetim
     return write_html_page(directory / "report.html", title, text, images,
                            [path.name for path in tables.values()],
                            headings={name: heading for name, (_, _, heading) in figures.items()})
+
+
+def _figure_design_loads(governing, path: Path) -> Path:
+    """The design load of each main channel per controller, each bar labelled with the DLC that governs it."""
+    from matplotlib.figure import Figure
+
+    controllers = list(dict.fromkeys(entry["controller"] for entry in governing))
+    entry_of = {(entry["controller"], entry["channel"]): entry for entry in governing}
+    channels = main_channels(entry["channel"] for entry in governing)
+    figure = Figure(figsize=(11, 3.8), layout="constrained")
+    ax = figure.subplots()
+    width = 0.8 / len(controllers)
+    for i, controller in enumerate(controllers):
+        entries = [entry_of.get((controller, channel)) for channel in channels]
+        heights = [abs(e["design"]) / 1e6 if e else math.nan for e in entries]
+        bars = ax.bar(np.arange(len(channels)) + (i - (len(controllers) - 1) / 2) * width, heights, width,
+                      label=controller)
+        ax.bar_label(bars, [f"DLC {e['dlc']}" if e else "" for e in entries], fontsize=6, rotation=90,
+                     padding=2)
+    names = [textwrap.fill(name, 16, break_on_hyphens=False) for name in channels.values()]
+    ax.set_xticks(np.arange(len(channels)), names, fontsize=8)
+    ax.set(ylabel="design load [MN·m]")
+    ax.margins(y=0.25)
+    ax.legend(fontsize=8)
+    ax.grid(axis="y", alpha=0.3)
+    figure.savefig(path, dpi=90)
+    return path
+
+
+def write_design_load_report(title: str, governing: Sequence[Mapping[str, Any]], over: Sequence[str],
+                             directory: Path, dlc_reports: Sequence[str]) -> Path:
+    """Write ``report.html`` of a campaign of several DLCs into ``directory``: the design loads over them
+    (:func:`ultimate_text` of ``hawt_analysis.ultimate.governing_loads``), a figure of them with the DLC that governs
+    each, and links to ``ultimate.csv`` and to each DLC's own report (``dlc_reports``, relative paths)."""
+    image = _figure_design_loads(governing, directory / "design_loads.png")
+    return write_html_page(directory / "report.html", title, ultimate_text(governing, over), [image],
+                           ["ultimate.csv", *dlc_reports],
+                           headings={image.name: "design loads over the DLCs, each bar labelled with the DLC that "
+                                                 "governs it (each DLC's report: the links above)"})

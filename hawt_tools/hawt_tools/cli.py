@@ -780,7 +780,7 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
     ``ultimate.csv`` in the output folder keeps."""
     import pandas
 
-    from hawt_analysis.campaign_report import ultimate_text
+    from hawt_analysis.campaign_report import ultimate_text, write_design_load_report
     from hawt_analysis.ultimate import governing_loads
     from hawt_tools.campaign_file import load_campaigns
 
@@ -802,9 +802,13 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
         tables.append(ultimate)
     if several and any(tables):
         governing = governing_loads(tables)
+        over = [campaign.dlc for campaign in campaigns]
         pandas.DataFrame(governing).to_csv(output / "ultimate.csv", index=False)
-        print(ultimate_text(governing, [campaign.dlc for campaign in campaigns]))
-        print(f"design loads over the DLCs: {output / 'ultimate.csv'}")
+        print(ultimate_text(governing, over))
+        page = write_design_load_report(f"hawt campaign: {campaigns[0].path.name}, design loads", governing, over,
+                                        output, [f"dlc-{dlc}/report.html" for dlc in over
+                                                 if (output / f"dlc-{dlc}" / "report.html").is_file()])
+        print(f"design loads over the DLCs: {output / 'ultimate.csv'}\nreport: {page}")
     return failed
 
 

@@ -404,6 +404,9 @@ def test_a_campaign_of_several_dlcs_runs_each_into_its_folder_and_tables_the_des
     assert "ultimate loads over DLC 1.4, 2.3: design load = the largest γ_f × characteristic load" in result.stdout
     assert re.search(r"baseline, blade 1 root out-of-plane: DLC (1\.4 \(γ_f 1\.35\), 11\.4 m/s ECD|2\.3 \(γ_f 1\.1\), "
                      r"13\.4 m/s EOG)", result.stdout)
+    page = (output / "report.html").read_text(encoding="utf-8")  # the design loads over both, linking each DLC's report
+    assert "ultimate loads over DLC 1.4, 2.3" in page and (output / "design_loads.png").is_file()
+    assert all(f'href="dlc-{dlc}/report.html"' in page for dlc in ("1.4", "2.3"))
 
 
 def test_compare_reads_design_loads_from_campaign_folders_of_one_dlc_or_several(tmp_path, capsys):
