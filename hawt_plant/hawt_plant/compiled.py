@@ -52,9 +52,24 @@ os.environ["NUMBA_CACHE_DIR"] = str(cache_folder())  # read by numba when it is 
 # inherited by the processes this one starts
 
 import numba  # noqa: E402  (after its cache folder is set)
+from numba.core import caching as _caching  # noqa: E402
 from numba.core import config as _numba_config  # noqa: E402
 
 _numba_config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]  # in case numba was imported before this module
+
+
+class _RealPathLocator(_caching.UserProvidedCacheLocator):
+    """numba's locator in the cache folder, keyed by the real path of a function's file rather than the path it was
+    imported by: the workspace's build and install spaces link to the sources, and a plant imported through either
+    (or from its source, as set-up compiles it) finds the same compiled kernels."""
+
+    @classmethod
+    def get_suitable_cache_subpath(cls, py_file: str) -> str:
+        return super().get_suitable_cache_subpath(os.path.realpath(py_file))
+
+
+if _RealPathLocator not in _caching.CacheImpl._locator_classes:
+    _caching.CacheImpl._locator_classes.insert(0, _RealPathLocator)
 
 
 def njit(function: Callable) -> Callable:

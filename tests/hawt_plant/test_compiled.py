@@ -61,3 +61,18 @@ def test_a_compiled_step_is_deterministic():
         return np.array(rows)
 
     np.testing.assert_array_equal(run(), run())
+
+
+def test_a_plant_imported_through_a_link_finds_the_kernels_compiled_from_its_source(tmp_path):
+    """The workspace's build and install spaces link to the sources: importing the plant through a link uses the
+    kernels set-up compiled from the source (one folder of compiled code, not one per import path)."""
+    link = tmp_path / "linked"
+    link.mkdir()
+    (link / "hawt_plant").symlink_to(PACKAGE)
+    cache = tmp_path / "cache"
+    code = "from hawt_plant.bem import loss_factor; loss_factor(0.5, 1.0, 1.0)"
+    for root in (PACKAGE.parent, link):
+        path = os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])
+        subprocess.run([sys.executable, "-c", code], env={**os.environ, "NUMBA_CACHE_DIR": str(cache),
+                                                          "PYTHONPATH": path}, check=True, cwd=tmp_path)
+    assert len([folder for folder in cache.iterdir() if folder.is_dir()]) == 1
