@@ -199,8 +199,8 @@ def run_case(case: Case, campaign: Campaign, bag: Optional[str] = None, wind: An
     dt = run.description.dt
     trips = [f"{event['kind']} at t={event['step'] * dt:.2f} s" for event in run.events
              if event["level"] >= 40 and event["kind"] in TRIP_EVENTS]
-    faults = [event["detail"].split(" from step")[0] + f" at t={event['step'] * dt:.2f} s" for event in run.events
-              if event["kind"] == "fault"]
+    faults = [f"{fault.describe(run.actuator)} at t={fault.step * dt:.2f} s" for fault in run.faults.faults
+              if fault.step < run.step_index]  # the faults that acted: each starts at its step
     return case_row(case, channels, command, dt, time.monotonic() - start, trips, faults)
 
 
@@ -587,22 +587,22 @@ def write_tables(campaign: Campaign, rows: Iterable[Dict[str, Any]], output: Pat
 
 def read_lifetime(directory: Path, prefix: str = "") -> List[Dict[str, Any]]:
     """The lifetime table a campaign wrote into ``directory``, each controller named ``prefix + name``."""
-    import pandas
-
     path = Path(directory) / "lifetime.csv"
     if not path.is_file():
         raise CampaignError(f"{directory}: no lifetime.csv (not a campaign folder, or its campaign ran no case yet)")
-    rows = pandas.read_csv(path).to_dict("records")
-    return [{**row, "controller": prefix + str(row["controller"])} for row in rows]
+    return _table_rows(path, prefix)
 
 
 def read_ultimate(directory: Path, prefix: str = "") -> List[Dict[str, Any]]:
     """The design loads a campaign wrote into ``directory`` (``ultimate.csv``: an ultimate-load DLC's, or those over
     the DLCs of a file of several), each controller named ``prefix + name``; none if it wrote none."""
+    path = Path(directory) / "ultimate.csv"
+    return _table_rows(path, prefix, {"dlc": str, "case": str, "basis": str}) if path.is_file() else []
+
+
+def _table_rows(path: Path, prefix: str, types: Optional[Dict[str, type]] = None) -> List[Dict[str, Any]]:
+    """The rows of a campaign's CSV table, each controller named ``prefix + name``."""
     import pandas
 
-    path = Path(directory) / "ultimate.csv"
-    if not path.is_file():
-        return []
-    rows = pandas.read_csv(path, dtype={"dlc": str, "case": str, "basis": str}).to_dict("records")
+    rows = pandas.read_csv(path, dtype=types).to_dict("records")
     return [{**row, "controller": prefix + str(row["controller"])} for row in rows]
