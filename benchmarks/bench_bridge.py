@@ -51,15 +51,15 @@ while True:
 
 
 def _graph(name: str, arguments: dict = None):
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
-    from hawt_tools.launcher import package_prefix
+    from hawt_tools.graph_file import package_prefix
 
     return load_graph(find_graph(name), dict(arguments or CASE), package_prefix)
 
 
 def _inputs(o):
-    from hawt_controllers.discon_library import DisconInputs
+    from hawt_controllers.discon.library import DisconInputs
 
     return DisconInputs(o.time, o.pitch, o.generator_speed, o.rotor_speed, o.generator_torque, o.electrical_power,
                         o.aero_torque * o.rotor_speed, o.hub_wind_speed, o.root_moment_oop, o.root_moment_ip,
@@ -87,7 +87,7 @@ def _bridge_file(folder: Path, graph: str, name: str = None) -> Path:
 def host_calls(folder: Path, calls: int, echo: bool) -> float:
     """Wall time per DISCON call [s] of hawt's ctypes host stepping the library ``calls`` times against the echo or
     the ``baseline`` bridge, on the operating point of the baseline graph's step 0."""
-    from hawt_controllers.discon_library import DisconLibrary
+    from hawt_controllers.discon.library import DisconLibrary
     from hawt_tools.discon_bridge import bridge_library
     from hawt_tools.in_process import build_run
 
@@ -162,7 +162,7 @@ class Case:
     def hawt_run(self, graph: str):
         """The graph built in process on hawt's plant for this case, at step 0."""
         from hawt_tools.in_process import build_run
-        from hawt_tools.launcher import parse_overrides
+        from hawt_tools.node_parameters import parse_overrides
 
         built = _graph(graph, self.arguments)
         return build_run(built, parse_overrides(built, self.parameters))
@@ -204,8 +204,8 @@ def openfast_rosco(executable: Path, folder: Path, case: Case) -> tuple:
     """OpenFAST with ROSCO (the rosco wheel's library and the NREL 5 MW DISCON.IN) on ``case``: wall time [s] and
     channels."""
     from hawt_analysis.openfast_output import read_openfast_output
-    from hawt_controllers.rosco_input import rosco_files, write_private_input
-    from hawt_controllers.tunings import tuning_file
+    from hawt_controllers.discon.rosco_input import rosco_files, write_private_input
+    from hawt_controllers.design.tunings import tuning_file
     from hawt_tools.openfast_case import output_of, run_openfast
 
     name = f"{case.name}-rosco"

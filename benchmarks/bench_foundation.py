@@ -21,7 +21,7 @@ from hawt_msgs.msg import BladeLoads
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 SAMPLES = 2000
 SIX_NODES = """\

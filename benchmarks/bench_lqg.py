@@ -12,7 +12,7 @@ project's own result. Also the lqg_ipc core's cost per step.
 Selvam's own comparison (§4, Figs 6-7), the closed loop from the cos/sin blade-effective wind to the
 1P cos/sin blade-root moments, from the runs by cross-spectra (the H1 estimate of
 hawt_analysis.identification, the plant's true wind at 3/4 R as input, 100 s segments) beside the
-linear model's (hawt_controllers.lqg_ipc.closed_loop_response at 18 m/s): |T| (mean of the cos->cos and
+linear model's (hawt_controllers.laws.lqg_ipc.closed_loop_response at 18 m/s): |T| (mean of the cos->cos and
 sin->sin channels) at 0.02 Hz, 1P and 3P, and the runs' multiple coherence there. The model's input is
 a wind change uniform along the blade, the runs' the wind at 3/4 R: the levels differ, the ordering of the
 controllers is what compares.
@@ -31,16 +31,16 @@ import yaml
 from hawt_analysis.fatigue import damage_equivalent_load
 from hawt_analysis.harmonics import harmonic_amplitudes
 from hawt_analysis.identification import frequency_response
-from hawt_controllers.ipc_design import DEFAULT_FILE
-from hawt_controllers.linear_models import load_models
-from hawt_controllers.lqg_controller import DEFAULT_MODELS
-from hawt_controllers.lqg_design import design_lqg
-from hawt_controllers.lqg_ipc import closed_loop_response
-from hawt_controllers.mbc import mbc_forward
-from hawt_tools.cli import find_graph
+from hawt_controllers.design.ipc_design import DEFAULT_FILE
+from hawt_controllers.laws.coleman_models import load_models
+from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
+from hawt_controllers.laws.lqg_design import design_lqg
+from hawt_controllers.laws.lqg_ipc import closed_loop_response
+from hawt_core.rotor.mbc import mbc_forward
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 CASES = {
     "cpc": ("lqg", {"lqg_ipc": "false"}),

@@ -1,10 +1,10 @@
 """IPC-1P with and without Disario's azimuth offset on the NREL 5 MW, closed loop (issue 15 item 4).
 
 The models: the first-order blade K/(τs + 1) whose DC-decoupling offset equals the offset measured
-on the plant at 18 m/s (``hawt coupling``), in the Coleman frame (hawt_controllers.coleman_coupling):
+on the plant at 18 m/s (``hawt coupling``), in the Coleman frame (hawt_controllers.laws.coleman_coupling):
 RGA11 at the 1P loop's crossover without and with the offset (Disario: 0.9052 -> 0.9997 at 0.47 rad/s);
 and the plant's linear model at 18 m/s (``hawt linearize``, config/linear_nrel5mw.npz) closed with the
-two loops below (hawt_controllers.ipc_design.loop_analysis, Disario §5-3-2): the crossover and phase
+two loops below (hawt_controllers.design.ipc_design.loop_analysis, Disario §5-3-2): the crossover and phase
 margin, RGA11 at the crossover, the sensitivity's largest singular value (its peak, and at 1P) and where
 its singular values reach -3 dB (Disario: a region [0.38, 0.65] rad/s without the offset, 0.47 with it).
 
@@ -27,18 +27,18 @@ import yaml
 
 from hawt_analysis.fatigue import damage_equivalent_load
 from hawt_analysis.spectra import power_spectrum
-from hawt_controllers.coleman_coupling import coleman_plant, first_order, relative_gain_array
-from hawt_controllers.ipc_design import DEFAULT_FILE, coupling_survey, loop_analysis
-from hawt_controllers.linear_models import load_models
-from hawt_controllers.lqg_controller import DEFAULT_MODELS
+from hawt_controllers.laws.coleman_coupling import coleman_plant, first_order, relative_gain_array
+from hawt_controllers.design.ipc_design import DEFAULT_FILE, coupling_survey, loop_analysis
+from hawt_controllers.laws.coleman_models import load_models
+from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
 from hawt_plant.turbine import nrel_5mw
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 CROSSOVER = 2 * math.pi * 0.1
-"""The IPC design's crossover (van Engelen's 0.1 Hz, hawt_controllers.ipc_design) [rad/s]."""
+"""The IPC design's crossover (van Engelen's 0.1 Hz, hawt_controllers.design.ipc_design) [rad/s]."""
 
 
 def model_rga(offset: float, rotor_speed: float) -> Dict[str, float]:

@@ -26,10 +26,10 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from hawt_analysis.harmonics import harmonic_amplitudes
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 RATED_RPM = 12.1
 REPETITIVE_PD = {"cpc": "false", "repetitive_cpc": "true"}

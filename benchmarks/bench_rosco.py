@@ -22,10 +22,10 @@ import numpy as np
 
 from hawt_analysis.fatigue import damage_equivalent_load
 from hawt_analysis.pitch_activity import pitch_activity
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 CASES = {
     "cpc": ("baseline", {}),

@@ -18,10 +18,10 @@ import time
 from pathlib import Path
 from typing import Callable, Dict
 
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -64,7 +64,7 @@ def small_campaign(folder: Path) -> tuple:
 
 def openfast_case_a(executable: Path, duration: float, folder: Path) -> float:
     """Wall time [s] of OpenFAST + ROSCO on case A: the inputs hawt validate writes for steady-18."""
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.openfast_case import deck_of, run_openfast
     from hawt_tools.validation import parse_case, prepare_case
 

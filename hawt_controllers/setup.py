@@ -4,6 +4,19 @@ from setuptools import find_packages, setup
 
 package_name = 'hawt_controllers'
 
+CONTROLLERS = {
+    'cpc': 'cpc:CollectivePitchController',
+    'ipc': 'ipc:HarmonicIpcController',
+    'blade_sine': 'blade_sine:BladeSineController',
+    'repetitive_ipc': 'repetitive_ipc:RepetitiveIpcController',
+    'repetitive_cpc': 'repetitive_cpc:RepetitiveCollectiveController',
+    'coleman_excitation': 'coleman_excitation:ColemanExcitationController',
+    'lqg_ipc': 'lqg_ipc:LqgIpcController',
+    'main_bearing_ipc': 'main_bearing_ipc:MainBearingIpcController',
+    'discon': 'discon:DisconController',
+}
+"""The controller types this package registers: TYPE -> its plug-in module (hawt_controllers.plugins) and class."""
+
 setup(
     name=package_name,
     version='0.1.0',
@@ -22,18 +35,17 @@ setup(
     description='Collective pitch, MBC and per-harmonic IPC controllers.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [
-            'cpc = hawt_controllers.cpc_node:main',
-            'mbc = hawt_controllers.mbc_node:main',
-            'ipc = hawt_controllers.ipc_node:main',
-            'blade_sine = hawt_controllers.blade_sine_node:main',
-            'repetitive_ipc = hawt_controllers.repetitive_ipc_node:main',
-            'repetitive_cpc = hawt_controllers.repetitive_cpc_node:main',
-            'coleman_excitation = hawt_controllers.coleman_excitation_node:main',
-            'lqg_ipc = hawt_controllers.lqg_ipc_node:main',
-            'main_bearing_ipc = hawt_controllers.main_bearing_ipc_node:main',
-            'discon = hawt_controllers.discon_node:main',
-            'controller_manager = hawt_controllers.controller_manager_node:main',
-        ],
+        # The registry of controller types (hawt_controllers.plugins.registry): TYPE -> Controller class.
+        'hawt.controllers': [f'{name} = hawt_controllers.plugins.{target}' for name, target in CONTROLLERS.items()],
+        # What each executable is to the engines (hawt_core.node_role); a controller's role comes from its type.
+        'hawt.nodes': ['mbc = hawt_controllers.plugins.loop_assembly:ASSEMBLER',
+                       'controller_manager = hawt_controllers.plugins.switching:MANAGER',
+                       'controller = hawt_controllers.plugins.registry:controller_role']
+                      + [f'{name} = hawt_controllers.plugins.registry:controller_role' for name in CONTROLLERS],
+        # One controller executable, and an alias named after each type for existing graphs.
+        'console_scripts': ['controller = hawt_controllers.ros.controller_node:main',
+                            'mbc = hawt_controllers.ros.mbc_node:main',
+                            'controller_manager = hawt_controllers.ros.controller_manager_node:main']
+                           + [f'{name} = hawt_controllers.ros.controller_node:main' for name in CONTROLLERS],
     },
 )

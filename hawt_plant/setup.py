@@ -21,6 +21,11 @@ setup(
     description='Wind-turbine simulator: pure-numpy model and the plant node.',
     license='Apache-2.0',
     entry_points={
+        # What each executable is to the engines (hawt_core.node_role).
+        'hawt.nodes': [
+            'plant = hawt_plant.plant_setup:PLANT',
+            'plant_description = hawt_plant.plant_setup:DESCRIPTION',
+        ],
         'console_scripts': [
             'plant = hawt_plant.plant_node:main',
             'plant_description = hawt_plant.description_node:main',

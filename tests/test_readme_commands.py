@@ -165,7 +165,7 @@ def plain_shell(tmp_path_factory):
 @pytest.fixture(scope="module")
 def placeholders(rosco_case):
     """What the README's placeholders stand for on this machine."""
-    from hawt_controllers.rosco_input import rosco_files
+    from hawt_controllers.discon.rosco_input import rosco_files
 
     library, rosco_input = rosco_files()
     return {"iea15_deck": str(rosco_case("IEA-15-240-RWT/IEA-15-240-RWT-Monopile")), "rosco_library": str(library),

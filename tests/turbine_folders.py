@@ -3,7 +3,7 @@ deck."""
 import shutil
 from pathlib import Path
 
-from hawt_controllers.tunings import FILE_NAMES, tuning_file
+from hawt_controllers.design.tunings import FILE_NAMES, tuning_file
 
 PACKAGED_NREL_5MW = Path(__file__).resolve().parent.parent / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
 

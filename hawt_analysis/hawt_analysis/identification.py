@@ -128,7 +128,7 @@ def identify_coleman_plant(path, harmonic: int = 1, namespace=None, segment_dura
     from hawt_bag.plant_run import load_plant_run, topic_in
     from hawt_bag.reader import BagReader
     from hawt_bag.topic_columns import read_topic_columns
-    from hawt_controllers.mbc import mbc_forward
+    from hawt_core.rotor.mbc import mbc_forward
     from hawt_core.topics import blade_pitch_topic
 
     with BagReader(path) as reader:

@@ -3,10 +3,10 @@
 Zalkind & Pao, "A Harmonic Model for Loads Analysis and Control Design of a 2-bladed Wind
 Turbine" (notes: ``literature/notes/seed001_zalkind.md`` §2.4–2.6, Appendix A). Loads are
 harmonic phasors m^{iP} = m_c^{iP} + j m_s^{iP} in true amplitudes
-(:mod:`hawt_controllers.harmonic_estimator`).
+(:mod:`hawt_core.rotor.harmonic_estimator`).
 
 * Hub (rotating) → main bearing (fixed): the exact azimuth rotation, eq. 13
-  (:mod:`hawt_controllers.hub_frame`, re-exported here), and its closed forms for the hub 1P,
+  (:mod:`hawt_core.rotor.hub_frame`, re-exported here), and its closed forms for the hub 1P,
   eqs. 14–17 with eq. 16 corrected (:func:`main_bearing_from_hub_1p`).
 * Every other link: the complex affine map m_2 = a_1 m_1 + a_0 fitted by least squares over
   N >= 2 operating points, eqs. 8–11 (:func:`fit_transfer`), separately for region II and
@@ -22,7 +22,7 @@ from typing import Mapping
 import numpy as np
 from numpy.typing import ArrayLike
 
-from hawt_controllers.hub_frame import hub_to_main_bearing, main_bearing_to_hub
+from hawt_core.rotor.hub_frame import hub_to_main_bearing, main_bearing_to_hub
 
 from ._checks import finite_array, same_length
 

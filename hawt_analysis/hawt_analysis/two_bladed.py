@@ -3,7 +3,7 @@
 Works on the channels of a run (``hawt_bag.plant_run.load_plant_run(reader).channels``, or an
 in-process run's): ``azimuth``, ``pitch`` (n, B), ``root_moment_oop`` (n, B), ``hub_tilt_moment``,
 ``hub_yaw_moment`` (the main-bearing moments), ``yaw_bearing_*`` and ``tower_base_*``. Phasors
-are those of :mod:`hawt_controllers.harmonic_estimator` (true amplitudes, c + j s, a sliding
+are those of :mod:`hawt_core.rotor.harmonic_estimator` (true amplitudes, c + j s, a sliding
 window of N_R revolutions in azimuth).
 
 * :func:`chain_phasors`: the phasors of one steady run at its end, link by link (blade flap 1P,
@@ -25,8 +25,8 @@ from matplotlib.figure import Figure
 
 from hawt_bag.plant_run import load_plant_run
 from hawt_bag.reader import BagReader
-from hawt_controllers.harmonic_estimator import sliding_phasors
-from hawt_controllers.hub_frame import main_bearing_to_hub
+from hawt_core.rotor.harmonic_estimator import sliding_phasors
+from hawt_core.rotor.hub_frame import main_bearing_to_hub
 
 from .load_transfer import TransferFit, fit_transfer_by_region
 

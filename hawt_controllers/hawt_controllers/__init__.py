@@ -1,7 +1,10 @@
-"""Controller cores of the hawt toolkit: pure numpy/scipy, no ROS.
+"""Controllers of the hawt toolkit, in layers (docs/architecture.md §2 has the table of allowed imports):
 
-Modules: ``mbc`` (Coleman transform), ``filters``, ``saturation``, ``pi``, ``exceptions``,
-``limits`` (per-blade pitch limits), ``collective`` (NREL 5 MW baseline of
-Jonkman et al. 2009), ``ipc`` (one harmonic's IPC law) and ``ipc_tuning``
-(gain and phase-offset design). The ROS nodes wrap these cores.
+- ``laws``: the control laws and the math they run on (PI, filters, the baseline collective law, one harmonic's
+  IPC, repetitive control, LQG), plain numpy/scipy;
+- ``plugins``: the controller plug-in framework (``controller``, ``loop_assembly``, ``switching``, ``registry``) and
+  the plug-ins, one ``<type>.py`` each, found by type through the ``hawt.controllers`` entry points;
+- ``discon``: Bladed-style DISCON libraries (ROSCO) called through ctypes;
+- ``design``: tuning, linear models and LQG design from the plant, the only layer that imports hawt_plant;
+- ``ros``: the nodes (one generic controller node, the loop assembler, the controller manager).
 """

@@ -14,7 +14,7 @@ interface              contribution                            topic (message)
 A controller claims one or more interfaces; the manager allows one active claimant per
 interface. ``collective_pitch`` and ``generator_torque`` travel in one message, so one
 controller claims both. Which interfaces a graph can assemble for B blades is the loop
-assembler's to say (``hawt_controllers.loop_assembly.assembly_problem``).
+assembler's to say (``hawt_controllers.plugins.loop_assembly.assembly_problem``).
 """
 import difflib
 from dataclasses import dataclass

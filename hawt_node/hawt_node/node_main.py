@@ -39,7 +39,7 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
 from hawt_core.stop_signals import parent_gone, stop_signals
-from hawt_node.scheduling import priority_from_environment
+from hawt_core.scheduling import priority_from_environment
 
 __all__ = ["run_node", "run_nodes", "node_entry_point", "spin_nodes", "first_done", "make_executor",
            "wait_for_acknowledgements", "WAKE_PERIOD", "FLUSH_TIMEOUT"]
@@ -155,7 +155,7 @@ def run_nodes(make_nodes: Callable[[], Sequence[Node]], ending: Callable[[Sequen
 
     After a signal or the timeout, nodes whose output a reader has not taken yet are spun on (:func:`drain`); then the
     published messages are flushed (:func:`wait_for_acknowledgements`) and the nodes destroyed. The default context
-    is used, with this module's signal handling. A realtime priority in the environment (hawt_node.scheduling) is
+    is used, with this module's signal handling. A realtime priority in the environment (hawt_core.scheduling) is
     set first, so that the middleware's threads run at it too.
     """
     priority_from_environment()

@@ -20,21 +20,12 @@ from hawt_msgs.msg import ControlEvent
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from hawt_core.topics import RECORDER_NODE
+from hawt_core.node_role import HOLD_LIMIT
 from hawt_node.events import EventPublisher
-from hawt_node.parameters import ParameterSpec
 from hawt_node.recording import unrecorded_topics
 
-__all__ = ["MatchedWriterGate", "can_match", "unmatched_writers", "HOLD_LIMIT", "WAIT_FOR_RECORDER"]
+__all__ = ["MatchedWriterGate", "can_match", "unmatched_writers"]
 
-HOLD_LIMIT = 2.0
-"""Wall time [s] a gate holds messages at most; then it publishes them and says which readers it missed
-(a reader the graph still lists after its process died never matches)."""
-
-WAIT_FOR_RECORDER = ParameterSpec(
-    "wait_for_recorder", False, f"hold the first messages until the node {RECORDER_NODE} subscribes to this node's "
-    f"topics and is matched (at most {HOLD_LIMIT:g} s); hawt launch --record sets it", read_only=True)
-"""The parameter of every node that answers the plant's steps (the plant has its own, with its start rule)."""
 
 POLL_PERIOD = 0.005
 """Wall time [s] between two looks at the matches while messages are held."""

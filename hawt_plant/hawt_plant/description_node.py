@@ -9,19 +9,13 @@ from hawt_msgs.msg import PlantDescription
 from rclpy.node import Node
 
 from hawt_core.topics import PLANT_DESCRIPTION
+from hawt_plant.plant_setup import DESCRIPTION_PARAMETERS as PARAMETERS
 from hawt_plant.turbine import nrel_5mw, turbine_from
 from hawt_node.node_main import node_entry_point
-from hawt_node.parameters import ParameterSpec, declare_parameters
+from hawt_node.parameters import declare_parameters
 from hawt_node.qos import LATCHED
 
 __all__ = ["PlantDescriptionNode", "PARAMETERS", "main"]
-
-PARAMETERS = (
-    ParameterSpec("turbine_file", "", "turbine definition YAML, its folder or a packaged turbine's name ('' = the "
-                  "packaged NREL 5 MW)", read_only=True),
-    ParameterSpec("dt", 0.01, "step of the measurements", "s", minimum=1e-3, maximum=0.1, read_only=True),
-)
-
 
 class PlantDescriptionNode(Node):
     """Publishes the description of a turbine file once, latched."""

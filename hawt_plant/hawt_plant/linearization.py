@@ -10,7 +10,7 @@ the continuous-time dynamics of :meth:`hawt_plant.model.TurbineModel.continuous_
 with the states of ``state_names`` (azimuth excluded), the inputs pitch command of every blade,
 generator torque and a change of the longitudinal wind along every blade, and the outputs of
 :data:`OUTPUTS`. The result is periodic in psi; Bir's multi-blade coordinate transformation and the
-azimuth average (hawt_controllers.mbc3) make it an LTI model in the Coleman frame.
+azimuth average (hawt_controllers.laws.mbc3) make it an LTI model in the Coleman frame.
 """
 from __future__ import annotations
 

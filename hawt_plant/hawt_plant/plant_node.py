@@ -59,12 +59,11 @@ from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 
-from hawt_plant.faults import fault_event, make_faults, parse_faults
+from hawt_plant.faults import fault_event, make_faults
 from hawt_plant.loop_latency import LoopLatency
 from hawt_plant.model import STATE_FIELDS, TurbineOutput
 from hawt_plant.plant_setup import PARAMETERS, aerodynamics_line, check_parameters, make_plant, make_safety_system
 from hawt_plant.safety_system import CommandOrder, command_rejection, protection_event
-from hawt_plant.turbine import turbine_from
 from hawt_node.command_senders import GuardedSubscription, Sample
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
@@ -85,20 +84,7 @@ class PlantNode(Node):
     """Thin node around TurbineModel."""
 
     PARAMETERS = PARAMETERS
-    """The node's parameter table (hawt_tools.parameter_check reads it before a graph starts)."""
-
-    @staticmethod
-    def check_parameters(values) -> None:
-        """The rules across parameters (plant_setup.check_parameters) and the faults' entries (their blades against
-        the turbine's, if it loads: a turbine_file that does not is named by hawt_tools.parameter_check), without
-        building the model."""
-        check_parameters(values)
-        if any(fault.blade for fault in parse_faults(values["faults"], values["dt"])):
-            try:
-                blades = turbine_from(values["turbine_file"] or "nrel_5mw").rotor.number_of_blades
-            except (OSError, ValueError):
-                return
-            parse_faults(values["faults"], values["dt"], blades)
+    """The node's parameter table (plant_setup.PLANT, the role the engines and the parameter check read)."""
 
     def __init__(self, **node_kwargs) -> None:
         super().__init__("plant", **node_kwargs)

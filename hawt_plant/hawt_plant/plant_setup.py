@@ -14,15 +14,17 @@ works in every engine, and anything else is refused before a graph starts.
 import math
 from typing import Any, Callable, Mapping, Tuple
 
+from hawt_core.node_role import NodeRole
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
+from hawt_plant.faults import parse_faults
 from hawt_plant.inflow import OPERATING_WIND_KINDS, InflowSettings, make_wind
 from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
 from hawt_plant.turbulence import REFERENCE_WIND_SPEED, TURBULENCE_MODELS
 
-__all__ = ["PARAMETERS", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant",
+__all__ = ["DESCRIPTION", "DESCRIPTION_PARAMETERS", "PARAMETERS", "PLANT", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant",
            "make_safety_system"]
 
 TURBINE = "turbine"
@@ -122,11 +124,33 @@ PARAMETERS = (
 
 
 def check_parameters(values: Mapping[str, Any]) -> None:
-    """The plant's rules across parameters (each value already checked against its row); ParameterError if broken."""
+    """The plant's rules across parameters (each value already checked against its row) and its faults' entries
+    (their blades against the turbine's, if it loads: a turbine_file that does not is named by
+    hawt_tools.parameter_check), without building the model; ParameterError if broken."""
     if values["mode"] == "lockstep" and values["command_timeout"] <= values["resend_period"]:
         raise ParameterError(f"command_timeout: {values['command_timeout']} s must exceed resend_period "
                              f"{values['resend_period']} s in lockstep (a step is resent before the safety system "
                              "trips)")
+    if any(fault.blade for fault in parse_faults(values["faults"], values["dt"])):
+        try:
+            blades = turbine_from(values["turbine_file"] or "nrel_5mw").rotor.number_of_blades
+        except (OSError, ValueError):
+            return
+        parse_faults(values["faults"], values["dt"], blades)
+
+
+PLANT = NodeRole("plant", PARAMETERS, check_parameters)
+"""The plant node's role (entry point ``hawt.nodes: plant``)."""
+
+DESCRIPTION_PARAMETERS = (
+    ParameterSpec("turbine_file", "", "turbine definition YAML, its folder or a packaged turbine's name ('' = the "
+                  "packaged NREL 5 MW)", read_only=True),
+    ParameterSpec("dt", 0.01, "step of the measurements", "s", minimum=1e-3, maximum=0.1, read_only=True),
+)
+"""The parameters of the plant_description node (``plant/description`` without a simulated plant)."""
+
+DESCRIPTION = NodeRole("description", DESCRIPTION_PARAMETERS)
+"""The plant_description node's role (entry point ``hawt.nodes: plant_description``)."""
 
 
 def aerodynamic_options(turbine: Turbine, values: Mapping[str, Any]) -> AerodynamicOptions:

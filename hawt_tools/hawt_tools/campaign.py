@@ -86,14 +86,14 @@ def code_version() -> str:
 
 def case_graph(config: ControllerConfig, campaign: Campaign) -> Graph:
     """The graph every case of ``config`` runs: its file with its arguments and the campaign's turbine."""
-    from hawt_tools.cli import find_graph
-    from hawt_tools.launcher import package_prefix
+    from hawt_tools.graph_file import find_graph
+    from hawt_tools.graph_file import package_prefix
 
     return load_graph(find_graph(config.graph), graph_arguments(campaign, config), package_prefix)
 
 
 def _overrides(graph: Graph, config: ControllerConfig, campaign: Campaign, speed: float, seed: int):
-    from hawt_tools.launcher import parse_overrides
+    from hawt_tools.node_parameters import parse_overrides
 
     return parse_overrides(graph, case_overrides(campaign, speed, seed) + list(config.parameters))
 

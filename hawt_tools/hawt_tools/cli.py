@@ -20,54 +20,15 @@ import yaml
 
 from hawt_bag.errors import BagError
 
-from hawt_tools.graph_file import GraphError, did_you_mean, launch_arguments, load_graph, yaml_value
+from hawt_tools.graph_file import (GraphError, find_graph, graph_summary, installed_graphs, launch_arguments,
+                                   load_graph, package_prefix, yaml_value)
 from hawt_tools.view import ViewOptionError
-from hawt_node.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
+from hawt_core.scheduling import PRIORITY_VARIABLE, SchedulingError, check_priority, set_priority
 
-__all__ = ["main", "find_graph"]
-
-_GRAPH_PACKAGES = ("hawt_tools", "hawt_plant", "hawt_controllers")
-
-
-def installed_graphs() -> Dict[str, Path]:
-    """The installed graph files by name: each ``<name>.yaml`` of a hawt package's ``launch`` folder."""
-    from hawt_tools.launcher import package_prefix
-
-    graphs: Dict[str, Path] = {}
-    for package in _GRAPH_PACKAGES:
-        prefix = package_prefix(package)
-        folder = Path(prefix) / "share" / package / "launch" if prefix else None
-        if folder and folder.is_dir():
-            graphs.update((p.stem, p) for p in sorted(folder.glob("*.yaml")) if p.stem not in graphs)
-    return graphs
-
-
-def find_graph(name: str) -> Path:
-    """A graph file: the path itself if it exists, else ``<name>.yaml`` in a hawt package's ``launch`` folder."""
-    path = Path(name)
-    if path.exists() or path.suffix in (".yaml", ".yml"):
-        return path
-    graphs = installed_graphs()
-    if name in graphs:
-        return graphs[name]
-    raise GraphError(f"{name}: no such graph file, and no installed graph of that name"
-                     + (did_you_mean(name, sorted(graphs)) if graphs else ""))
-
-
-def graph_summary(path: Path) -> str:
-    """What a graph file says it is: the first sentence of its leading comment ('' without one)."""
-    lines = []
-    for line in Path(path).read_text().splitlines():
-        if not line.startswith("#") or line.startswith("#  "):
-            break
-        lines.append(line.lstrip("# ").strip())
-    text = " ".join(lines)
-    return text.split(". ")[0].split(": ", 1)[-1].rstrip(".").strip()
+__all__ = ["main"]
 
 
 def _cmd_launch(args: argparse.Namespace) -> int:
-    from hawt_tools.launcher import package_prefix
-
     graph = load_graph(find_graph(args.graph), launch_arguments(args.arguments), package_prefix)
     view = _view_command(args.view_port, args.view_allow_parameter_sets) if args.view else None
     return _run_graph(graph, args.param, args.mode, args.duration, args.composed, args.record, args.priority, view,
@@ -77,7 +38,6 @@ def _cmd_launch(args: argparse.Namespace) -> int:
 def _cmd_graph_show(args: argparse.Namespace) -> int:
     """A graph's launch arguments with their defaults, its nodes with their parameter files, and its programs."""
     from hawt_tools.graph_file import ParameterFile, declared_arguments
-    from hawt_tools.launcher import package_prefix
     from hawt_tools.node_parameters import node_parameter_sources
 
     path = find_graph(args.graph)
@@ -126,16 +86,17 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
     recorder that dies is respawned and the plant waits for it (hawt_tools.recording), unless ``record_optional``.
     """
     from hawt_bag.writer import new_bag_path
-    from hawt_tools.launcher import ProcessGraph, launcher_parameters, parse_overrides, run_composed
+    from hawt_tools.launcher import ProcessGraph, class_role, launcher_parameters, run_composed
+    from hawt_tools.node_parameters import parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters, takes_parameter
     from hawt_tools.recording import SupervisedRecorder, stop_process
 
     # --mode beats the graph's own 'mode' values (an override of every node that has one); -p beats --mode
-    modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes if takes_parameter(graph, spec, "mode")] \
+    modes = [f"{spec.label}.mode:={mode}" for spec in graph.nodes if takes_parameter(graph, spec, "mode", class_role)] \
         if mode else []
     overrides = parse_overrides(graph, modes + list(parameters))
     global_parameters = launcher_parameters(graph, bool(record), record_optional)
-    check_against_plant(graph, check_graph_parameters(graph, overrides, global_parameters))  # before anything starts
+    check_against_plant(graph, check_graph_parameters(graph, overrides, global_parameters, class_role))  # before start
     if priority:
         check_priority(priority)
     recorder = SupervisedRecorder(new_bag_path(record, "--record"), record_optional) if record else None
@@ -172,7 +133,7 @@ def _run_graph(graph, parameters: List[str], mode: Optional[str], duration: Opti
 def _cmd_run(args: argparse.Namespace) -> int:
     from hawt_bag.writer import new_bag_path
     from hawt_tools.in_process import run_graph
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.node_parameters import parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     graph = load_graph(find_graph(args.graph), launch_arguments(args.arguments), package_prefix)
@@ -207,7 +168,6 @@ def _cmd_bridge(args: argparse.Namespace) -> int:
 def _view_command(port: int, allow_parameter_sets: bool = False) -> List[str]:
     """The command line of hawt_tools' ``view`` executable serving on ``port`` (letting clients set parameters if
     asked)."""
-    from hawt_tools.launcher import package_prefix
 
     executable = Path(package_prefix("hawt_tools") or "") / "lib" / "hawt_tools" / "view"
     if not executable.is_file():
@@ -438,7 +398,7 @@ def _cmd_lifecycle(args: argparse.Namespace) -> int:
 
 def _cmd_coupling(args: argparse.Namespace) -> int:
     """Disario's azimuth offset per wind speed and harmonic, from the plant's measured response."""
-    from hawt_controllers.ipc_design import coupling_survey
+    from hawt_controllers.design.ipc_design import coupling_survey
     from hawt_plant.turbine import nrel_5mw
 
     if args.bag:
@@ -472,8 +432,8 @@ def _cmd_coupling(args: argparse.Namespace) -> int:
 
 def _cmd_linearize(args: argparse.Namespace) -> int:
     """The plant's linear models in the Coleman frame per wind speed, the modes table and the Campbell diagram."""
-    from hawt_controllers.linear_models import (band_offset, campbell_figure, decoupling_offset, labelled_modes,
-                                                linearize_power_curve, save_models, tilt_yaw_response)
+    from hawt_controllers.laws.coleman_models import save_models
+    from hawt_controllers.design.linear_models import (band_offset, campbell_figure, decoupling_offset, labelled_modes, linearize_power_curve, tilt_yaw_response)
 
     for v in args.wind_speeds:
         if not 3.0 <= v <= 30.0:
@@ -525,12 +485,12 @@ def _cmd_design_lqg(args: argparse.Namespace) -> int:
     """Selvam's FB-FF IPC designed on the plant's linear model at one wind speed: checks and closed-loop shape."""
     import numpy as np
 
-    from hawt_controllers.exceptions import ConfigurationError
-    from hawt_controllers.ipc_design import DEFAULT_FILE
-    from hawt_controllers.linear_models import load_models
-    from hawt_controllers.lqg_controller import DEFAULT_MODELS
-    from hawt_controllers.lqg_design import LqgWeights, controllability_rank, design_lqg, observability_rank
-    from hawt_controllers.lqg_ipc import closed_loop_response, frequency_response_figure
+    from hawt_core.exceptions import ConfigurationError
+    from hawt_controllers.design.ipc_design import DEFAULT_FILE
+    from hawt_controllers.laws.coleman_models import load_models
+    from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
+    from hawt_controllers.laws.lqg_design import LqgWeights, controllability_rank, design_lqg, observability_rank
+    from hawt_controllers.laws.lqg_ipc import closed_loop_response, frequency_response_figure
 
     path = Path(args.linear_models) if args.linear_models else DEFAULT_MODELS
     if not path.is_file():
@@ -574,11 +534,11 @@ def _cmd_design_lqg(args: argparse.Namespace) -> int:
 def _cmd_design_cpc(args: argparse.Namespace) -> int:
     """The baseline collective controller tuned from a turbine definition (Jonkman's method), its schedule and a
     comparison with Jonkman's NREL 5 MW tuning or a ROSCO DISCON.IN."""
-    from hawt_controllers.cpc_design import (design_collective, discon_comparison, format_comparison, format_design,
+    from hawt_controllers.design.cpc_design import (design_collective, discon_comparison, format_comparison, format_design,
                                              jonkman_comparison, write_design)
-    from hawt_controllers.exceptions import ConfigurationError
-    from hawt_controllers.rosco_input import read_settings
-    from hawt_controllers.tunings import tuning_path, turbine_folder
+    from hawt_core.exceptions import ConfigurationError
+    from hawt_controllers.discon.rosco_input import read_settings
+    from hawt_controllers.design.tunings import tuning_path, turbine_folder
     from hawt_plant.turbine import TurbineDefinitionError, turbine_from
 
     if args.discon and not Path(args.discon).is_file():
@@ -612,9 +572,9 @@ def _cmd_design_cpc(args: argparse.Namespace) -> int:
 
 def _cmd_design_ipc(args: argparse.Namespace) -> int:
     """The IPC harmonics tuned from the plant, those past the actuator's rate budget written inactive, as the ipc
-    graph's parameter file (hawt_controllers.ipc_design.write_tunings)."""
-    from hawt_controllers.ipc_design import write_tunings
-    from hawt_controllers.tunings import TuningError
+    graph's parameter file (hawt_controllers.design.ipc_design.write_tunings)."""
+    from hawt_controllers.design.ipc_design import write_tunings
+    from hawt_controllers.design.tunings import TuningError
     from hawt_plant.turbine import TurbineDefinitionError
 
     if args.linear_models and not Path(args.linear_models).is_file():
@@ -861,7 +821,6 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     another graph on the machine's default domain with the same namespace cannot feed its controllers."""
     from hawt_analysis.analysis_report import headline_text, write_comparison_report
     from hawt_analysis.run_analysis import compare_bags
-    from hawt_tools.launcher import package_prefix
 
     if "ROS_DOMAIN_ID" not in os.environ:  # the default domain is every ROS user's on this machine: take one alone
         from domain_coordinator import domain_id
@@ -1145,7 +1104,7 @@ def _parser() -> argparse.ArgumentParser:
                     "hands activate/deactivate to its controller_manager, so they take effect at a plant step "
                     "exactly as 'hawt switch' does.")
     lifecycle.add_argument("node", metavar="NODE", help="node name (e.g. ipc_h1 or /wt1/ipc_h1)")
-    from hawt_controllers.switching import TRANSITIONS
+    from hawt_controllers.plugins.switching import TRANSITIONS
 
     lifecycle.add_argument("transition", nargs="?", choices=TRANSITIONS, help="the transition to ask for")
     lifecycle.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when several are running")
@@ -1180,7 +1139,7 @@ def _parser() -> argparse.ArgumentParser:
                     "(collective/cos/sin). "
                     "Outputs: blade-root moments (collective/cos/sin), speeds, tower-top motion, hub tilt/yaw, "
                     "tower-base moments, thrust, aerodynamic torque. Load the file with "
-                    "hawt_controllers.linear_models.load_models, or with numpy: "
+                    "hawt_controllers.design.linear_models.load_models, or with numpy: "
                     "scipy.signal.StateSpace(a[k], b[k], c[k], d[k]) at wind_speeds[k].")
     linearize.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="plant parameters, e.g. "
                                                                               "shear_exponent:=0.0")

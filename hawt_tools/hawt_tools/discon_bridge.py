@@ -68,7 +68,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from hawt_controllers.discon_library import Record
+from hawt_controllers.discon.library import Record
 from hawt_plant.model import TurbineOutput
 
 __all__ = ["BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "BridgeRun", "MISSING_FIELDS", "REQUEST",
@@ -314,7 +314,7 @@ def _round_dt(dt32: float) -> float:
 def _graph_file(bridge: BridgeFile) -> Path:
     """The graph a bridge file names: a file beside the bridge file (or a path relative to its folder), else an
     installed graph's name (whatever folders the bridge's working directory has)."""
-    from hawt_tools.cli import find_graph, installed_graphs
+    from hawt_tools.graph_file import find_graph, installed_graphs
 
     local = bridge.path.resolve().parent / bridge.graph
     if local.is_file() or Path(bridge.graph).suffix in (".yaml", ".yml") or "/" in bridge.graph:
@@ -328,7 +328,8 @@ def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int
     a :class:`BridgeModel` on ``connection`` as its plant. A :class:`BridgeError` for anything that cannot run."""
     from hawt_tools.graph_file import GraphError, launch_arguments, load_graph
     from hawt_tools.in_process import build_run, plant_node
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.graph_file import package_prefix
+    from hawt_tools.node_parameters import parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     from hawt_core.parameter_table import ParameterError

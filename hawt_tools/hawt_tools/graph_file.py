@@ -27,7 +27,7 @@ interpreted; the program must exist when the graph is read. Only ``hawt launch``
 such a graph. Supported substitutions: ``$(var NAME)``,
 ``$(env NAME [DEFAULT])``, ``$(find-pkg-share PKG)``, ``$(find-pkg-prefix PKG)``,
 ``$(dirname)``, ``$(filename)`` and hawt's ``$(turbine-tuning TURBINE KIND)`` (a turbine's controller
-tuning file, :func:`hawt_controllers.tunings.tuning_file`, as an absolute path: a TURBINE folder or file is
+tuning file, :func:`hawt_controllers.design.tunings.tuning_file`, as an absolute path: a TURBINE folder or file is
 relative to the working directory, :func:`resolve_turbine`); a substitution may hold others, e.g.
 ``$(turbine-tuning $(var turbine) cpc)``, expanded innermost first. Everything is checked before a process starts;
 an error is a :class:`GraphError` whose one-line message names the file, the line
@@ -38,6 +38,7 @@ import os
 import re
 import shlex
 import shutil
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
@@ -328,7 +329,7 @@ class _Substitutor:
         if kind == "turbine-tuning":
             if len(words) != 2:
                 raise GraphError(f"{where}: $(turbine-tuning TURBINE KIND) takes two words")
-            from hawt_controllers.tunings import TuningError, tuning_file
+            from hawt_controllers.design.tunings import TuningError, tuning_file
 
             try:
                 return str(tuning_file(resolve_turbine(words[0], where), words[1]))
@@ -586,7 +587,7 @@ def declared_arguments(path: Path) -> Tuple[ArgumentSpec, ...]:
 
 
 def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
-               package_prefix: Optional[Callable[[str], Optional[str]]] = None) -> Graph:
+               prefix_of: Optional[Callable[[str], Optional[str]]] = None) -> Graph:
     """Read and check a graph file.
 
     Parameters
@@ -596,9 +597,9 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
     arguments : mapping of str to str, optional
         Launch arguments given on the command line (``NAME:=VALUE``); each must be
         declared by an ``arg`` action of the file.
-    package_prefix : callable, optional
+    prefix_of : callable, optional
         Maps a package name to its install prefix, or None if there is no such package;
-        used by ``$(find-pkg-share ...)``.
+        used by ``$(find-pkg-share ...)`` (default: :func:`package_prefix`, the installed packages).
 
     Raises
     ------
@@ -616,7 +617,7 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
         raise GraphError(f"{path}:{data.key_lines['launch']}: 'launch' must be a list of actions")
     variables: Dict[str, str] = {}
     declared = []
-    substitute = _Substitutor(path, variables, package_prefix or (lambda _p: None))
+    substitute = _Substitutor(path, variables, prefix_of or package_prefix)
     nodes: List[NodeSpec] = []
     programs: List[ProgramSpec] = []
     for action in actions:
@@ -660,3 +661,55 @@ def load_graph(path: Path, arguments: Optional[Mapping[str, str]] = None,
                              f"(first at line {seen[program.label]})")
         seen[program.label] = program.line
     return Graph(path=path, nodes=tuple(nodes), arguments=dict(variables), programs=tuple(programs))
+
+
+def package_prefix(package: str) -> Optional[str]:
+    """The install prefix of a package (its files under ``<prefix>/share/<package>``), or None: the ament index's
+    (a ROS workspace, ``AMENT_PREFIX_PATH``), else this Python's prefix if a pip install put the package's index
+    marker there (its setup's data files), so a venv without ROS finds the installed graphs too."""
+    try:
+        from ament_index_python.packages import PackageNotFoundError, get_package_prefix
+    except ImportError:
+        marker = Path(sys.prefix) / "share" / "ament_index" / "resource_index" / "packages" / package
+        return sys.prefix if marker.is_file() else None
+    try:
+        return get_package_prefix(package)
+    except (PackageNotFoundError, ValueError):
+        return None
+
+
+_GRAPH_PACKAGES = ("hawt_tools", "hawt_plant", "hawt_controllers")
+
+
+def installed_graphs() -> Dict[str, Path]:
+    """The installed graph files by name: each ``<name>.yaml`` of a hawt package's ``launch`` folder."""
+    graphs: Dict[str, Path] = {}
+    for package in _GRAPH_PACKAGES:
+        prefix = package_prefix(package)
+        folder = Path(prefix) / "share" / package / "launch" if prefix else None
+        if folder and folder.is_dir():
+            graphs.update((p.stem, p) for p in sorted(folder.glob("*.yaml")) if p.stem not in graphs)
+    return graphs
+
+
+def find_graph(name: str) -> Path:
+    """A graph file: the path itself if it exists, else ``<name>.yaml`` in a hawt package's ``launch`` folder."""
+    path = Path(name)
+    if path.exists() or path.suffix in (".yaml", ".yml"):
+        return path
+    graphs = installed_graphs()
+    if name in graphs:
+        return graphs[name]
+    raise GraphError(f"{name}: no such graph file, and no installed graph of that name"
+                     + (did_you_mean(name, sorted(graphs)) if graphs else ""))
+
+
+def graph_summary(path: Path) -> str:
+    """What a graph file says it is: the first sentence of its leading comment ('' without one)."""
+    lines = []
+    for line in Path(path).read_text().splitlines():
+        if not line.startswith("#") or line.startswith("#  "):
+            break
+        lines.append(line.lstrip("# ").strip())
+    text = " ".join(lines)
+    return text.split(". ")[0].split(": ", 1)[-1].rstrip(".").strip()

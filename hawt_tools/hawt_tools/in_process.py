@@ -3,8 +3,8 @@
 ``hawt run GRAPH`` reads the same graph and parameter files as ``hawt launch``, gives each
 node the parameters rcl would give it (hawt_tools.node_parameters), builds the same cores —
 the plant model (hawt_plant.plant_setup), every controller plug-in (hawt_controllers.
-controller), the loop assembler (hawt_controllers.loop_assembly) and the controller
-manager's switch schedule (hawt_controllers.switching) — and steps them in the order the
+controller), the loop assembler (hawt_controllers.plugins.loop_assembly) and the controller
+manager's switch schedule (hawt_controllers.plugins.switching) — and steps them in the order the
 lockstep graph does: at step k every controller updates on the plant's output of step k
 (active or not), the assembler sums what the active ones contribute, limits it, and the
 plant advances with that command. The result equals the lockstep ROS graph bit for bit,
@@ -26,12 +26,13 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from hawt_controllers.controller import (CollectiveContribution, Contribution, Controller, HarmonicContribution,
-                                         contribution_topic, controller_parameters, update_or_hold)
-from hawt_controllers.loop_assembly import LoopAssembler
-from hawt_controllers.switching import (ControllerInfo, Switch, SwitchRefused, parse_schedule, plan_switch,
-                                        ramp_steps)
+from hawt_controllers.plugins.controller import (CollectiveContribution, Contribution, Controller,
+                                                HarmonicContribution, contribution_topic, update_or_hold)
+from hawt_controllers.plugins.loop_assembly import ASSEMBLER, LoopAssembler, assembly_problem, pitch_limits
+from hawt_controllers.plugins.switching import (ControllerInfo, Switch, SwitchRefused, parse_schedule, plan_switch,
+                                                ramp_steps, switch_effect)
 from hawt_core.command_interfaces import parse_interface
+from hawt_core.node_role import NodeRole
 from hawt_core.parameter_table import ParameterError, resolve_values
 from hawt_core.topics import estimate_topic
 from hawt_plant.faults import fault_event, make_faults
@@ -40,6 +41,7 @@ from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
 from hawt_plant.plant_setup import aerodynamics_line, make_plant, make_safety_system
 from hawt_plant.safety_system import command_rejection, protection_event
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
+from hawt_tools.node_registry import node_role
 from hawt_tools.node_parameters import node_parameters
 
 __all__ = ["InProcessRun", "PlantFactory", "build_run", "plant_node", "plant_parameters", "RunRecord", "write_run",
@@ -98,8 +100,6 @@ class InProcessRun:
         self.description = self.turbine.description(plant_values["dt"])
         self.actuator = self.turbine.pitch_actuator
         self.safety = make_safety_system(self.turbine, plant_values)
-        from hawt_controllers.mbc_node import pitch_limits
-
         self.assembler = LoopAssembler(self.description.blades, pitch_limits(assembler_values, self.description),
                                        self.description.dt)
         self.controllers: List[_Controller] = []
@@ -120,8 +120,6 @@ class InProcessRun:
 
     def _planned(self, entries: Sequence[str], ramp_time: float) -> List[Switch]:
         """controller_manager's ``schedule`` entries as switches, checked as the manager checks them (STRICT)."""
-        from hawt_controllers.loop_assembly import assembly_problem
-
         known = {c.name: c.info() for c in self.controllers}
         switches = []
         for entry in parse_schedule([e for e in entries if e.strip()]):
@@ -139,22 +137,22 @@ class InProcessRun:
         return switches
 
     def _apply(self, switch: Switch, step: int) -> None:
-        """What every controller node does with a switch at its step (hawt_controllers.controller_node)."""
+        """What every controller node does with a switch at its step (switching.switch_effect, as the node)."""
         outgoing_last = {contribution_topic(c): c for ctl in self.controllers if ctl.name in dict(switch.deactivate)
                          for c in ctl.last}
         incoming = dict(switch.activate)
         for controller in self.controllers:
             claims = controller.core.claims()
-            replaced = switch.replaces(claims)
-            if controller.name in incoming:
-                initial = tuple(c for t, c in outgoing_last.items() if replaced and
+            effect = switch_effect(switch, controller.name, claims, self.description.dt)
+            if effect is None:
+                continue
+            if effect.active:
+                initial = tuple(c for t, c in outgoing_last.items() if effect.replaced and
                                 any(parse_interface(i).topic == t for i in claims))
-                controller.core.on_activate(0.0 if replaced else switch.ramp_time, initial, self.output)
-                controller.publish_until = math.inf
-            elif controller.name in dict(switch.deactivate):
-                controller.core.on_deactivate(0.0 if replaced else switch.ramp_time)
-                controller.publish_until = switch.step + (0 if replaced else
-                                                          ramp_steps(switch.ramp_time, self.description.dt))
+                controller.core.on_activate(effect.ramp_time, initial, self.output)
+            else:
+                controller.core.on_deactivate(effect.ramp_time)
+            controller.publish_until = effect.publish_until
         self.events.append({"step": step, "source": "in_process", "level": 20, "kind": "switch",
                             "detail": f"at step {step}: activate {', '.join(incoming) or '-'}; deactivate "
                                       f"{', '.join(dict(switch.deactivate)) or '-'}; ramp {switch.ramp_time:g} s"})
@@ -264,29 +262,18 @@ def _contribution_row(contribution: Contribution, step: int, controller: str) ->
     return {"step": step, "controller": controller, "increment": np.asarray(contribution.increment)}
 
 
-def _node_kind(graph: Graph, spec: NodeSpec) -> Tuple[str, Optional[type]]:
-    """What a node is to the runner: plant, assembler, manager, controller (with its core class) or other."""
-    from hawt_controllers.controller_manager_node import ControllerManagerNode
-    from hawt_controllers.controller_node import ControllerNode
-    from hawt_controllers.mbc_node import MbcNode
-    from hawt_plant.description_node import PlantDescriptionNode
-    from hawt_plant.plant_node import PlantNode
-    from hawt_tools.launcher import node_class
-
-    cls = node_class(graph, spec)
-    for kind, base in (("plant", PlantNode), ("assembler", MbcNode), ("manager", ControllerManagerNode),
-                       ("description", PlantDescriptionNode)):
-        if issubclass(cls, base):
-            return kind, None
-    if issubclass(cls, ControllerNode):
-        return "controller", cls.CONTROLLER
-    raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r} ({spec.package}/{spec.executable}) has no "
-                     "core the in-process runner can step (plant, mbc, controller_manager or a controller)")
+def _node_kind(graph: Graph, spec: NodeSpec, overrides: Overrides = ()) -> Tuple[str, Optional[NodeRole]]:
+    """What a node is to the runner: its role's kind (plant, assembler, manager, description, controller) and role."""
+    role = node_role(graph, spec, overrides)
+    if role is None:
+        raise GraphError(f"{graph.path}:{spec.line}: node {spec.name!r} ({spec.package}/{spec.executable}) has no "
+                         "core the in-process runner can step (plant, mbc, controller_manager or a controller)")
+    return role.kind, role
 
 
 def plant_node(graph: Graph) -> NodeSpec:
     """The graph's one plant node (a GraphError if it has none or several)."""
-    plants = [spec for spec in graph.nodes if _node_kind(graph, spec)[0] == "plant"]
+    plants = [spec for spec in graph.nodes if getattr(node_role(graph, spec), "kind", None) == "plant"]
     if len(plants) != 1:
         raise GraphError(f"{graph.path}: expected exactly one plant node, found {len(plants)}")
     return plants[0]
@@ -317,14 +304,11 @@ def build_run(graph: Graph, overrides: Overrides = (), progress: Callable[[str],
         A node the runner cannot step, an ``executable`` action, a graph without exactly one plant and one
         assembler, or a bad parameter (named with the node).
     """
-    from hawt_controllers.controller_manager_node import PARAMETERS as MANAGER_PARAMETERS
-    from hawt_controllers.mbc_node import PARAMETERS as ASSEMBLER_PARAMETERS
-
     graph.refuse_programs("in one process (hawt run, campaigns)")
-    found: Dict[str, List[Tuple[NodeSpec, Optional[type]]]] = {}
+    found: Dict[str, List[Tuple[NodeSpec, NodeRole]]] = {}
     for spec in graph.nodes:
-        kind, core = _node_kind(graph, spec)
-        found.setdefault(kind, []).append((spec, core))
+        kind, role = _node_kind(graph, spec, overrides)
+        found.setdefault(kind, []).append((spec, role))
     for kind in ("plant", "assembler"):
         if len(found.get(kind, ())) != 1:
             raise GraphError(f"{graph.path}: the in-process runner needs exactly one {kind} node, found "
@@ -334,13 +318,13 @@ def build_run(graph: Graph, overrides: Overrides = (), progress: Callable[[str],
         return _node_values(graph, spec, table, overrides)
 
     plant_spec, assembler_spec = found["plant"][0][0], found["assembler"][0][0]
-    controllers = [(spec.label, core, values(spec, controller_parameters(core)))
-                   for spec, core in found.get("controller", ())]
-    managers = [values(spec, MANAGER_PARAMETERS) for spec, _ in found.get("manager", ())]
+    controllers = [(spec.label, role.controller, values(spec, role.parameters))
+                   for spec, role in found.get("controller", ())]
+    managers = [values(spec, role.parameters) for spec, role in found.get("manager", ())]
     schedule, ramp_time = (managers[0]["schedule"], managers[0]["ramp_time"]) if managers else ((), 0.0)
     try:
         return InProcessRun(plant_spec.full_namespace.rstrip("/"), values(plant_spec, PLANT_PARAMETERS),
-                            values(assembler_spec, ASSEMBLER_PARAMETERS), controllers, schedule, ramp_time,
+                            values(assembler_spec, ASSEMBLER.parameters), controllers, schedule, ramp_time,
                             progress, plant)
     except SwitchRefused as refusal:
         raise GraphError(f"{graph.path}: controller_manager schedule: {refusal}") from None

@@ -22,21 +22,23 @@ from typing import Callable, Dict, Iterable, Iterator, List, Mapping, Optional, 
 
 import psutil
 import yaml
-from ament_index_python.packages import PackageNotFoundError, get_package_prefix, get_packages_with_prefixes
+from ament_index_python.packages import get_packages_with_prefixes
 
 from rclpy.task import Future
 
+from hawt_core.node_role import NodeRole
 from hawt_core.stop_signals import LAUNCHER_PID, stop_signals
-from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, ProgramSpec, did_you_mean
+from hawt_tools.graph_file import (Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, ProgramSpec, did_you_mean,
+                                   package_prefix)
 from hawt_tools.node_parameters import typed_override
+from hawt_tools.node_registry import implied_parameters
 from hawt_node.node_main import first_done, run_nodes
 
 __all__ = [
     "LaunchFailure",
-    "package_prefix",
     "executable_path",
-    "parse_overrides",
     "launcher_parameters",
+    "class_role",
     "describe_exit",
     "ros_arguments",
     "ProcessGraph",
@@ -53,14 +55,6 @@ class LaunchFailure(RuntimeError):
     """The graph started but could not run to its end (a node died, a process would not stop)."""
 
 
-def package_prefix(package: str) -> Optional[str]:
-    """The install prefix of a ROS package, or None."""
-    try:
-        return get_package_prefix(package)
-    except (PackageNotFoundError, ValueError):
-        return None
-
-
 def executable_path(graph: Graph, spec: NodeSpec) -> Path:
     """The file that runs ``spec``: ``<prefix>/lib/<pkg>/<exec>`` (GraphError naming the line if absent)."""
     where = f"{graph.path}:{spec.line}"
@@ -75,19 +69,6 @@ def executable_path(graph: Graph, spec: NodeSpec) -> Path:
         raise GraphError(f"{where}: node {spec.name!r}: package {spec.package!r} has no executable "
                          f"{spec.executable!r}" + (did_you_mean(spec.executable, available) if available else ""))
     return path
-
-
-def parse_overrides(graph: Graph, texts: Sequence[str]) -> Overrides:
-    """Turn ``NODE.PARAM:=VALUE`` texts (``-p`` options) into per-node ``(param, value)`` lists."""
-    overrides: Overrides = {}
-    for text in texts:
-        target, sep, value = text.partition(":=")
-        node, dot, parameter = target.partition(".")
-        if not sep or not dot or not node or not parameter:
-            raise GraphError(f"-p {text!r}: expected NODE.PARAM:=VALUE (e.g. -p relay.gain:=2.0)")
-        spec = graph.node(node)
-        overrides.setdefault(spec.label, []).append((parameter, value))
-    return overrides
 
 
 @contextmanager
@@ -143,7 +124,9 @@ def _nest(values: Sequence[Tuple[str, object]]) -> Dict[str, object]:
 
 def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
                   global_parameters: Mapping[str, object] = ()) -> List[str]:
-    """The ``--ros-args ...`` list of one node; inline parameters are written to files in ``parameter_dir``."""
+    """The ``--ros-args ...`` list of one node; inline parameters are written to files in ``parameter_dir``.
+    ``global_parameters`` come first, so the graph's own entries win (the launcher's, and what the graph implies for
+    this node, hawt_tools.node_registry.implied_parameters)."""
     arguments = ["--ros-args", "-r", f"__node:={spec.name}"]
     if spec.namespace:
         arguments += ["-r", f"__ns:=/{spec.namespace.strip('/')}"]
@@ -274,7 +257,8 @@ class ProcessGraph:
                 parameter_folder() as parameter_dir:
             processes = [
                 _Process(spec, [str(exe), *spec.arguments,
-                                *ros_arguments(spec, self.overrides, Path(parameter_dir), self.global_parameters)])
+                                *ros_arguments(spec, self.overrides, Path(parameter_dir), {
+                                    **self.global_parameters, **implied_parameters(self.graph, spec, self.overrides)})])
                 for spec, exe in zip(self.graph.nodes, self._executables)]
             processes += [_Process(program, list(program.command)) for program in self.graph.programs]
             try:
@@ -353,6 +337,17 @@ def node_class(graph: Graph, spec: NodeSpec) -> type:
                      "cannot run composed (its entry point has no node_class)")
 
 
+def class_role(graph: Graph, spec: NodeSpec) -> Optional[NodeRole]:
+    """The role of a node no package registers, read off its class (``PARAMETERS``, ``check_parameters``), for the
+    parameter check of ``hawt launch`` (hawt_tools.parameter_check); None for a node without a table."""
+    try:
+        cls = node_class(graph, spec)
+    except GraphError:
+        return None  # not a Python node with a node_class: started unchecked
+    table = getattr(cls, "PARAMETERS", None)
+    return None if table is None else NodeRole("other", tuple(table), getattr(cls, "check_parameters", None))
+
+
 def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] = None,
                  global_parameters: Mapping[str, object] = (),
                  events: Optional[Callable[[str, int, str, str], None]] = None) -> int:
@@ -367,7 +362,8 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
         executable_path(graph, spec)
     with parameter_folder() as parameter_dir:
         def make_nodes() -> list:
-            return [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), global_parameters))
+            return [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), {
+                        **global_parameters, **implied_parameters(graph, spec, overrides)}))
                     for spec, node_class in zip(graph.nodes, classes)]
 
         def ending(nodes) -> Optional[Future]:

@@ -8,13 +8,13 @@ came from (:class:`Origin`), so a refusal can name the file or the ``-p`` option
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import yaml
 
-from hawt_tools.graph_file import NodeSpec, ParameterFile, ParameterValues, yaml_value
+from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, yaml_value
 
-__all__ = ["Origin", "node_parameters", "node_parameter_sources", "typed_override"]
+__all__ = ["Origin", "node_parameters", "node_parameter_sources", "parse_overrides", "typed_override"]
 
 Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
 
@@ -96,3 +96,16 @@ def node_parameters(spec: NodeSpec, overrides: Overrides = (), global_parameters
         Dict[str, Any]:
     """The parameter values a node of the graph starts with (:func:`node_parameter_sources` without the origins)."""
     return {name: value for name, (value, _) in node_parameter_sources(spec, overrides, global_parameters).items()}
+
+
+def parse_overrides(graph: Graph, texts: Sequence[str]) -> Dict[str, List[Tuple[str, str]]]:
+    """Turn ``NODE.PARAM:=VALUE`` texts (``-p`` options) into per-node ``(param, value)`` lists."""
+    overrides: Dict[str, List[Tuple[str, str]]] = {}
+    for text in texts:
+        target, sep, value = text.partition(":=")
+        node, dot, parameter = target.partition(".")
+        if not sep or not dot or not node or not parameter:
+            raise GraphError(f"-p {text!r}: expected NODE.PARAM:=VALUE (e.g. -p relay.gain:=2.0)")
+        spec = graph.node(node)
+        overrides.setdefault(spec.label, []).append((parameter, value))
+    return overrides

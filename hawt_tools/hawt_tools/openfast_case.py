@@ -85,7 +85,7 @@ def deck_of(turbine: str) -> Path:
     DeckNotFound
         A packaged turbine other than ``nrel_5mw`` (no deck), or an imported turbine without its copy of the deck.
     """
-    from hawt_controllers.tunings import turbine_folder
+    from hawt_controllers.design.tunings import turbine_folder
 
     folder = turbine_folder(turbine)
     if folder is None:
@@ -144,7 +144,7 @@ def keep_deck(deck: Path, turbine_folder: Path) -> Path:
     """Keep what ``hawt validate`` and the turbine's ``rosco`` graph need of ``deck`` in ``turbine_folder``: the deck
     on a rigid base (:func:`read_deck`) in ``openfast/``, every module written by openfast-io's writer so its paths
     point inside the copy, and the ROSCO input ServoDyn names as ``DISCON.IN`` with its Cp/Ct/Cq file beside it (the
-    turbine's ``discon`` tuning, :mod:`hawt_controllers.tunings`), which the copy's ServoDyn names. The folder can
+    turbine's ``discon`` tuning, :mod:`hawt_controllers.design.tunings`), which the copy's ServoDyn names. The folder can
     move. Returns the copy's ``.fst``.
 
     Raises
@@ -152,8 +152,8 @@ def keep_deck(deck: Path, turbine_folder: Path) -> Path:
     DeckNotFound
         The deck, or a file its ROSCO input names, cannot be read.
     """
-    from hawt_controllers.rosco_input import copy_input
-    from hawt_controllers.tunings import FILE_NAMES
+    from hawt_controllers.discon.rosco_input import copy_input
+    from hawt_controllers.design.tunings import FILE_NAMES
 
     fst_vt, _ = read_deck(deck)
     turbine_folder = Path(turbine_folder)

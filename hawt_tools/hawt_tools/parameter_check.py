@@ -3,21 +3,22 @@
 
 Each node gets exactly the values rcl will give it (hawt_tools.node_parameters: the graph's
 ``{name, value}`` entries, ``{from: FILE}`` files with wildcards, ``-p`` overrides), and
-each value is checked against the node's declarative parameter table: its class's
-``PARAMETERS`` (hawt_core.parameter_table rows; a controller node's table comes from its
-controller, hawt_controllers.controller_node), found through the executable's entry point
-(hawt_tools.launcher.node_class). Refused, as one line naming the graph file (or the ``-p``
+each value is checked against the node's declarative parameter table (hawt_core.parameter_table rows): its
+registered role's (hawt_tools.node_registry; a controller's from its type), without ROS; for a node no package
+registers, its class's ``PARAMETERS``, found through the executable's entry point, when ``hawt launch`` asks for it
+(hawt_tools.launcher.class_role).
+Refused, as one line naming the graph file (or the ``-p``
 option, or the parameter file the value came from), the node and the parameter:
 
 - a name neither the table nor rclpy itself declares (a did-you-mean);
 - a value of another type than the row's (as rcl refuses it), a NaN or infinity, one
   outside the row's range or choices;
-- values that break a rule across parameters, or name a file that cannot serve, if the node
-  class offers a cheap ``check_parameters(values)`` (e.g. the plant's ``command_timeout >
+- values that break a rule across parameters, or name a file that cannot serve, if the role
+  has a cheap ``check_parameters(values)`` (e.g. the plant's ``command_timeout >
   resend_period``; a ``discon`` controller's library that is no ELF shared object of this
-  machine exporting ``DISCON``, hawt_controllers.discon_library.check_library).
+  machine exporting ``DISCON``, hawt_controllers.discon.library.check_library).
 
-Not checked: a node whose class has no ``PARAMETERS`` table, or whose executable is no
+Not checked: an unregistered node whose class has no ``PARAMETERS`` table, or whose executable is no
 Python entry point with a ``node_class`` (a C++ node, a script) — it gets its values
 unchecked, as before. The launcher's global parameters (``wait_for_recorder``) apply only to
 nodes whose table has them: every node is given them, and rclpy ignores what a node never
@@ -29,14 +30,16 @@ generated): the plant's turbine file loaded and every controller core built agai
 configures it — a tuning for another turbine, a ``dt`` that is not the plant's. The plant model (its operating point)
 is not built.
 """
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple
 
+from hawt_core.node_role import NodeRole
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, did_you_mean
 from hawt_tools.node_parameters import Origin, node_parameter_sources
+from hawt_tools.node_registry import node_role
 
 __all__ = ["RCLPY_PARAMETERS", "check_against_plant", "check_graph_parameters", "check_node_parameters",
-           "parameter_table", "takes_parameter"]
+           "checked_role", "takes_parameter"]
 
 RCLPY_PARAMETERS = (
     ParameterSpec("use_sim_time", False, "follow /clock (rclpy.time_source.USE_SIM_TIME_NAME)"),
@@ -50,22 +53,23 @@ imported, so that the check loads no rclpy (tests/hawt_tools/test_parameter_chec
 Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
 
 
-def parameter_table(graph: Graph, spec: NodeSpec) -> Tuple[Optional[type], Optional[Tuple[ParameterSpec, ...]]]:
-    """The node class behind ``spec`` and its parameter table (None, None for a node that cannot be checked)."""
-    from hawt_tools.launcher import node_class
-
-    try:
-        cls = node_class(graph, spec)
-    except GraphError:
-        return None, None  # not a Python node with a node_class: started unchecked (module notes)
-    table = getattr(cls, "PARAMETERS", None)
-    return (cls, tuple(table)) if table is not None else (cls, None)
+RoleOf = Callable[[Graph, NodeSpec], Optional[NodeRole]]
+"""Where the check finds the role of a node no package registers (``hawt launch`` passes
+hawt_tools.launcher.class_role, which reads the node's class); by default such a node is unchecked."""
 
 
-def takes_parameter(graph: Graph, spec: NodeSpec, name: str) -> bool:
+def checked_role(graph: Graph, spec: NodeSpec, overrides: Overrides = (),
+                 unregistered: RoleOf = lambda graph, spec: None) -> Optional[NodeRole]:
+    """What ``spec``'s values are checked against: its registered role (hawt_tools.node_registry), else what
+    ``unregistered`` finds; None for a node that cannot be checked."""
+    role = node_role(graph, spec, overrides)
+    return role if role is not None else unregistered(graph, spec)
+
+
+def takes_parameter(graph: Graph, spec: NodeSpec, name: str, unregistered: RoleOf = lambda graph, spec: None) -> bool:
     """True if the node's table has ``name``, or the node has no table (it is given everything, unchecked)."""
-    table = parameter_table(graph, spec)[1]
-    return table is None or any(row.name == name for row in table)
+    role = checked_role(graph, spec, (), unregistered)
+    return role is None or any(row.name == name for row in role.parameters)
 
 
 def _refusal(graph: Graph, spec: NodeSpec, name: str, origin: Optional[Origin], text: str) -> GraphError:
@@ -82,7 +86,8 @@ def _refusal(graph: Graph, spec: NodeSpec, name: str, origin: Optional[Origin], 
 
 
 def check_node_parameters(graph: Graph, spec: NodeSpec, overrides: Overrides = (),
-                          global_parameters: Mapping[str, Any] = ()) -> Optional[Dict[str, Any]]:
+                          global_parameters: Mapping[str, Any] = (),
+                          unregistered: RoleOf = lambda graph, spec: None) -> Optional[Dict[str, Any]]:
     """The values one node will run with, each checked against its table; None if the node has no table.
 
     Raises
@@ -90,9 +95,10 @@ def check_node_parameters(graph: Graph, spec: NodeSpec, overrides: Overrides = (
     GraphError
         One line naming where the first bad value came from, the node and the parameter.
     """
-    cls, table = parameter_table(graph, spec)
-    if table is None:
+    role = checked_role(graph, spec, overrides, unregistered)
+    if role is None:
         return None
+    table = role.parameters
     rows = {row.name: row for row in (*RCLPY_PARAMETERS, *table)}
     sources = node_parameter_sources(spec, overrides, global_parameters)
     values = {row.name: row.default for row in table}
@@ -109,31 +115,31 @@ def check_node_parameters(graph: Graph, spec: NodeSpec, overrides: Overrides = (
             raise _refusal(graph, spec, name, origin, str(error)) from None
         if name in values:
             values[name] = typed
-    check = getattr(cls, "check_parameters", None)
-    if check is not None:
+    if role.check_parameters is not None:
         try:
-            check(values)
+            role.check_parameters(values)
         except ValueError as error:
             name = str(error).split(":", 1)[0]
             raise _refusal(graph, spec, name, sources.get(name, (None, None))[1], str(error)) from None
     return values
 
 
-def check_graph_parameters(graph: Graph, overrides: Overrides = (), global_parameters: Mapping[str, Any] = ()) -> \
-        Dict[str, Optional[Dict[str, Any]]]:
+def check_graph_parameters(graph: Graph, overrides: Overrides = (), global_parameters: Mapping[str, Any] = (),
+                           unregistered: RoleOf = lambda graph, spec: None) -> Dict[str, Optional[Dict[str, Any]]]:
     """Check every node of the graph in file order (:func:`check_node_parameters`); label -> values (None: unchecked).
 
     Raises GraphError for the first node with a bad value, and for two controllers that would start active on
     one command interface (ros2_control's one claimant per interface, before anything starts).
     """
-    checked = {spec.label: check_node_parameters(graph, spec, overrides, global_parameters) for spec in graph.nodes}
+    checked = {spec.label: check_node_parameters(graph, spec, overrides, global_parameters, unregistered)
+               for spec in graph.nodes}
     claimants: Dict[str, NodeSpec] = {}
     for spec in graph.nodes:
         values = checked[spec.label]
-        controller = getattr(parameter_table(graph, spec)[0], "CONTROLLER", None)
-        if controller is None or values is None or not values.get("active"):
+        role = node_role(graph, spec, overrides)
+        if role is None or role.controller is None or values is None or not values.get("active"):
             continue
-        for interface in controller.claimed(values):
+        for interface in role.controller.claimed(values):
             if interface in claimants:
                 raise GraphError(f"{graph.path}: nodes {claimants[interface].name!r} and {spec.name!r} both start "
                                  f"active and claim {interface}; one controller per interface may be active (start "
@@ -154,12 +160,10 @@ def check_against_plant(graph: Graph, checked: Mapping[str, Optional[Dict[str, A
         with plant/description 76.79 rad/s (…): a tuning for another turbine``). A graph without a plant node is
         not checked.
     """
-    from hawt_plant.plant_node import PlantNode
     from hawt_plant.turbine import turbine_from
 
-    classes = {spec.label: parameter_table(graph, spec)[0] for spec in graph.nodes}
-    plants = [spec for spec in graph.nodes if isinstance(classes[spec.label], type)
-              and issubclass(classes[spec.label], PlantNode)]
+    roles = {spec.label: node_role(graph, spec) for spec in graph.nodes}
+    plants = [spec for spec in graph.nodes if roles[spec.label] is not None and roles[spec.label].kind == "plant"]
     if len(plants) != 1:
         return
     plant = checked[plants[0].label]
@@ -168,7 +172,7 @@ def check_against_plant(graph: Graph, checked: Mapping[str, Optional[Dict[str, A
     except (OSError, ValueError) as error:
         raise GraphError(f"{graph.path}: node {plants[0].name}: turbine_file: {error}") from None
     for spec in graph.nodes:
-        controller = getattr(classes[spec.label], "CONTROLLER", None)
+        controller = roles[spec.label].controller if roles[spec.label] is not None else None
         if controller is not None and checked[spec.label] is not None:
             try:
                 controller(checked[spec.label], description)

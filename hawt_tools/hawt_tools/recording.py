@@ -20,7 +20,8 @@ from typing import Callable, List, Optional
 from hawt_bag.errors import BagError
 from hawt_bag.recording_parts import join_parts, part_path
 from hawt_core.stop_signals import LAUNCHER_PID
-from hawt_tools.launcher import describe_exit, package_prefix
+from hawt_tools.graph_file import package_prefix
+from hawt_tools.launcher import describe_exit
 
 __all__ = ["RESPAWNS", "SupervisedRecorder", "start_recorder", "stop_process"]
 

@@ -3,7 +3,7 @@
 The deck is read with NREL's openfast-io (``InputReader_OpenFAST``), one module at a time: the main ``.fst``
 file, ElastoDyn with its blade and tower files, AeroDyn with its blade file and airfoil polars, and ServoDyn;
 then the ROSCO ``DISCON.IN`` that ServoDyn's controller reads (with
-:func:`hawt_controllers.rosco_input.read_settings`: openfast-io reads it only through ROSCO's toolbox, which needs
+:func:`hawt_controllers.discon.rosco_input.read_settings`: openfast-io reads it only through ROSCO's toolbox, which needs
 WISDEM). The other modules (InflowWind, HydroDyn, SubDyn, MoorDyn, ...) are not read; the plant does not model
 them. :func:`import_deck` returns the definition with the source file and key of every value;
 :func:`write_turbine` writes it as ``turbine.yaml`` and ``airfoils/<name>.yaml``, which
@@ -79,7 +79,7 @@ from typing import Any, Callable, Dict, List, Mapping, Sequence, Tuple
 import numpy as np
 from openfast_io.FAST_reader import InputReader_OpenFAST
 
-from hawt_controllers.rosco_input import RELATIVE_PATH_SETTINGS, read_settings
+from hawt_controllers.discon.rosco_input import RELATIVE_PATH_SETTINGS, read_settings
 from hawt_plant.modal import beam_first_mode
 from hawt_plant.turbine import TurbineDefinitionError, load_turbine
 

@@ -260,11 +260,12 @@ def prepare_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Pat
     with the same ROSCO library and DISCON.IN and the same wind (a turbulent case's field as ``.bts`` files in
     ``folder``). ``parameters`` are more ``-p NODE.PARAM:=VALUE`` for hawt's side."""
     from hawt_analysis.openfast_output import openfast_channel_names
-    from hawt_controllers.rosco_input import rosco_files, write_private_input
-    from hawt_controllers.tunings import tuning_file
+    from hawt_controllers.discon.rosco_input import rosco_files, write_private_input
+    from hawt_controllers.design.tunings import tuning_file
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import build_run
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.graph_file import package_prefix
+    from hawt_tools.node_parameters import parse_overrides
     from hawt_tools.parameter_check import check_graph_parameters
 
     from hawt_plant.turbine import turbine_from

@@ -56,10 +56,10 @@ def test_per_case_dels_agree_with_pcrunch_within_their_counting_conventions():
     (ASTM E1049-85). A lower exponent weighs the many residual ranges of a slowly varying tower load more."""
     from pCrunch.fatigue import FatigueParams
 
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import build_run
-    from hawt_tools.launcher import package_prefix
+    from hawt_tools.graph_file import package_prefix
 
     run = build_run(load_graph(find_graph("baseline"), {"wind_type": "turbulent", "wind_speed": "14",
                                                          "seed": "2", "duration": "60"}, package_prefix))

@@ -7,7 +7,7 @@ import pytest
 
 from hawt_analysis.load_transfer import (fit_transfer, fit_transfer_by_region, hub_to_main_bearing,
                                          main_bearing_from_hub_1p, main_bearing_to_hub, operating_region)
-from hawt_controllers.harmonic_estimator import sliding_phasors
+from hawt_core.rotor.harmonic_estimator import sliding_phasors
 from hawt_plant.shear_wind import PowerLawWind
 
 PSI = np.arange(0, 2 * 256 + 1) * (2.0 * math.pi / 256)  # two revolutions, uniform in azimuth

@@ -13,10 +13,10 @@ from hawt_analysis.two_bladed import (CHAIN_LINKS, chain_phasors, fit_chain, mai
                                       transfer_model_from_bags)
 from hawt_bag.plant_run import load_plant_run
 from hawt_bag.reader import BagReader
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import run_graph
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 HAWT = [sys.executable, "-m", "hawt_tools.cli"]
 

@@ -3,7 +3,7 @@
 Steady 18 m/s, shear alpha = 0.2, tower shadow, 100 Hz, composed exactly as the graph composes
 them: the plug-in controllers (``cpc`` -> collective_pitch + generator_torque, ``ipc`` of harmonic n ->
 harmonic/<n>, built from the plant's description) and the one loop assembler
-(hawt_controllers.loop_assembly: inverse MBC + sum + limits), with the shipped tuning
+(hawt_controllers.plugins.loop_assembly: inverse MBC + sum + limits), with the shipped tuning
 (config/ipc_nrel5mw.yaml). The ROS graph runs the same cores (test_plant_node.py, the graph
 tests); here the loop runs in one process so a 60 s run takes seconds.
 """
@@ -14,12 +14,12 @@ import pytest
 import yaml
 
 from hawt_analysis.harmonics import harmonic_amplitudes
-from hawt_controllers.collective import load_baseline_config
-from hawt_controllers.controller import CollectiveContribution
-from hawt_controllers.cpc_controller import CollectivePitchController
-from hawt_controllers.ipc_controller import HarmonicIpcController
-from hawt_controllers.ipc_design import DEFAULT_FILE
-from hawt_controllers.loop_assembly import LoopAssembler
+from hawt_controllers.laws.collective import load_baseline_config
+from hawt_controllers.plugins.controller import CollectiveContribution
+from hawt_controllers.plugins.cpc import CollectivePitchController
+from hawt_controllers.plugins.ipc import HarmonicIpcController
+from hawt_controllers.design.ipc_design import DEFAULT_FILE
+from hawt_controllers.plugins.loop_assembly import LoopAssembler
 from hawt_plant.model import TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import nrel_5mw

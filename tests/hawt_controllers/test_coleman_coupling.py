@@ -1,7 +1,7 @@
 """Tilt/yaw coupling in the Coleman frame and the azimuth offset (Disario 2018): the notes' acceptance checks B, C, E.
 
 ω0 = 12.1 rpm; the worked example is K = 1, τ = 0.2717 s (seed002 notes §7). The time-domain check runs
-three first-order blades through the project's own transforms (hawt_controllers.mbc), so the
+three first-order blades through the project's own transforms (hawt_core.rotor.mbc), so the
 library's P(s) is the plant the loop assembler and the IPC controllers see.
 """
 import math
@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.coleman_coupling import (coleman_plant, coupling_metric, dc_decoupling_offset,
+from hawt_controllers.laws.coleman_coupling import (coleman_plant, coupling_metric, dc_decoupling_offset,
                                                equal_coupling_offset, first_order, first_order_offsets,
                                                offset_from_dc_response, optimal_offset, relative_gain_array)
-from hawt_controllers.mbc import mbc_forward, mbc_inverse
+from hawt_core.rotor.mbc import mbc_forward, mbc_inverse
 
 W0 = 12.1 * math.pi / 30
 TAU = 0.2717
@@ -124,7 +124,7 @@ def test_on_the_nrel_5mw_the_measured_offset_is_the_ipc_designs_and_decouples_ti
     pitch actuator's 7.9 deg lag at 1P and a step's delay are inside); without it tilt leaks into yaw."""
     import yaml
 
-    from hawt_controllers.ipc_design import DEFAULT_FILE, coupling_survey
+    from hawt_controllers.design.ipc_design import DEFAULT_FILE, coupling_survey
     from hawt_plant.turbine import nrel_5mw
 
     point, = coupling_survey(nrel_5mw(), [18.0], [1])
@@ -147,7 +147,7 @@ def test_the_excitation_is_random_binary_in_tilt_and_yaw_and_the_same_for_a_give
     blade increments transform back to those levels (hawt's forward MBC)."""
     from types import SimpleNamespace
 
-    from hawt_controllers.coleman_excitation import ColemanExcitationController
+    from hawt_controllers.plugins.coleman_excitation import ColemanExcitationController
     from hawt_plant.turbine import nrel_5mw
 
     plant = nrel_5mw().description(0.01)

@@ -1,4 +1,4 @@
-"""Specification of hawt_controllers.collective: the NREL 5 MW baseline of Jonkman et al. (2009) ch. 7."""
+"""Specification of hawt_controllers.laws.collective: the NREL 5 MW baseline of Jonkman et al. (2009) ch. 7."""
 
 import dataclasses
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.collective import (
+from hawt_controllers.laws.collective import (
     BaselineCollectiveController,
     TorqueRegion,
     gain_correction_factor,
@@ -14,7 +14,7 @@ from hawt_controllers.collective import (
     load_baseline_config,
     torque_demand,
 )
-from hawt_controllers.exceptions import ConfigurationError
+from hawt_core.exceptions import ConfigurationError
 
 CONFIG = load_baseline_config()
 DT = 0.0125

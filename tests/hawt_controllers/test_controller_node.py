@@ -13,9 +13,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from hawt_controllers.blade_sine_node import BladeSineNode
-from hawt_controllers.ipc_node import IpcNode
-from hawt_controllers.mbc_node import MbcNode
+from hawt_controllers.ros.controller_node import ControllerNode
+from hawt_controllers.ros.mbc_node import MbcNode
 from hawt_core.topics import BLADE_LOADS, EVENTS, PLANT_DESCRIPTION, SWITCHES, TURBINE_STATE, ipc_topic
 from hawt_plant.turbine import nrel_5mw
 from hawt_node.qos import CONTROL_LOOP_HISTORY, EVENTS as EVENTS_QOS, LATCHED
@@ -82,7 +81,7 @@ def test_a_blade_count_that_conflicts_with_plant_description_is_refused_at_confi
     """blade_sine with two amplitudes on a three-bladed plant stays unconfigured; one event names both values."""
     context, add, spin_until = graph
     plant = add(FakePlant(context))
-    sine = add(BladeSineNode(context=context, cli_args=_arguments(amplitudes="[0.01,0.01]")))
+    sine = add(ControllerNode("blade_sine", context=context, cli_args=_arguments(amplitudes="[0.01,0.01]")))
     spin_until(lambda: any(e.kind == "invalid_parameter" for e in plant.events), "the refusal event")
     refusal = next(e for e in plant.events if e.kind == "invalid_parameter")
     assert refusal.detail == "/cn/blade_sine: amplitudes: 2 entries conflict with plant/description blades 3"
@@ -93,7 +92,7 @@ def test_a_harmonic_the_transform_cannot_give_for_two_blades_is_refused(graph):
     """ipc of harmonic 1 on a two-bladed plant: refused at configure, naming n_blades (DESIGN §3: B = 2 is singular)."""
     context, add, spin_until = graph
     plant = add(FakePlant(context, blades=2))
-    ipc = add(IpcNode(context=context, cli_args=_arguments()))
+    ipc = add(ControllerNode("ipc", context=context, cli_args=_arguments()))
     spin_until(lambda: any(e.kind == "invalid_parameter" for e in plant.events), "the refusal event")
     assert "n_blades: the MBC transform is singular for B=2" in plant.events[0].detail
     assert ipc._state_machine.current_state[1] == "unconfigured"
@@ -105,7 +104,7 @@ def test_live_parameters_are_checked_by_the_law_and_applied_at_the_next_step(gra
     the reason, the node stays up."""
     context, add, spin_until = graph
     plant = add(FakePlant(context))
-    ipc = add(IpcNode(context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
+    ipc = add(ControllerNode("ipc", context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
     spin_until(lambda: ipc._state_machine.current_state[1] == "active", "ipc active")
     plant.send(0)
     spin_until(lambda: 0 in plant.answers, "the answer of step 0")
@@ -130,7 +129,7 @@ def test_a_repeated_step_is_answered_again_without_advancing_the_law(graph):
     """The plant resends step 0: the same answer again, and step 1 continues from step 0's state."""
     context, add, spin_until = graph
     plant = add(FakePlant(context))
-    ipc = add(IpcNode(context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
+    ipc = add(ControllerNode("ipc", context=context, cli_args=_arguments(ramp_time=0.0, lowpass_order=0)))
     spin_until(lambda: ipc._state_machine.current_state[1] == "active", "ipc active")
     seen = []
     plant.create_subscription(HarmonicPitch, ipc_topic(1), seen.append, CONTROL_LOOP_HISTORY)
@@ -154,7 +153,7 @@ def test_a_replacing_controller_waits_for_the_outgoing_output_of_the_step_before
     switch = ControllerSwitch(step=3, activate=["/cn/ipc_b"], activate_interfaces=["harmonic/1"],
                               deactivate=["/cn/ipc_a"], deactivate_interfaces=["harmonic/1"], ramp_time=0.0)
     plant.create_publisher(ControllerSwitch, SWITCHES, LATCHED).publish(switch)
-    incoming = add(IpcNode(context=context, cli_args=_arguments(active=False, lowpass_order=0) + [
+    incoming = add(ControllerNode("ipc", context=context, cli_args=_arguments(active=False, lowpass_order=0) + [
         "-r", "__node:=ipc_b"]))
     spin_until(lambda: incoming.switches is not None and incoming.switches.pending, "ipc_b configured, switch known")
     for step, cos in ((0, 0.01), (1, 0.02)):
@@ -182,7 +181,7 @@ def test_with_await_schedule_no_step_is_answered_before_the_schedule_so_a_switch
 
     context, add, spin_until = graph
     plant = add(FakePlant(context))
-    ipc = add(IpcNode(context=context, cli_args=_arguments(active=False, await_schedule=True, ramp_time=0.0)
+    ipc = add(ControllerNode("ipc", context=context, cli_args=_arguments(active=False, await_schedule=True, ramp_time=0.0)
                       + ["-r", "__node:=ipc_h1"]))
     spin_until(lambda: ipc.switches is not None and plant.loads.get_subscription_count() == 1, "ipc configured")
     sends = 0
@@ -206,7 +205,7 @@ def test_with_await_schedule_no_step_is_answered_before_the_schedule_so_a_switch
 def test_the_schedule_is_published_in_one_message_once_the_controllers_it_names_have_announced(graph):
     """controller_manager with schedule ['5 +ipc_b']: nothing on controller_manager/schedule while ipc_b is unknown
     (it cannot be planned); once ipc_b announces itself, one latched message with the switch of step 5."""
-    from hawt_controllers.controller_manager_node import ControllerManagerNode
+    from hawt_controllers.ros.controller_manager_node import ControllerManagerNode
     from hawt_msgs.msg import ControllerSchedule
     from hawt_core.topics import SCHEDULE
 
@@ -219,7 +218,7 @@ def test_the_schedule_is_published_in_one_message_once_the_controllers_it_names_
     for _ in range(20):
         manager._run_schedule()  # what its timer does: ipc_b has not announced, so nothing is planned
     assert schedules == [] and manager.schedule
-    add(IpcNode(context=context, cli_args=_arguments(active=False) + ["-r", "__node:=ipc_b"]))
+    add(ControllerNode("ipc", context=context, cli_args=_arguments(active=False) + ["-r", "__node:=ipc_b"]))
     spin_until(lambda: schedules and manager.schedule_timer.is_canceled(), "the schedule, published once")
     schedule, = schedules
     switch, = schedule.switches
@@ -233,8 +232,7 @@ def test_a_contributor_still_starting_at_the_first_step_is_waited_for_not_lost(g
     are starting: start_timeout); once ipc_h1 answers, step 0's command includes it and no contribution_lost."""
     import time
 
-    from hawt_controllers.cpc_node import CollectivePitchNode
-    from hawt_controllers.mbc_node import MbcNode
+    from hawt_controllers.ros.mbc_node import MbcNode
     from hawt_msgs.msg import ControllerSchedule, PitchCommand
     from hawt_core.topics import PITCH_COMMAND, SCHEDULE
 
@@ -242,8 +240,8 @@ def test_a_contributor_still_starting_at_the_first_step_is_waited_for_not_lost(g
     plant = add(FakePlant(context))
     commands = []
     plant.create_subscription(PitchCommand, PITCH_COMMAND, commands.append, CONTROL_LOOP_HISTORY)
-    add(CollectivePitchNode(context=context, cli_args=_arguments()))
-    ipc = add(IpcNode(context=context, cli_args=_arguments(await_schedule=True, ramp_time=0.0)
+    add(ControllerNode("cpc", context=context, cli_args=_arguments()))
+    ipc = add(ControllerNode("ipc", context=context, cli_args=_arguments(await_schedule=True, ramp_time=0.0)
                       + ["-r", "__node:=ipc_h1"]))
     mbc = add(MbcNode(context=context, cli_args=_arguments(controllers="[cpc, ipc_h1]", input_timeout=0.2)))
     spin_until(lambda: ipc.switches is not None and mbc.assembler is not None and mbc.expected <= mbc.announced

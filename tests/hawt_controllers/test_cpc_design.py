@@ -1,4 +1,4 @@
-"""hawt_controllers.cpc_design (issue 20 item 3): the baseline collective controller tuned from the plant.
+"""hawt_controllers.design.cpc_design (issue 20 item 3): the baseline collective controller tuned from the plant.
 
 The NREL 5 MW design against Jonkman et al. (2009)'s published tuning (``data/nrel5mw_baseline.yaml``), each
 quantity with its tolerance and the difference measured; the written tuning as the cpc reads it; the IEA 15 MW
@@ -14,19 +14,19 @@ import numpy as np
 import pytest
 import yaml
 
-from hawt_controllers import cpc_design
-from hawt_controllers.collective import gain_correction_factor, load_baseline_config
-from hawt_controllers.cpc_controller import CollectivePitchController
-from hawt_controllers.cpc_design import (design_collective, discon_comparison, fit_sensitivity, pitch_gains,
+from hawt_controllers.design import cpc_design
+from hawt_controllers.laws.collective import gain_correction_factor, load_baseline_config
+from hawt_controllers.plugins.cpc import CollectivePitchController
+from hawt_controllers.design.cpc_design import (design_collective, discon_comparison, fit_sensitivity, pitch_gains,
                                          write_design)
-from hawt_controllers.exceptions import ConfigurationError
-from hawt_controllers.rosco_input import read_settings
+from hawt_core.exceptions import ConfigurationError
+from hawt_controllers.discon.rosco_input import read_settings
 from hawt_core.plant_description import DescriptionMismatch
 from hawt_plant.turbine import load_turbine, nrel_5mw
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 IEA_15MW = "IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst"
 IEA_15MW_DISCON = "IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile_DISCON.IN"

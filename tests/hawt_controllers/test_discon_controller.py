@@ -1,4 +1,4 @@
-"""hawt_controllers.discon_controller: a DISCON library as a hawt controller — claims, parameters, activation and
+"""hawt_controllers.plugins.discon: a DISCON library as a hawt controller — claims, parameters, activation and
 the status sequence on the fake library of ``data/fake_discon.c``, and ROSCO holding the NREL 5 MW plant in
 the in-process runner (``hawt run``); a library failing in the lockstep ROS graph."""
 import math
@@ -10,17 +10,17 @@ import numpy as np
 import pytest
 
 from hawt_analysis.run_analysis import analyze_bag
-from hawt_controllers.controller import CollectiveContribution, ControllerFailure
-from hawt_controllers.discon_controller import DisconController
-from hawt_controllers.rosco_input import read_settings, rosco_files
+from hawt_controllers.plugins.controller import CollectiveContribution, ControllerFailure
+from hawt_controllers.plugins.discon import DisconController
+from hawt_controllers.discon.rosco_input import read_settings, rosco_files
 from hawt_core.parameter_table import ParameterError
 from hawt_core.plant_description import PlantDescription
 from hawt_plant.model import TurbineOutput
 from hawt_plant.turbine import nrel_5mw
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import RunRecord, build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 FAKE_SOURCE = Path(__file__).parent / "data" / "fake_discon.c"
 PLANT = PlantDescription("test", 0.01, 3, 1.2671, 5e6, 43093.55, 97.0, 0.0, 1.5708, 0.1396)
@@ -247,7 +247,7 @@ def test_a_library_that_cannot_be_discon_is_refused_by_every_engine_before_anyth
 
 
 def test_importing_the_core_does_not_import_rclpy():
-    code = "import sys, hawt_controllers.discon_controller; print('rclpy' in sys.modules)"
+    code = "import sys, hawt_controllers.plugins.discon; print('rclpy' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip() == "False"
 
 

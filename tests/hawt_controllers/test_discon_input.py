@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from hawt_controllers.tunings import tuning_file
+from hawt_controllers.design.tunings import tuning_file
 
 CAMPAIGN = """\
 wind: {{speeds: [12], seeds: [1]}}

@@ -1,4 +1,4 @@
-"""hawt_controllers.discon_library: the Bladed DISCON interface through ctypes, specified on a fake library built
+"""hawt_controllers.discon.library: the Bladed DISCON interface through ctypes, specified on a fake library built
 here from ``data/fake_discon.c`` (it logs the records it receives and returns fixed demands) and on ROSCO."""
 import subprocess
 import sys
@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hawt_controllers.discon_library import (DisconDemands, DisconFailure, DisconInputs, DisconLibrary,
+from hawt_controllers.discon.library import (DisconDemands, DisconFailure, DisconInputs, DisconLibrary,
                                              DisconLoadError, Record, check_library)
-from hawt_controllers.rosco_input import read_settings, rosco_files, write_private_input
+from hawt_controllers.discon.rosco_input import read_settings, rosco_files, write_private_input
 
 FAKE_SOURCE = Path(__file__).parent / "data" / "fake_discon.c"
 LIMITS = (0.0, 1.5708, 0.1396)

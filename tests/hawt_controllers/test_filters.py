@@ -1,12 +1,12 @@
-"""Specification of hawt_controllers.filters: low-pass, notch, state handling, validation."""
+"""Specification of hawt_controllers.laws.filters: low-pass, notch, state handling, validation."""
 
 import math
 
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError
-from hawt_controllers.filters import (
+from hawt_core.exceptions import ConfigurationError
+from hawt_controllers.laws.filters import (
     DiscreteFilter,
     ExponentialLowPass,
     cascade,

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError, InputError
-from hawt_controllers.harmonic_estimator import HarmonicEstimator, sliding_phasors
-from hawt_controllers.mbc import mbc_inverse
+from hawt_core.exceptions import ConfigurationError, InputError
+from hawt_core.rotor.harmonic_estimator import HarmonicEstimator, sliding_phasors
+from hawt_core.rotor.mbc import mbc_inverse
 
 RNG = np.random.default_rng(17)
 C = RNG.normal(size=5)

@@ -8,8 +8,8 @@ import pytest
 
 @pytest.mark.parametrize(
     "name",
-    ["hawt_controllers.collective", "hawt_controllers.ipc", "hawt_controllers.ipc_tuning", "hawt_controllers.mbc",
-     "hawt_controllers.loop_assembly", "hawt_core.arrays"],
+    ["hawt_controllers.laws.collective", "hawt_controllers.laws.ipc", "hawt_controllers.laws.ipc_tuning", "hawt_core.rotor.mbc",
+     "hawt_controllers.plugins.loop_assembly", "hawt_core.arrays"],
 )
 def test_docstring_examples_hold(name):
     """The examples in the cores' docstrings run and give the printed results."""

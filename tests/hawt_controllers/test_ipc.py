@@ -1,4 +1,4 @@
-"""Specification of hawt_controllers.ipc: one harmonic's IPC law in the non-rotating frame."""
+"""Specification of hawt_controllers.laws.ipc: one harmonic's IPC law in the non-rotating frame."""
 
 import dataclasses
 import math
@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError, InputError
-from hawt_controllers.filters import second_order_lowpass
-from hawt_controllers.ipc import HarmonicIpc, HarmonicIpcConfig, soft_start_factor
-from hawt_controllers.ipc_tuning import design_integral_gain
-from hawt_controllers.mbc import blade_azimuths, mbc_forward, mbc_inverse
+from hawt_core.exceptions import ConfigurationError, InputError
+from hawt_controllers.laws.filters import second_order_lowpass
+from hawt_controllers.laws.ipc import HarmonicIpc, HarmonicIpcConfig, soft_start_factor
+from hawt_controllers.laws.ipc_tuning import design_integral_gain
+from hawt_core.rotor.mbc import blade_azimuths, mbc_forward, mbc_inverse
 
 DT = 0.05
 PURE_I = HarmonicIpcConfig(harmonic=1, integral_gain=1e-8, lowpass_order=0, max_amplitude=1.0)

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import pytest
 
-from hawt_controllers.ipc_design import RateBudget, design, measure_harmonic_response, rate_budget, within_budget
+from hawt_controllers.design.ipc_design import RateBudget, design, measure_harmonic_response, rate_budget, within_budget
 from hawt_plant.turbine import Turbine, nrel_5mw, turbine_from
 
 IEA_15MW = "IEA-15-240-RWT/IEA-15-240-RWT-Monopile/IEA-15-240-RWT-Monopile.fst"

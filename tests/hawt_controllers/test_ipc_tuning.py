@@ -1,14 +1,14 @@
-"""Specification of hawt_controllers.ipc_tuning: van Engelen's I-gain recipe and delay offsets."""
+"""Specification of hawt_controllers.laws.ipc_tuning: van Engelen's I-gain recipe and delay offsets."""
 
 import math
 
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError
-from hawt_controllers.filters import second_order_lowpass
-from hawt_controllers.ipc_tuning import design_integral_gain, phase_offset_for_delay
-from hawt_controllers.mbc import mbc_forward, mbc_inverse
+from hawt_core.exceptions import ConfigurationError
+from hawt_controllers.laws.filters import second_order_lowpass
+from hawt_controllers.laws.ipc_tuning import design_integral_gain, phase_offset_for_delay
+from hawt_core.rotor.mbc import mbc_forward, mbc_inverse
 
 
 def test_integral_gain_for_a_tenth_of_a_hertz_matches_van_engelens_recipe():

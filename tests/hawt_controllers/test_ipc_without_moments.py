@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.controller import update_or_hold
-from hawt_controllers.ipc import HarmonicIpc, HarmonicIpcConfig
-from hawt_controllers.ipc_controller import HarmonicIpcController
+from hawt_controllers.plugins.controller import update_or_hold
+from hawt_controllers.laws.ipc import HarmonicIpc, HarmonicIpcConfig
+from hawt_controllers.plugins.ipc import HarmonicIpcController
 from hawt_plant.turbine import nrel_5mw
 
 DT = 0.05

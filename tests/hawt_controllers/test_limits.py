@@ -1,12 +1,12 @@
-"""Specification of hawt_controllers.limits: per-blade angle and rate limits with flags."""
+"""Specification of hawt_controllers.laws.limits: per-blade angle and rate limits with flags."""
 
 import math
 
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError, InputError
-from hawt_controllers.limits import LimitFlag, PitchLimits, limit_pitch
+from hawt_core.exceptions import ConfigurationError, InputError
+from hawt_controllers.laws.limits import LimitFlag, PitchLimits, limit_pitch
 
 NREL5MW = PitchLimits(min_angle=0.0, max_angle=1.570796, max_rate=0.1396263)
 

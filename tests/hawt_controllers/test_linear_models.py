@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.ipc_design import measure_harmonic_response
-from hawt_controllers.linear_models import (decoupling_offset, labelled_modes, linearize_at, linearized_plant,
-                                            load_models, save_models)
-from hawt_controllers.linear_validation import CHANNELS, compare_step
+from hawt_controllers.design.ipc_design import measure_harmonic_response
+from hawt_controllers.laws.coleman_models import load_models, save_models
+from hawt_controllers.design.linear_models import decoupling_offset, labelled_modes, linearize_at, linearized_plant
+from hawt_controllers.design.linear_validation import CHANNELS, compare_step
 from hawt_plant.plant_setup import make_plant
 from hawt_plant.turbine import nrel_5mw
 from hawt_tools import cli

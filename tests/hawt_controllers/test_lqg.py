@@ -6,11 +6,12 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.collective import load_baseline_config
-from hawt_controllers.exceptions import ConfigurationError
-from hawt_controllers.linear_models import collective_loop_gain, linearize_at, load_models, stability_margins
-from hawt_controllers.lqg_design import LqgWeights, controllability_rank, design_lqg, observability_rank
-from hawt_controllers.lqg_ipc import LqgIpc, closed_loop_response, rotor_speed_response
+from hawt_controllers.laws.collective import load_baseline_config
+from hawt_core.exceptions import ConfigurationError
+from hawt_controllers.laws.coleman_models import load_models
+from hawt_controllers.design.linear_models import collective_loop_gain, linearize_at, stability_margins
+from hawt_controllers.laws.lqg_design import LqgWeights, controllability_rank, design_lqg, observability_rank
+from hawt_controllers.laws.lqg_ipc import LqgIpc, closed_loop_response, rotor_speed_response
 
 DT = 0.01
 IPC_H1 = (1.1793209854830301e-08, 0.42587361125278206)  # ipc_h1 of config/ipc_nrel5mw.yaml: k_i, phi_1
@@ -34,7 +35,7 @@ SPEEDS = (13.0, 18.0, 24.0)
 @pytest.fixture(scope="module")
 def shipped():
     """The shipped linear models by wind speed."""
-    from hawt_controllers.lqg_controller import DEFAULT_MODELS
+    from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
 
     return {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}
 
@@ -215,7 +216,7 @@ def test_a_closed_loop_that_is_not_stable_has_no_frequency_response(shipped):
 
 def test_the_law_stepped_equals_the_controller_of_the_closed_loop(design):
     """LqgIpc.step and closed_loop_response's controller are the same system: a response to random moments."""
-    from hawt_controllers.lqg_ipc import _lqg_controller
+    from hawt_controllers.laws.lqg_ipc import _lqg_controller
 
     rng = np.random.default_rng(1)
     moments = rng.normal(scale=1e5, size=(200, 2))
@@ -239,8 +240,8 @@ def test_a_weight_that_is_not_positive_is_refused_by_name(field):
 
 def test_the_shipped_linear_models_are_what_hawt_linearize_gives(model):
     """config/linear_nrel5mw.npz is written by `hawt linearize`, not edited: its 18 m/s model is today's."""
-    from hawt_controllers.linear_models import load_models
-    from hawt_controllers.lqg_controller import DEFAULT_MODELS
+    from hawt_controllers.laws.coleman_models import load_models
+    from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
 
     shipped = {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}[18.0]
     assert shipped.model.states == model.model.states and shipped.model.inputs == model.model.inputs
@@ -254,10 +255,10 @@ def test_the_shipped_linear_models_are_what_hawt_linearize_gives(model):
 
 
 def _lqg_run(arguments, steps):
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import RunRecord, build_run
-    from hawt_tools.launcher import package_prefix
+    from hawt_tools.graph_file import package_prefix
 
     run = build_run(load_graph(find_graph("lqg"), arguments, package_prefix))
     record = RunRecord()
@@ -267,7 +268,7 @@ def _lqg_run(arguments, steps):
 
 
 def _one_p(record, last):
-    from hawt_controllers.mbc import mbc_forward_sample
+    from hawt_core.rotor.mbc import mbc_forward_sample
 
     rows = record.rows["plant/blade_loads"][-last:]
     harmonics = [mbc_forward_sample(r["root_moment_oop"], r["azimuth"], 1) for r in rows]

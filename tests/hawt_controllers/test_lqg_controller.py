@@ -6,17 +6,17 @@ import numpy as np
 import pytest
 
 from hawt_analysis.wind_estimation import estimate_quality
-from hawt_controllers.controller import HarmonicContribution
-from hawt_controllers.lqg_controller import LqgIpcController
+from hawt_controllers.plugins.controller import HarmonicContribution
+from hawt_controllers.plugins.lqg_ipc import LqgIpcController
 from hawt_core.parameter_table import ParameterError
 from hawt_core.plant_description import PlantDescription
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import nrel_5mw
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import RunRecord, build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 DT = 0.01
 PLANT = PlantDescription("nrel_5mw", DT, 3, 12.1 * math.pi / 30, 5e6, 43093.55, 97.0, 0.0, math.pi / 2,

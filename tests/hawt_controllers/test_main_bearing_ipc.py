@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 
 from hawt_analysis.load_transfer import hub_to_main_bearing, main_bearing_to_hub
-from hawt_controllers.harmonic_estimator import sliding_phasors
-from hawt_controllers.main_bearing_ipc import MainBearingIpcController
+from hawt_core.rotor.harmonic_estimator import sliding_phasors
+from hawt_controllers.plugins.main_bearing_ipc import MainBearingIpcController
 from hawt_core.plant_description import PlantDescription
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 PLANT = PlantDescription(turbine="test", dt=0.01, blades=2, rated_rotor_speed=1.55, rated_power=5e6,
                          rated_generator_torque=43093.55, gearbox_ratio=79.2, min_pitch=0.0, max_pitch=1.57,
@@ -98,7 +98,7 @@ def test_it_waits_for_a_full_window_and_for_activation_and_claims_harmonic_1():
 def test_without_finite_hub_moments_the_demand_fades_out_over_the_ramp_time_and_back_in():
     """A NaN hub moment is refused input (update_or_hold): the demand falls linearly from its last value to 0 over
     ramp_time, and once the moments are finite again it comes back as fast, from where the law stood."""
-    from hawt_controllers.controller import update_or_hold
+    from hawt_controllers.plugins.controller import update_or_hold
 
     controller = MainBearingIpcController({"ramp_time": 1.0, "integral_gain": 5.0}, PLANT)
     controller.on_activate(0.0, (), None)

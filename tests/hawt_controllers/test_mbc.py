@@ -1,12 +1,12 @@
-"""Specification of hawt_controllers.mbc: the Coleman transform of DESIGN.md §3."""
+"""Specification of hawt_core.rotor.mbc: the Coleman transform of DESIGN.md §3."""
 
 import math
 
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError, InputError
-from hawt_controllers.mbc import (blade_azimuths, harmonic_rank, mbc_forward, mbc_forward_sample, mbc_inverse,
+from hawt_core.exceptions import ConfigurationError, InputError
+from hawt_core.rotor.mbc import (blade_azimuths, harmonic_rank, mbc_forward, mbc_forward_sample, mbc_inverse,
                                   mbc_inverse_sample)
 
 RANK_TWO_CASES = [(3, 1), (3, 2), (3, 4), (4, 1), (5, 1), (5, 2)]

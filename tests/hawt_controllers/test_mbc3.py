@@ -1,10 +1,10 @@
-"""Specification of hawt_controllers.mbc3: Bir's (2008) multi-blade coordinate transformation of a periodic
+"""Specification of hawt_controllers.laws.mbc3: Bir's (2008) multi-blade coordinate transformation of a periodic
 linear model and its azimuth average.
 
 The transformation is built here independently from its definition for B = 3 and 4 (blade i at
 ψ_i = ψ + 2πi/B, q_i = q_0 + q_c cos ψ_i + q_s sin ψ_i (+ q_d (−1)^i), Bir's T = [[t, 0], [Ω t', t]] for a
 displacement/rate pair); the isotropic rotor checks the known answer of the physics (the cyclic modes
-whirl at ω ± Ω), and the output transform is checked against the signal transform of hawt_controllers.mbc.
+whirl at ω ± Ω), and the output transform is checked against the signal transform of hawt_core.rotor.mbc.
 """
 import doctest
 import math
@@ -12,9 +12,9 @@ import math
 import numpy as np
 import pytest
 
-import hawt_controllers.mbc3 as mbc3_module
-from hawt_controllers.mbc import mbc_forward_sample
-from hawt_controllers.mbc3 import BladeGroups, LinearModel, azimuth_average, coleman_coordinates, mbc3
+import hawt_controllers.laws.mbc3 as mbc3_module
+from hawt_core.rotor.mbc import mbc_forward_sample
+from hawt_controllers.laws.mbc3 import BladeGroups, LinearModel, azimuth_average, coleman_coordinates, mbc3
 
 OMEGA = 12.1 * math.pi / 30  # rotor speed [rad/s]
 AZIMUTHS = [0.0, 0.3, 1.1, 2.0 * math.pi / 3, 2.9, 4.4, 5.9]
@@ -184,7 +184,7 @@ def test_modes_of_real_eigenvalues_report_the_corner_frequency_and_unit_damping(
 @pytest.mark.parametrize("n_blades", [3, 4])
 def test_coleman_outputs_of_a_blade_moment_group_are_the_forward_transform_of_the_signals(n_blades):
     """For any state x and input u at ψ: ŷ = C_c z + D_c û with x = T z, u = T_u û gives, on the moment group,
-    the mean, cos and sin of hawt_controllers.mbc.mbc_forward_sample(y_blades, ψ, 1), y = C(ψ) x + D(ψ) u."""
+    the mean, cos and sin of hawt_core.rotor.mbc.mbc_forward_sample(y_blades, ψ, 1), y = C(ψ) x + D(ψ) u."""
     states, inputs, outputs, groups = _rotor(n_blades)
     n, m, p = len(states), len(inputs), len(outputs)
     rng = np.random.default_rng(3)

@@ -1,4 +1,4 @@
-"""IPC design from the linear model (issue 15 item 4): the model route of hawt_controllers.ipc_design.
+"""IPC design from the linear model (issue 15 item 4): the model route of hawt_controllers.design.ipc_design.
 
 The nP plant a three-bladed rotor's Coleman-frame model gives, checked on first-order blades against Disario's
 eq. 2-19; the model route against the shipped design (config/ipc_nrel5mw.yaml, written by the measured route);
@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 import yaml
 
-from hawt_controllers.coleman_coupling import coleman_plant, first_order
-from hawt_controllers.ipc_design import (DEFAULT_FILE, harmonic_response, loop_analysis, loop_crossover,
+from hawt_controllers.laws.coleman_coupling import coleman_plant, first_order
+from hawt_controllers.design.ipc_design import (DEFAULT_FILE, harmonic_response, loop_analysis, loop_crossover,
                                          model_harmonic_response, tune)
-from hawt_controllers.linear_models import ColemanModel, load_models
-from hawt_controllers.lqg_controller import DEFAULT_MODELS
-from hawt_controllers.mbc3 import LinearModel
+from hawt_controllers.laws.coleman_models import ColemanModel, load_models
+from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
+from hawt_controllers.laws.mbc3 import LinearModel
 from hawt_tools import cli
 
 WIND_SPEEDS = (13.0, 16.0, 18.0, 20.0, 24.0)

@@ -1,13 +1,13 @@
-"""Specification of hawt_controllers.pi and hawt_controllers.saturation."""
+"""Specification of hawt_controllers.laws.pi and hawt_controllers.laws.saturation."""
 
 import math
 
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError, InputError
-from hawt_controllers.pi import GainSchedule, PIController
-from hawt_controllers.saturation import BoxSaturation, NormSaturation
+from hawt_core.exceptions import ConfigurationError, InputError
+from hawt_controllers.laws.pi import GainSchedule, PIController
+from hawt_controllers.laws.saturation import BoxSaturation, NormSaturation
 
 LIMITS = BoxSaturation(0.0, 1.0)
 

@@ -1,5 +1,5 @@
 """Near rated wind the baseline graph settles (issue 13): Jonkman's collective PI on this plant grew a 0.05 Hz limit
-cycle at 11.4 m/s; with K_I x 0.4 near rated (hawt_controllers.collective.integral_gain_factor) steady wind at 10.5,
+cycle at 11.4 m/s; with K_I x 0.4 near rated (hawt_controllers.laws.collective.integral_gain_factor) steady wind at 10.5,
 11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0.009, 0.003 deg over the last
 100 s of 200 s)."""
 import dataclasses
@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 import yaml
 
-from hawt_controllers.collective import load_baseline_config
-from hawt_tools.cli import find_graph
+from hawt_controllers.laws.collective import load_baseline_config
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 SECONDS, SETTLED = 200, 100
 

@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from hawt_controllers.exceptions import ConfigurationError
-from hawt_controllers.repetitive import AzimuthMemory, RepetitiveConfig, convergence_problem, learning_factors
+from hawt_core.exceptions import ConfigurationError
+from hawt_controllers.laws.repetitive import AzimuthMemory, RepetitiveConfig, convergence_problem, learning_factors
 
 K = -40.0e6  # dM/dθ [N·m/rad]
 LAG = math.radians(25.0)

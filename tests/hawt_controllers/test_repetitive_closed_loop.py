@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 from bench_repetitive import REPETITIVE_PD, flap_loads, run_rows, speed_recovery, speed_ripple  # noqa: E402

@@ -12,8 +12,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from hawt_controllers.controller import controller_parameters
-from hawt_controllers.repetitive_ipc import RepetitiveIpcController
+from hawt_controllers.plugins.controller import controller_parameters
+from hawt_controllers.plugins.repetitive_ipc import RepetitiveIpcController
 from hawt_core.parameter_table import ParameterError, default_values
 from hawt_plant.turbine import nrel_5mw
 

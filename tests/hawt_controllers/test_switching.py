@@ -5,8 +5,8 @@ from functools import partial
 
 import pytest
 
-from hawt_controllers.loop_assembly import assembly_problem
-from hawt_controllers.switching import (ControllerInfo, InterfaceWindows, Switch, SwitchRefused, parse_schedule,
+from hawt_controllers.plugins.loop_assembly import assembly_problem
+from hawt_controllers.plugins.switching import (ControllerInfo, InterfaceWindows, Switch, SwitchRefused, parse_schedule,
                                         plan_switch, ramp_steps)
 
 CPC = ControllerInfo("/wt1/cpc", "cpc", ("collective_pitch", "generator_torque"), "active", switchable=False)

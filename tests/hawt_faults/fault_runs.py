@@ -21,7 +21,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from hawt_node.recording import unrecorded_topics
 from hawt_plant.turbine import nrel_5mw
-from hawt_tools.cli import find_graph
+from hawt_tools.graph_file import find_graph
 from ros_probe import ProbeNode
 
 ACTUATOR = nrel_5mw().pitch_actuator

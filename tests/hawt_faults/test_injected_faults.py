@@ -13,10 +13,11 @@ DT = 0.01
 
 def _run(graph: str, faults: str, seconds: float):
     """``graph`` at steady 18 m/s with the plant's ``faults`` for ``seconds``, stepped in process and recorded."""
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import build_run
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.graph_file import package_prefix
+    from hawt_tools.node_parameters import parse_overrides
 
     loaded = load_graph(find_graph(graph), {"wind_speed": "18.0"}, package_prefix)
     run = build_run(loaded, parse_overrides(loaded, [f"plant.faults:={faults}"]))

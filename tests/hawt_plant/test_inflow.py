@@ -78,10 +78,11 @@ def test_the_rotor_diameter_and_turbulence_class_reach_the_edc_and_ews():
 
 
 def _baseline(wind_type: str, *overrides: str):
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import build_run
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.graph_file import package_prefix
+    from hawt_tools.node_parameters import parse_overrides
 
     graph = load_graph(find_graph("baseline"), {"wind_speed": "18.0", "wind_type": wind_type}, package_prefix)
     return build_run(graph, parse_overrides(graph, ["plant.step_time:=0.5", *overrides]))

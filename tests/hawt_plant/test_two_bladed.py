@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import hawt_plant
-from hawt_controllers.harmonic_estimator import sliding_phasors
+from hawt_core.rotor.harmonic_estimator import sliding_phasors
 from hawt_plant.bem import BemBlade, rotor_performance
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind

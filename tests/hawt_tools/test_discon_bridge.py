@@ -1,6 +1,6 @@
 """libhawt_discon.so and hawt_tools.discon_bridge: a graph as a DISCON library, driven by hawt's own DISCON host.
 
-The host is hawt_controllers.discon_library (ctypes, float32 swap array, a private loaded copy per instance);
+The host is hawt_controllers.discon.library (ctypes, float32 swap array, a private loaded copy per instance);
 the bridge is a separate process (``python -m hawt_tools.discon_bridge FILE``), as it is beside OpenFAST.
 """
 import os
@@ -12,13 +12,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hawt_controllers.discon_library import DisconFailure, DisconInputs, DisconLibrary
-from hawt_tools.cli import find_graph
+from hawt_controllers.discon.library import DisconFailure, DisconInputs, DisconLibrary
+from hawt_tools.graph_file import find_graph
 from hawt_tools.discon_bridge import (MISSING_FIELDS, BridgeError, bridge_library, measurements,
                                       read_bridge_file)
 from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import RunRecord, build_run
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 
 STEPS = 600
 """Calls per run: 6 s at the graphs' 100 Hz."""
@@ -311,7 +311,7 @@ def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_ex
     1; it does not wait on. The simulator here is a plain socket speaking the library's messages."""
     import socket as sockets
 
-    from hawt_controllers.discon_library import Record
+    from hawt_controllers.discon.library import Record
     from hawt_tools.discon_bridge import REPLY, REQUEST
 
     run, output = _steady_run()

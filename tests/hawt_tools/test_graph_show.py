@@ -1,7 +1,9 @@
 """``hawt graph show`` lists what a graph declares without starting it: arguments with defaults, nodes, parameters."""
 from pathlib import Path
 
-from hawt_tools.cli import graph_summary, main
+from hawt_tools.graph_file import graph_summary
+
+from hawt_tools.cli import main
 from hawt_tools.graph_file import ArgumentSpec, declared_arguments
 
 

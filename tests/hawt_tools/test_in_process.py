@@ -90,10 +90,11 @@ def test_hawt_run_refuses_a_graph_without_a_duration_in_one_line(hawt_cli):
 
 
 def _baseline_run(*options: str, turbine_file: str = ""):
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import build_run
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.graph_file import package_prefix
+    from hawt_tools.node_parameters import parse_overrides
 
     graph = load_graph(find_graph("baseline"), {"wind_speed": "14.0"}, package_prefix)
     given = [*options, *([f"plant.turbine_file:={turbine_file}"] if turbine_file else [])]
@@ -129,10 +130,11 @@ def test_a_plant_parameter_overrides_the_turbines_aerodynamic_option_in_process(
 
 def test_hawt_run_says_first_which_aerodynamic_options_the_plant_has():
     """The first progress line of a run names the turbine and its options, as the plant node's start-up line does."""
-    from hawt_tools.cli import find_graph
+    from hawt_tools.graph_file import find_graph
     from hawt_tools.graph_file import load_graph
     from hawt_tools.in_process import run_graph
-    from hawt_tools.launcher import package_prefix, parse_overrides
+    from hawt_tools.graph_file import package_prefix
+    from hawt_tools.node_parameters import parse_overrides
 
     graph = load_graph(find_graph("baseline"), {}, package_prefix)
     lines = []

@@ -129,8 +129,8 @@ def test_an_imported_turbine_keeps_a_copy_of_its_deck_that_validate_finds(tmp_pa
 def test_the_kept_deck_and_its_rosco_input_move_with_the_turbine_folder(tmp_path):
     """The ROSCO input becomes the turbine's discon tuning with its Cp/Ct/Cq file beside it by name, and the copy's
     ServoDyn names it relatively: the folder moved elsewhere still gives ROSCO its performance table."""
-    from hawt_controllers.rosco_input import read_settings
-    from hawt_controllers.tunings import tuning_file
+    from hawt_controllers.discon.rosco_input import read_settings
+    from hawt_controllers.design.tunings import tuning_file
 
     keep_deck(deck_of("nrel_5mw"), tmp_path / "before")
     (tmp_path / "before").rename(tmp_path / "after")

@@ -4,10 +4,13 @@ from pathlib import Path
 import pytest
 
 from hawt_tools import launcher
-from hawt_tools.cli import find_graph, main
+from hawt_tools.graph_file import find_graph
+from hawt_tools.cli import main
 from hawt_tools.graph_file import GraphError, load_graph
-from hawt_tools.launcher import launcher_parameters, package_prefix, parse_overrides
-from hawt_tools.parameter_check import check_against_plant, check_graph_parameters, parameter_table
+from hawt_tools.graph_file import package_prefix
+from hawt_tools.launcher import launcher_parameters
+from hawt_tools.node_parameters import parse_overrides
+from hawt_tools.parameter_check import check_against_plant, check_graph_parameters, checked_role
 from turbine_folders import copied_turbine
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -205,7 +208,7 @@ def test_every_number_a_shipped_graph_takes_has_its_range():
     for path in sorted((ROOT / "hawt_controllers" / "launch").glob("*.yaml")):
         graph = load_graph(path, {}, package_prefix)
         for spec in graph.nodes:
-            for row in parameter_table(graph, spec)[1] or ():
+            for row in getattr(checked_role(graph, spec), "parameters", ()):
                 if isinstance(row.default, (int, float)) and not isinstance(row.default, bool) and \
                         (row.minimum is None or row.maximum is None):
                     unbounded.add(f"{spec.package}/{spec.executable}: {row.name}")

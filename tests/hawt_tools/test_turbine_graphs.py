@@ -7,10 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from hawt_controllers.tunings import FILE_NAMES, PACKAGED, TuningError, tuning_file
-from hawt_tools.cli import find_graph, main
+from hawt_controllers.design.tunings import FILE_NAMES, PACKAGED, TuningError, tuning_file
+from hawt_tools.graph_file import find_graph
+from hawt_tools.cli import main
 from hawt_tools.graph_file import GraphError, ParameterFile, load_graph
-from hawt_tools.launcher import package_prefix
+from hawt_tools.graph_file import package_prefix
 from turbine_folders import copied_turbine
 
 GRAPHS = ("baseline", "controllers", "identification", "ipc", "lqg", "repetitive", "rosco", "rosco_ipc", "switching",
@@ -26,9 +27,9 @@ def test_every_graph_takes_the_turbine_and_gives_the_nrel_5mw_its_packaged_tunin
 
 
 def test_the_packaged_tunings_are_the_files_the_controllers_default_to():
-    from hawt_controllers.collective import DEFAULT_BASELINE_FILE
-    from hawt_controllers.ipc_design import DEFAULT_FILE, RETUNED_FILE
-    from hawt_controllers.lqg_controller import DEFAULT_MODELS
+    from hawt_controllers.laws.collective import DEFAULT_BASELINE_FILE
+    from hawt_controllers.design.ipc_design import DEFAULT_FILE, RETUNED_FILE
+    from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
 
     assert tuning_file("nrel_5mw", "cpc") == DEFAULT_BASELINE_FILE and tuning_file("nrel_5mw", "ipc") == DEFAULT_FILE
     assert tuning_file("nrel_5mw", "ipc_retuned") == RETUNED_FILE
@@ -58,7 +59,7 @@ def test_hawt_run_refuses_a_turbine_without_its_tuning_in_one_line(capsys, tmp_p
 def test_a_graph_on_an_imported_turbine_runs_its_plant_and_its_designed_controllers(imported_deck, tmp_path):
     """The NREL 5 MW imported from ROSCO's deck, its cpc designed and the packaged IPC tuning copied beside it: the
     ipc graph with turbine:=that folder gives the plant that turbine and each controller that folder's files."""
-    from hawt_controllers.cpc_design import design_collective, write_design
+    from hawt_controllers.design.cpc_design import design_collective, write_design
     from hawt_plant.turbine import turbine_from
     from hawt_tools.in_process import build_run
 

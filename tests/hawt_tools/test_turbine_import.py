@@ -18,7 +18,7 @@ import yaml
 
 from hawt_bag.plant_run import load_plant_run
 from hawt_bag.reader import BagReader
-from hawt_controllers.tunings import TuningError, tuning_file
+from hawt_controllers.design.tunings import TuningError, tuning_file
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbine import load_turbine, nrel_5mw, nrel_5mw_two_bladed_downwind, turbine_from

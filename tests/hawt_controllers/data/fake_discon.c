@@ -1,4 +1,4 @@
-/* A fake Bladed-style DISCON library for tests of hawt_controllers.discon_library.
+/* A fake Bladed-style DISCON library for tests of hawt_controllers.discon.library.
  *
  * The input file (accINFILE) holds two lines: the path of a log file, and the call number (0 = first) at
  * which to fail with aviFAIL = -1 and the message "fake failure" (-1: never). Each call appends one line to

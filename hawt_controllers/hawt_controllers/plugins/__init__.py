@@ -1,0 +1,1 @@
+"""The controller plug-in framework and the plug-ins, one ``<type>.py`` per controller type (no ROS)."""
