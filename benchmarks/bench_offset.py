@@ -3,7 +3,7 @@
 The models: the first-order blade K/(τs + 1) whose DC-decoupling offset equals the offset measured
 on the plant at 18 m/s (``hawt coupling``), in the Coleman frame (hawt_controllers.laws.coleman_coupling):
 RGA11 at the 1P loop's crossover without and with the offset (Disario: 0.9052 -> 0.9997 at 0.47 rad/s);
-and the plant's linear model at 18 m/s (``hawt linearize``, config/linear_nrel5mw.npz) closed with the
+and the plant's linear model at 18 m/s (``hawt linearize``, data/linear_nrel5mw.npz) closed with the
 two loops below (hawt_controllers.design.ipc_design.loop_analysis, Disario §5-3-2): the crossover and phase
 margin, RGA11 at the crossover, the sensitivity's largest singular value (its peak, and at 1P) and where
 its singular values reach -3 dB (Disario: a region [0.38, 0.65] rad/s without the offset, 0.47 with it).

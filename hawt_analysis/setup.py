@@ -11,7 +11,17 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
     ],
-    install_requires=['setuptools'],
+    # What a pip install into a venv without ROS needs (colcon builds with --no-deps; the versions are
+    # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
+    install_requires=[
+        'hawt_core',
+        'hawt_bag',
+        'numpy',
+        'scipy',
+        'matplotlib',
+        'rainflow',
+        'openfast-io',
+    ],
     zip_safe=True,
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',

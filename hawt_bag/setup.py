@@ -10,7 +10,16 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
     ],
-    install_requires=['setuptools'],
+    # What a pip install into a venv without ROS needs (colcon builds with --no-deps; the versions are
+    # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
+    install_requires=[
+        'hawt_core',
+        'numpy',
+        'PyYAML',
+        'mcap',
+        'zstandard',
+        'lz4',
+    ],
     zip_safe=True,
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',

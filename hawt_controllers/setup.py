@@ -21,14 +21,22 @@ setup(
     name=package_name,
     version='0.1.0',
     packages=find_packages(exclude=['test']),
-    package_data={package_name: ['**/*.yaml', '**/*.csv']},
+    package_data={package_name: ['**/*.yaml', '**/*.csv', '**/*.npz']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/launch', glob('launch/*.yaml')),
-        ('share/' + package_name + '/config', glob('config/*.yaml') + glob('config/*.npz')),
     ],
-    install_requires=['setuptools'],
+    # What a pip install into a venv without ROS needs (colcon builds with --no-deps; the versions are
+    # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
+    install_requires=[
+        'hawt_core',
+        'hawt_plant',
+        'numpy',
+        'scipy',
+        'PyYAML',
+        'matplotlib',
+    ],
     zip_safe=True,
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',

@@ -10,7 +10,11 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
     ],
-    install_requires=['setuptools'],
+    # What a pip install into a venv without ROS needs (colcon builds with --no-deps; the versions are
+    # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
+    install_requires=[
+        'numpy',
+    ],
     zip_safe=True,
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',

@@ -14,7 +14,17 @@ setup(
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/launch', glob('launch/*.yaml')),
     ],
-    install_requires=['setuptools'],
+    # What a pip install into a venv without ROS needs (colcon builds with --no-deps; the versions are
+    # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
+    install_requires=[
+        'hawt_core',
+        'numpy',
+        'scipy',
+        'numba',
+        'pyconturb',
+        'threadpoolctl',
+        'PyYAML',
+    ],
     zip_safe=True,
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',

@@ -15,7 +15,20 @@ setup(
         ('share/' + package_name + '/launch', glob('launch/*.yaml')),
         ('share/' + package_name + '/foxglove', glob('foxglove/*.json')),
     ],
-    install_requires=['setuptools'],
+    # What a pip install into a venv without ROS needs (colcon builds with --no-deps; the versions are
+    # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
+    install_requires=[
+        'hawt_core',
+        'hawt_plant',
+        'hawt_controllers',
+        'hawt_bag',
+        'hawt_analysis',
+        'numpy',
+        'PyYAML',
+        'pandas',
+        'dask',
+        'distributed',
+    ],
     zip_safe=True,
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',

@@ -10,8 +10,6 @@ import json
 from functools import lru_cache
 from pathlib import Path
 
-from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
-
 from .errors import BagError
 from .msg_definition import DELIMITER, parse_msg, short_type_name
 
@@ -21,6 +19,11 @@ __all__ = ["has_header", "msg_file", "schema_text", "type_hash"]
 def msg_file(type_name: str, suffix: str = ".msg") -> Path:
     """``<share>/<pkg>/msg/<Type><suffix>`` of a type (BagError naming the type if absent)."""
     package, _, name = short_type_name(type_name).partition("/")
+    try:
+        from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
+    except ImportError:
+        raise BagError(f"{type_name}: writing a bag needs the message definitions of a ROS install "
+                       "(ament_index_python is not importable here)") from None
     try:
         share = Path(get_package_share_directory(package))
     except (PackageNotFoundError, ValueError):

@@ -4,7 +4,7 @@ Steady 18 m/s, shear alpha = 0.2, tower shadow, 100 Hz, composed exactly as the 
 them: the plug-in controllers (``cpc`` -> collective_pitch + generator_torque, ``ipc`` of harmonic n ->
 harmonic/<n>, built from the plant's description) and the one loop assembler
 (hawt_controllers.plugins.loop_assembly: inverse MBC + sum + limits), with the shipped tuning
-(config/ipc_nrel5mw.yaml). The ROS graph runs the same cores (test_plant_node.py, the graph
+(data/ipc_nrel5mw.yaml). The ROS graph runs the same cores (test_plant_node.py, the graph
 tests); here the loop runs in one process so a 60 s run takes seconds.
 """
 import math

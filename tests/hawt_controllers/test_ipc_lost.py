@@ -25,9 +25,9 @@ launch:
 - node: {pkg: hawt_controllers, exec: cpc, name: cpc, namespace: lost}
 - node: {pkg: hawt_controllers, exec: mbc, name: mbc, namespace: lost, param: [{name: controllers, value: [cpc, ipc_h1, ipc_h2]}]}
 - node: {pkg: hawt_controllers, exec: ipc, name: ipc_h1, namespace: lost,
-         param: [{from: $(find-pkg-share hawt_controllers)/config/ipc_nrel5mw.yaml}]}
+         param: [{from: $(turbine-tuning nrel_5mw ipc)}]}
 - node: {pkg: hawt_controllers, exec: ipc, name: ipc_h2, namespace: lost, respawn: true, respawn_delay: 1.0,
-         param: [{from: $(find-pkg-share hawt_controllers)/config/ipc_nrel5mw.yaml}]}
+         param: [{from: $(turbine-tuning nrel_5mw ipc)}]}
 """
 
 

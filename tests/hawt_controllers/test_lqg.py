@@ -1,6 +1,6 @@
 """LQG IPC with wind-estimate feedforward (Selvam et al. 2009): the notes' acceptance checks 16-19 on this plant's
 Coleman-frame linear model at 18 m/s, and checks 12, 15, 20 and 21 on the shipped linear models
-(config/linear_nrel5mw.npz) at 13, 18 and 24 m/s."""
+(data/linear_nrel5mw.npz) at 13, 18 and 24 m/s."""
 import math
 
 import numpy as np
@@ -14,7 +14,7 @@ from hawt_controllers.laws.lqg_design import LqgWeights, controllability_rank, d
 from hawt_controllers.laws.lqg_ipc import LqgIpc, closed_loop_response, rotor_speed_response
 
 DT = 0.01
-IPC_H1 = (1.1793209854830301e-08, 0.42587361125278206)  # ipc_h1 of config/ipc_nrel5mw.yaml: k_i, phi_1
+IPC_H1 = (1.1793209854830301e-08, 0.42587361125278206)  # ipc_h1 of data/ipc_nrel5mw.yaml: k_i, phi_1
 TABLE_II = LqgWeights(measurement_noise=0.01, wind_walk=0.1 / DT, input_weight=0.8, inversion_walk=0.01)
 """Selvam's Table II read as in the notes (Q_w 0.1 per step), in this module's units."""
 
@@ -239,7 +239,7 @@ def test_a_weight_that_is_not_positive_is_refused_by_name(field):
 
 
 def test_the_shipped_linear_models_are_what_hawt_linearize_gives(model):
-    """config/linear_nrel5mw.npz is written by `hawt linearize`, not edited: its 18 m/s model is today's."""
+    """data/linear_nrel5mw.npz is written by `hawt linearize`, not edited: its 18 m/s model is today's."""
     from hawt_controllers.laws.coleman_models import load_models
     from hawt_controllers.plugins.lqg_ipc import DEFAULT_MODELS
 

@@ -1,7 +1,7 @@
 """IPC design from the linear model (issue 15 item 4): the model route of hawt_controllers.design.ipc_design.
 
 The nP plant a three-bladed rotor's Coleman-frame model gives, checked on first-order blades against Disario's
-eq. 2-19; the model route against the shipped design (config/ipc_nrel5mw.yaml, written by the measured route);
+eq. 2-19; the model route against the shipped design (data/ipc_nrel5mw.yaml, written by the measured route);
 the designed 1P loop closed on the linear model at 18 m/s, without and with Disario's offset.
 """
 import math

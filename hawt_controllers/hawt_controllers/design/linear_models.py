@@ -32,7 +32,8 @@ from hawt_controllers.laws.mbc3 import BladeGroups, LinearModel, azimuth_average
 
 __all__ = ["QUASI_STEADY", "Mode", "blade_groups", "campbell_figure", "coleman_model", "band_offset",
            "collective_loop_gain", "decoupling_offset", "stability_margins",
-           "labelled_modes", "tilt_yaw_response", "linearize_at", "linearized_plant", "linearize_power_curve"]
+           "labelled_modes", "tilt_yaw_response", "linearize_at", "linearized_plant", "linearize_power_curve",
+           "ModelSummary", "model_summary"]
 
 QUASI_STEADY = {"unsteady_airfoil": False, "dynamic_inflow": False}
 """The aerodynamic options a linear model is of, over the turbine's own: static polars and the quasi-steady
@@ -220,6 +221,28 @@ def band_offset(model: LinearModel, pitch: str = "angle", band: Tuple[float, flo
     start = float(grid[int(np.argmin([eta(psi) for psi in grid]))])
     return float(minimize_scalar(eta, bounds=(max(start - math.radians(1.0), 0.0), start + math.radians(1.0)),
                                  method="bounded", options={"xatol": 1e-6}).x)
+
+
+@dataclass(frozen=True)
+class ModelSummary:
+    """What ``hawt linearize`` prints of one operating point's model besides its operating point."""
+
+    gain: float
+    """dM_cos/dθ_cos at DC [N m/rad], from the pitch command."""
+    offsets: Tuple[float, float, float]
+    """Disario's 1P offsets [rad]: decoupling at DC from the pitch command (the IPC design's) and from the pitch
+    angle (:func:`decoupling_offset`), and minimising the mean |P12| over 0.1-1 rad/s from the angle
+    (:func:`band_offset`)."""
+    modes: List[Mode]
+    """The oscillating modes, by frequency (:func:`labelled_modes`)."""
+
+
+def model_summary(model: LinearModel) -> ModelSummary:
+    """The 1P tilt/yaw gain at DC, Disario's offsets and the labelled modes of ``model``."""
+    modes = labelled_modes(model)
+    return ModelSummary(tilt_yaw_response(model, [0.0])[0, 0, 0].real,
+                        (decoupling_offset(model, "command"), decoupling_offset(model, "angle"), band_offset(model)),
+                        modes)
 
 
 def campbell_figure(models: Sequence[ColemanModel], path: Path, harmonics: Sequence[int] = (1, 3, 6)) -> None:

@@ -2,7 +2,7 @@
 
 Claims ``harmonic/1``. At configure it designs one FB-FF law (hawt_controllers.laws.lqg_design) per wind
 speed of a file of the plant's Coleman-frame linear models (``linear_models``, written by
-``hawt linearize``; default the NREL 5 MW's, ``config/linear_nrel5mw.npz``). Each step it transforms
+``hawt linearize``; default the NREL 5 MW's, ``data/linear_nrel5mw.npz``). Each step it transforms
 the blade-root out-of-plane moments to their 1P cos/sin (hawt_core.rotor.mbc), steps every law on
 them (the estimators of all operating points run, so a change of schedule needs no restart) and
 contributes the demand of the law whose operating pitch is nearest the measured mean pitch (gain
