@@ -1,5 +1,6 @@
-"""Controllers found by type: a controller that is one module and one entry point, outside the repository, runs on
-both engines with one graph entry, and a type nobody registered is refused before anything starts."""
+"""Controllers found by type: a controller that is one module and one entry point, outside the repository, runs with
+one graph entry on every engine (hawt launch, --composed, hawt run, a campaign), and a type nobody registered is
+refused before anything starts."""
 import os
 import subprocess
 import sys
@@ -67,21 +68,29 @@ def _columns(path: Path, topic: str, *names: str) -> dict:
     return {name: fields[name][first] for name in ("step", *names)}
 
 
-def test_a_controller_from_outside_runs_on_both_engines_through_its_entry_point(outside, tmp_path: Path):
-    """The outside controller's offset reaches every blade's command, and the lockstep graph's commands equal
-    hawt run's bit for bit."""
-    run = _hawt(["run", "graph.yaml", "--record", "run.mcap"], outside, tmp_path)
-    assert run.returncode == 0, run.stderr[-2000:]
-    launch = _hawt(["launch", "graph.yaml", "--record", "launch.mcap"], outside, tmp_path)
-    assert launch.returncode == 0, (launch.stderr + launch.stdout)[-3000:]
+def test_a_controller_from_outside_runs_on_every_engine_through_its_entry_point(outside, tmp_path: Path):
+    """The outside controller's offset reaches every blade's command; the lockstep graph's commands, in processes
+    and composed, equal hawt run's bit for bit; a campaign runs it."""
+    for arguments in (["run", "graph.yaml", "--record", "run.mcap"],
+                      ["launch", "graph.yaml", "--record", "launch.mcap"],
+                      ["launch", "graph.yaml", "--composed", "--record", "composed.mcap"]):
+        result = _hawt(arguments, outside, tmp_path)
+        assert result.returncode == 0, (result.stderr + result.stdout)[-3000:]
     commands = [_columns(tmp_path / name, "control/pitch_command", "pitch", "collective")
-                for name in ("run.mcap", "launch.mcap")]
-    for name in ("step", "pitch", "collective"):
-        np.testing.assert_array_equal(commands[0][name], commands[1][name])
+                for name in ("run.mcap", "launch.mcap", "composed.mcap")]
+    for other in commands[1:]:
+        for name in ("step", "pitch", "collective"):
+            np.testing.assert_array_equal(commands[0][name], other[name])
     increments = _columns(tmp_path / "run.mcap", "control/blade_pitch", "increment")["increment"]
     assert len(increments) == 200 and np.all(increments == 0.02)
     settled = commands[0]["pitch"][50:] - commands[0]["collective"][50:, None]
     np.testing.assert_allclose(settled, 0.02, atol=1e-12)  # unsaturated at 14 m/s: the offset is added as is
+    (tmp_path / "campaign.yaml").write_text("wind: {speeds: [14], seeds: [1]}\nduration: 10\ntransient: 1\n"
+                                            "controllers:\n  offset: {graph: graph.yaml}\n")
+    campaign = _hawt(["campaign", "campaign.yaml", "-o", "campaign", "--workers", "1"], outside, tmp_path)
+    assert campaign.returncode == 0, (campaign.stderr + campaign.stdout)[-3000:]
+    rows = (tmp_path / "campaign" / "cases.csv").read_text().splitlines()
+    assert len(rows) == 2 and rows[1].startswith("offset,14.0,1,")
 
 
 def test_a_type_nobody_registered_is_refused_before_anything_starts(tmp_path: Path):
