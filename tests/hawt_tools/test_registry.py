@@ -34,7 +34,7 @@ class PitchOffsetController(Controller):
 
 GRAPH = """launch:
 - node: {pkg: hawt_plant, exec: plant, name: plant, namespace: wt1, on_exit: shutdown,
-         param: [{name: duration, value: 2.0}, {name: wind_speed, value: 14.0}]}
+         param: [{name: duration, value: 1.0}, {name: wind_speed, value: 14.0}]}
 - node: {pkg: hawt_controllers, exec: cpc, name: cpc, namespace: wt1}
 - node: {pkg: hawt_controllers, exec: mbc, name: mbc, namespace: wt1}
 - node: {pkg: hawt_controllers, exec: controller, name: offset, namespace: wt1,
@@ -82,7 +82,7 @@ def test_a_controller_from_outside_runs_on_every_engine_through_its_entry_point(
         for name in ("step", "pitch", "collective"):
             np.testing.assert_array_equal(commands[0][name], other[name])
     increments = _columns(tmp_path / "run.mcap", "control/blade_pitch", "increment")["increment"]
-    assert len(increments) == 200 and np.all(increments == 0.02)
+    assert len(increments) == 100 and np.all(increments == 0.02)
     settled = commands[0]["pitch"][50:] - commands[0]["collective"][50:, None]
     np.testing.assert_allclose(settled, 0.02, atol=1e-12)  # unsaturated at 14 m/s: the offset is added as is
     (tmp_path / "campaign.yaml").write_text("wind: {speeds: [14], seeds: [1]}\nduration: 10\ntransient: 1\n"

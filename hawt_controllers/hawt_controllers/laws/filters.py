@@ -12,7 +12,9 @@ frequency prewarping at ω, so the discrete filter has exactly the prototype's
 gain at ω (−3 dB at the corner of the first-order filter, depth β_num/β_den at
 the notch). ROSCO does not prewarp; the difference is of relative order
 (ω·dt)²/12. Coefficients come from :mod:`scipy.signal` and run as second-order
-sections (``sosfilt``), with the state carried explicitly like ``zi``/``zf``.
+sections (``sosfilt``), with the state carried explicitly like ``zi``/``zf``. :mod:`scipy.signal` is imported where
+a designed filter is built or run, not with this module: its import (0.2 s, with the scipy.stats it loads) is then
+not part of the start of a run whose controllers need none, such as the baseline's.
 
 :class:`ExponentialLowPass` is the recursive single-pole filter of the NREL 5 MW
 baseline controller (Jonkman et al. 2009, ch. 7), which takes the time step per
@@ -25,7 +27,6 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy import signal
 
 from hawt_core.validation import (
     finite_array,
@@ -92,6 +93,8 @@ class DiscreteFilter:
         self.sos = sos
         self.dt = require_positive("dt", dt)
         self.channels = tuple(int(c) for c in channels)
+        from scipy import signal  # where a designed filter is built (module notes)
+
         self._zi_unit = signal.sosfilt_zi(sos)
         self._sections = [tuple(row) for row in sos.tolist()]
         self._size = math.prod(self.channels)
@@ -116,6 +119,8 @@ class DiscreteFilter:
     def frequency_response(self, omega: ArrayLike) -> np.ndarray:
         """Complex gain H(e^{jω·dt}) at angular frequencies ``omega`` [rad/s]."""
         omega = np.atleast_1d(np.asarray(omega, dtype=float))
+        from scipy import signal
+
         _, h = signal.sosfreqz(self.sos, worN=omega * self.dt)
         return h
 
@@ -168,6 +173,8 @@ class DiscreteFilter:
         block = finite_array("block", block)
         if block.shape[1:] != self.channels:
             raise InputError("block", f"expected shape (T, *{self.channels}), found {block.shape}")
+        from scipy import signal
+
         output, self.state = signal.sosfilt(self.sos, block, axis=0, zi=self.state)
         return output
 
@@ -185,6 +192,8 @@ def _check_design(name: str, frequency: float, dt: float) -> tuple[float, float]
 
 
 def _bilinear(b: list[float], a: list[float], dt: float, channels: tuple[int, ...]) -> DiscreteFilter:
+    from scipy import signal
+
     bz, az = signal.bilinear(b, a, fs=1.0 / dt)
     return DiscreteFilter(signal.tf2sos(bz, az), dt, channels)
 
