@@ -28,6 +28,8 @@ import pytest
 
 from hawt_tools import cli
 
+pytestmark = pytest.mark.processes  # hawt commands in a shell: not in --quick
+
 REPOSITORY = Path(__file__).resolve().parent.parent
 README = REPOSITORY / "README.md"
 HAWT = REPOSITORY / "hawt"

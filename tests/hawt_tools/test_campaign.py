@@ -24,6 +24,8 @@ from hawt_bag.step_comparison import step_differences
 from hawt_tools.campaign import SCHEDULER_TIMEOUT, plan_cases, read_lifetime, run_case, write_tables
 from hawt_tools.campaign_file import case_overrides, load_campaign
 
+pytestmark = pytest.mark.processes  # Dask clusters and hawt commands in a shell: not in --quick
+
 CAMPAIGN = """\
 wind: {speeds: [12, 16, 20], seeds: [1]}
 duration: 10

@@ -12,7 +12,7 @@ import pytest
 from hawt_bag.reader import BagReader
 from hawt_bag.topic_columns import read_topic_columns
 
-ROOT = Path(__file__).resolve().parents[2]
+pytestmark = pytest.mark.ros
 
 MODULE = '''"""A constant pitch offset per blade on ``blade_pitch``: a controller written outside hawt."""
 from hawt_controllers.plugins.controller import BladeContribution, Controller

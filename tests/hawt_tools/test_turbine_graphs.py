@@ -99,6 +99,7 @@ def test_hawt_run_takes_the_readmes_relative_turbine_folder_from_another_directo
     assert main(["run", "ipc", "turbine:=iea15", "duration:=0.2"]) == 0, capsys.readouterr().err
 
 
+@pytest.mark.ros
 def test_hawt_launch_takes_a_relative_turbine_folder_from_another_directory(tmp_path, hawt_cli):
     """The same on the ROS graph: every node process, the plant's included, finds the folder from the launcher's
     working directory."""
