@@ -19,6 +19,6 @@ setup(
     maintainer='hawt developers',
     maintainer_email='hawt@example.com',
     description='What every hawt core and node agrees on, without ROS: topic names, command interfaces, '
-                'step matching, parameter tables, the plant description.',
+                'step matching, parameter tables, node roles, the plant description, the rotor math.',
     license='Apache-2.0',
 )

@@ -1,10 +1,11 @@
 """The in-process runner (DESIGN §6): a graph's cores stepped in lockstep order with no middleware.
 
-``hawt run GRAPH`` reads the same graph and parameter files as ``hawt launch``, gives each
+``hawt run GRAPH`` reads the same graph and parameter files as ``hawt launch``, finds what each node is through
+the registry (hawt_tools.node_registry: node roles and controller types, no ROS), gives each
 node the parameters rcl would give it (hawt_tools.node_parameters), builds the same cores —
-the plant model (hawt_plant.plant_setup), every controller plug-in (hawt_controllers.
-controller), the loop assembler (hawt_controllers.plugins.loop_assembly) and the controller
-manager's switch schedule (hawt_controllers.plugins.switching) — and steps them in the order the
+the plant model (hawt_plant.plant_setup), every controller plug-in (hawt_controllers.plugins), the loop assembler
+(hawt_controllers.plugins.loop_assembly) and the controller manager's switch schedule
+(hawt_controllers.plugins.switching, whose switch_effect the controller node applies too) — and steps them in the order the
 lockstep graph does: at step k every controller updates on the plant's output of step k
 (active or not), the assembler sums what the active ones contribute, limits it, and the
 plant advances with that command. The result equals the lockstep ROS graph bit for bit,
