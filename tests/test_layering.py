@@ -126,11 +126,14 @@ def test_hawt_run_loads_no_ros():
 
 
 @pytest.mark.parametrize("package", PACKAGES)
-def test_package_xml_declares_every_hawt_and_ros_package_the_package_imports(package):
-    """Each hawt_* and ROS package a module imports (at any depth of the module) is an exec_depend of package.xml."""
+def test_package_xml_declares_exactly_the_hawt_packages_the_package_imports_and_every_ros_one(package):
+    """Each hawt_* and ROS package a module imports (at any depth of the module) is an exec_depend of package.xml,
+    and no hawt_* package is declared that no module imports (the build order shows the layers)."""
     declared = {element.text for element in ElementTree.parse(ROOT / package / "package.xml").getroot()
                 if element.tag in ("exec_depend", "depend")}
     imported = {name.split(".")[0] for module, path in MODULES.items() if module.split(".")[0] == package
                 for name in _imports(module, path)}
     needed = {name for name in imported if name != package and (name.startswith("hawt_") or name in ROS_DISTRIBUTION)}
     assert needed <= declared, f"{package}/package.xml lacks {sorted(needed - declared)}"
+    unused = {name for name in declared if name.startswith("hawt_") and name not in imported}
+    assert not unused, f"{package}/package.xml declares {sorted(unused)}, which it does not import"
