@@ -5,8 +5,8 @@ the registry (hawt_tools.node_registry: node roles and controller types, no ROS)
 node the parameters rcl would give it (hawt_tools.node_parameters), builds the same cores —
 the plant model (hawt_plant.plant_setup), every controller plug-in (hawt_controllers.plugins), the loop assembler
 (hawt_controllers.plugins.loop_assembly) and the controller manager's switch schedule
-(hawt_controllers.plugins.switching, whose switch_effect the controller node applies too) — and steps them in the order the
-lockstep graph does: at step k every controller updates on the plant's output of step k
+(hawt_controllers.plugins.switching, whose switch_effect the controller node applies too) — and steps them in
+the order the lockstep graph does: at step k every controller updates on the plant's output of step k
 (active or not), the assembler sums what the active ones contribute, limits it, and the
 plant advances with that command. The result equals the lockstep ROS graph bit for bit,
 for the same graph, arguments and seed. A run can be written to MCAP with the topics the
@@ -31,7 +31,7 @@ from hawt_controllers.plugins.controller import (CollectiveContribution, Contrib
                                                 HarmonicContribution, contribution_topic, update_or_hold)
 from hawt_controllers.plugins.loop_assembly import ASSEMBLER, LoopAssembler, assembly_problem, pitch_limits
 from hawt_controllers.plugins.switching import (ControllerInfo, Switch, SwitchRefused, parse_schedule, plan_switch,
-                                                ramp_steps, switch_effect)
+                                                planned_states, switch_effect)
 from hawt_core.command_interfaces import parse_interface
 from hawt_core.node_role import NodeRole
 from hawt_core.parameter_table import ParameterError, resolve_values
@@ -128,12 +128,7 @@ class InProcessRun:
                                                 lambda i: assembly_problem(i, self.description.blades))
             switch = Switch(entry.step, tuple((c.name, c.interfaces) for c in incoming),
                             tuple((c.name, c.interfaces) for c in outgoing), ramp_time)
-            end = entry.step + ramp_steps(ramp_time, self.description.dt)
-            for c in incoming:
-                known[c.name] = ControllerInfo(c.name, c.type, c.interfaces, "active", c.switchable, math.inf)
-            for c in outgoing:
-                known[c.name] = ControllerInfo(c.name, c.type, c.interfaces, "inactive", c.switchable,
-                                               entry.step if switch.replaces(c.interfaces) else end)
+            known.update(planned_states(switch, incoming, outgoing, self.description.dt))
             switches.append(switch)
         return switches
 

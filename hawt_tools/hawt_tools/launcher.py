@@ -28,8 +28,8 @@ from rclpy.task import Future
 
 from hawt_core.node_role import NodeRole
 from hawt_core.stop_signals import LAUNCHER_PID, stop_signals
-from hawt_tools.graph_file import (Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, ProgramSpec, did_you_mean,
-                                   package_prefix)
+from hawt_tools.graph_file import (Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, ProgramSpec,
+                                   did_you_mean, package_prefix)
 from hawt_tools.node_parameters import typed_override
 from hawt_tools.node_registry import implied_parameters
 from hawt_node.node_main import first_done, run_nodes
@@ -122,15 +122,16 @@ def _nest(values: Sequence[Tuple[str, object]]) -> Dict[str, object]:
     return tree
 
 
-def ros_arguments(spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
+def ros_arguments(graph: Graph, spec: NodeSpec, overrides: Overrides, parameter_dir: Path,
                   global_parameters: Mapping[str, object] = ()) -> List[str]:
-    """The ``--ros-args ...`` list of one node; inline parameters are written to files in ``parameter_dir``.
-    ``global_parameters`` come first, so the graph's own entries win (the launcher's, and what the graph implies for
-    this node, hawt_tools.node_registry.implied_parameters)."""
+    """The ``--ros-args ...`` list of node ``spec`` of ``graph``; inline parameters are written to files in
+    ``parameter_dir``. The launcher's ``global_parameters`` and what the graph implies for this node
+    (hawt_tools.node_registry.implied_parameters) come first, so the graph's own entries win."""
     arguments = ["--ros-args", "-r", f"__node:={spec.name}"]
     if spec.namespace:
         arguments += ["-r", f"__ns:=/{spec.namespace.strip('/')}"]
-    sources = ([ParameterValues(tuple(dict(global_parameters).items()))] if global_parameters else [])
+    given = {**global_parameters, **implied_parameters(graph, spec, overrides)}
+    sources = [ParameterValues(tuple(given.items()))] if given else []
     sources += list(spec.parameters)
     for index, source in enumerate(sources):
         if isinstance(source, ParameterFile):
@@ -257,8 +258,8 @@ class ProcessGraph:
                 parameter_folder() as parameter_dir:
             processes = [
                 _Process(spec, [str(exe), *spec.arguments,
-                                *ros_arguments(spec, self.overrides, Path(parameter_dir), {
-                                    **self.global_parameters, **implied_parameters(self.graph, spec, self.overrides)})])
+                                *ros_arguments(self.graph, spec, self.overrides, Path(parameter_dir),
+                                               self.global_parameters)])
                 for spec, exe in zip(self.graph.nodes, self._executables)]
             processes += [_Process(program, list(program.command)) for program in self.graph.programs]
             try:
@@ -362,8 +363,7 @@ def run_composed(graph: Graph, overrides: Overrides, duration: Optional[float] =
         executable_path(graph, spec)
     with parameter_folder() as parameter_dir:
         def make_nodes() -> list:
-            return [node_class(cli_args=ros_arguments(spec, overrides, Path(parameter_dir), {
-                        **global_parameters, **implied_parameters(graph, spec, overrides)}))
+            return [node_class(cli_args=ros_arguments(graph, spec, overrides, Path(parameter_dir), global_parameters))
                     for spec, node_class in zip(graph.nodes, classes)]
 
         def ending(nodes) -> Optional[Future]:

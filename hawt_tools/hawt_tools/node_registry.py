@@ -19,7 +19,7 @@ from hawt_core.parameter_table import ParameterError
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
 
-__all__ = ["implied_parameters", "node_role", "registered_executables"]
+__all__ = ["implied_parameters", "node_role"]
 
 Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
 
@@ -32,11 +32,6 @@ def _entries(path: Tuple[str, ...]) -> Dict[Tuple[str, str], importlib.metadata.
 
 def _package(name: str) -> str:
     return name.replace("-", "_")
-
-
-def registered_executables(package: str) -> Tuple[str, ...]:
-    """The executables of ``package`` that have a role."""
-    return tuple(sorted(exe for pkg, exe in _entries(tuple(sys.path)) if pkg == _package(package)))
 
 
 def node_role(graph: Graph, spec: NodeSpec, overrides: Overrides = ()) -> Optional[NodeRole]:

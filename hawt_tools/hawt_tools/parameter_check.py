@@ -39,7 +39,7 @@ from hawt_tools.node_parameters import Origin, node_parameter_sources
 from hawt_tools.node_registry import node_role
 
 __all__ = ["RCLPY_PARAMETERS", "check_against_plant", "check_graph_parameters", "check_node_parameters",
-           "checked_role", "takes_parameter"]
+           "checked_role", "takes_parameter", "unchecked"]
 
 RCLPY_PARAMETERS = (
     ParameterSpec("use_sim_time", False, "follow /clock (rclpy.time_source.USE_SIM_TIME_NAME)"),
@@ -58,15 +58,20 @@ RoleOf = Callable[[Graph, NodeSpec], Optional[NodeRole]]
 hawt_tools.launcher.class_role, which reads the node's class); by default such a node is unchecked."""
 
 
+def unchecked(graph: Graph, spec: NodeSpec) -> None:
+    """The default :data:`RoleOf`: a node no package registers has no role, and its values are not checked."""
+    return None
+
+
 def checked_role(graph: Graph, spec: NodeSpec, overrides: Overrides = (),
-                 unregistered: RoleOf = lambda graph, spec: None) -> Optional[NodeRole]:
+                 unregistered: RoleOf = unchecked) -> Optional[NodeRole]:
     """What ``spec``'s values are checked against: its registered role (hawt_tools.node_registry), else what
     ``unregistered`` finds; None for a node that cannot be checked."""
     role = node_role(graph, spec, overrides)
     return role if role is not None else unregistered(graph, spec)
 
 
-def takes_parameter(graph: Graph, spec: NodeSpec, name: str, unregistered: RoleOf = lambda graph, spec: None) -> bool:
+def takes_parameter(graph: Graph, spec: NodeSpec, name: str, unregistered: RoleOf = unchecked) -> bool:
     """True if the node's table has ``name``, or the node has no table (it is given everything, unchecked)."""
     role = checked_role(graph, spec, (), unregistered)
     return role is None or any(row.name == name for row in role.parameters)
@@ -87,7 +92,7 @@ def _refusal(graph: Graph, spec: NodeSpec, name: str, origin: Optional[Origin], 
 
 def check_node_parameters(graph: Graph, spec: NodeSpec, overrides: Overrides = (),
                           global_parameters: Mapping[str, Any] = (),
-                          unregistered: RoleOf = lambda graph, spec: None) -> Optional[Dict[str, Any]]:
+                          unregistered: RoleOf = unchecked) -> Optional[Dict[str, Any]]:
     """The values one node will run with, each checked against its table; None if the node has no table.
 
     Raises
@@ -125,7 +130,7 @@ def check_node_parameters(graph: Graph, spec: NodeSpec, overrides: Overrides = (
 
 
 def check_graph_parameters(graph: Graph, overrides: Overrides = (), global_parameters: Mapping[str, Any] = (),
-                           unregistered: RoleOf = lambda graph, spec: None) -> Dict[str, Optional[Dict[str, Any]]]:
+                           unregistered: RoleOf = unchecked) -> Dict[str, Optional[Dict[str, Any]]]:
     """Check every node of the graph in file order (:func:`check_node_parameters`); label -> values (None: unchecked).
 
     Raises GraphError for the first node with a bad value, and for two controllers that would start active on

@@ -31,7 +31,8 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_val
 from hawt_core.plant_description import PlantDescription
 from hawt_core.topics import WIND_ESTIMATE
 
-from hawt_controllers.plugins.controller import Contribution, Controller, HarmonicContribution, MeasuredFactor, OutputRamp
+from hawt_controllers.plugins.controller import (Contribution, Controller, HarmonicContribution, MeasuredFactor,
+                                                 OutputRamp)
 from hawt_core.exceptions import ConfigurationError
 from hawt_controllers.laws.coleman_models import load_models
 from hawt_controllers.laws.lqg_design import LqgDesign, LqgWeights, design_lqg

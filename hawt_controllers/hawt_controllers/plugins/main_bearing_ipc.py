@@ -38,7 +38,8 @@ from hawt_core.command_interfaces import harmonic_interface
 from hawt_core.parameter_table import ParameterSpec
 from hawt_core.plant_description import PlantDescription
 
-from hawt_controllers.plugins.controller import Contribution, Controller, HarmonicContribution, MeasuredFactor, OutputRamp
+from hawt_controllers.plugins.controller import (Contribution, Controller, HarmonicContribution, MeasuredFactor,
+                                                 OutputRamp)
 from hawt_core.exceptions import InputError
 from hawt_core.rotor.harmonic_estimator import HarmonicEstimator
 from hawt_core.rotor.hub_frame import main_bearing_to_hub

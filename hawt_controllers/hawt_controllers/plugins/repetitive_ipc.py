@@ -32,10 +32,12 @@ from hawt_core.parameter_table import ParameterError, ParameterSpec, resolve_val
 from hawt_core.plant_description import PlantDescription
 
 from hawt_core.validation import finite_floats
-from hawt_controllers.plugins.controller import BladeContribution, Contribution, Controller, MeasuredFactor, OutputRamp, mean_pitch
+from hawt_controllers.plugins.controller import (BladeContribution, Contribution, Controller, MeasuredFactor,
+                                                 OutputRamp, mean_pitch)
 from hawt_core.exceptions import InputError
 from hawt_controllers.laws.pi import PIController
-from hawt_controllers.laws.repetitive import AzimuthMemory, RepetitiveConfig, convergence_problem, memory_config, memory_parameters
+from hawt_controllers.laws.repetitive import (AzimuthMemory, RepetitiveConfig, convergence_problem, memory_config,
+                                              memory_parameters)
 from hawt_controllers.laws.saturation import BoxSaturation
 
 __all__ = ["RepetitiveIpcController", "repetitive_config"]

@@ -22,7 +22,7 @@ at step k, the rule the controllers follow and the loop assembler waits for
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Dict, Iterable, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from hawt_core.command_interfaces import COLLECTIVE_PITCH, GENERATOR_TORQUE
@@ -31,7 +31,8 @@ from hawt_core.parameter_table import ParameterSpec
 
 __all__ = [
     "MANAGER", "PARAMETERS", "ControllerInfo", "Switch", "SwitchRefused", "ScheduledSwitch", "InterfaceWindows",
-    "plan_switch", "resolve_controller", "SwitchEffect", "switch_effect", "ramp_steps", "parse_schedule", "STATE_NAMES", "TRANSITIONS",
+    "plan_switch", "planned_states", "resolve_controller", "SwitchEffect", "switch_effect", "ramp_steps",
+    "parse_schedule", "STATE_NAMES", "TRANSITIONS",
 ]
 
 PARAMETERS = (
@@ -101,6 +102,13 @@ class Switch:
         """True if any of ``claims`` is handed over from one controller to another in this switch."""
         return any(self.replaced(interface) for interface in claims)
 
+    def publish_until(self, claims: Sequence[str], dt: float) -> int:
+        """The step from which an outgoing controller that claims ``claims`` falls silent: the switch step if it hands
+        any of them over (it then falls silent on all at once), else the end of its ramp out (SwitchRefused for a
+        ramp time that is not finite and >= 0)."""
+        end = self.step + ramp_steps(self.ramp_time, dt)
+        return self.step if self.replaces(claims) else end
+
     def names(self) -> Tuple[str, ...]:
         """Every controller the switch names."""
         return tuple(name for name, _ in (*self.activate, *self.deactivate))
@@ -139,9 +147,18 @@ def switch_effect(switch: Switch, name: str, claims: Sequence[str], dt: float) -
     if name in dict(switch.activate):
         return SwitchEffect(True, ramp_time, math.inf, replaced)
     if name in dict(switch.deactivate):
-        return SwitchEffect(False, ramp_time, switch.step + (0 if replaced else ramp_steps(switch.ramp_time, dt)),
-                            replaced)
+        return SwitchEffect(False, ramp_time, switch.publish_until(claims, dt), replaced)
     return None
+
+
+def planned_states(switch: Switch, incoming: Sequence[ControllerInfo], outgoing: Sequence[ControllerInfo],
+                   dt: float) -> Dict[str, ControllerInfo]:
+    """What the controller manager knows of the controllers a planned switch names, by name: the incoming active,
+    the outgoing inactive and publishing until :meth:`Switch.publish_until` (the same in every engine)."""
+    states = {c.name: replace(c, state="active", publishing_until=math.inf) for c in incoming}
+    states.update({c.name: replace(c, state="inactive", publishing_until=switch.publish_until(c.interfaces, dt))
+                   for c in outgoing})
+    return states
 
 
 def resolve_controller(name: str, controllers: Mapping[str, ControllerInfo]) -> str:
@@ -245,10 +262,8 @@ class InterfaceWindows:
 
     def apply(self, switch: Switch) -> None:
         """Update the windows with a switch (switches must be applied in step order)."""
-        end = switch.step + ramp_steps(switch.ramp_time, self.dt)
         for _, claims in switch.deactivate:
-            # a controller that hands over any interface falls silent on all of them at once
-            silent_from = switch.step if switch.replaces(claims) else end
+            silent_from = switch.publish_until(claims, self.dt)
             for interface in claims:
                 window = self._window_at(interface, switch.step)
                 if window is not None:

@@ -15,7 +15,8 @@ from hawt_msgs.msg import BladePitch, CollectivePitch, HarmonicPitch
 
 from hawt_core.command_interfaces import parse_interface
 
-from hawt_controllers.plugins.controller import BladeContribution, CollectiveContribution, Contribution, HarmonicContribution
+from hawt_controllers.plugins.controller import (BladeContribution, CollectiveContribution, Contribution,
+                                                HarmonicContribution)
 
 __all__ = ["message_type", "to_message", "from_message"]
 

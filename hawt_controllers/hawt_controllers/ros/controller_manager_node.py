@@ -27,8 +27,9 @@ from rclpy.node import Node
 
 from hawt_controllers.plugins.loop_assembly import assembly_problem
 from hawt_controllers.ros.switch_listener import switch_message
-from hawt_controllers.plugins.switching import (PARAMETERS, STATE_NAMES, ControllerInfo, Switch, SwitchRefused, parse_schedule,
-                                        plan_switch, ramp_steps, resolve_controller)
+from hawt_controllers.plugins.switching import (PARAMETERS, STATE_NAMES, ControllerInfo, Switch, SwitchRefused,
+                                                parse_schedule, plan_switch, planned_states, ramp_steps,
+                                                resolve_controller)
 from hawt_core.command_interfaces import join_claims
 from hawt_node.events import EventPublisher
 from hawt_node.node_main import node_entry_point
@@ -95,19 +96,15 @@ class ControllerManagerNode(Node):
         if step < self.last_switch_step:
             raise SwitchRefused(f"at_step {step}: a switch is already set for the later step {self.last_switch_step}")
         ramp = self.values["ramp_time"] if ramp_time < 0 else ramp_time
-        end = step + ramp_steps(ramp, self.dt)
+        ramp_steps(ramp, self.dt)  # a ramp time that is not finite and >= 0 is refused before anything is planned
         incoming, outgoing, skipped = plan_switch(self.planned, activate, deactivate, strict, step,
                                                   lambda interface: assembly_problem(interface, self.blades))
         switch = Switch(step, tuple((c.name, c.interfaces) for c in incoming),
                         tuple((c.name, c.interfaces) for c in outgoing), ramp)
+        states = planned_states(switch, incoming, outgoing, self.dt)
         self.last_switch_step = step
-        for c in incoming:
-            self.planned[c.name] = ControllerInfo(c.name, c.type, c.interfaces, "active", c.switchable, math.inf)
-            self.switched_at[c.name] = step
-        for c in outgoing:
-            self.planned[c.name] = ControllerInfo(c.name, c.type, c.interfaces, "inactive", c.switchable,
-                                                  step if switch.replaces(c.interfaces) else end)
-            self.switched_at[c.name] = step
+        self.planned.update(states)
+        self.switched_at.update((name, step) for name in states)
         done = "; ".join(part for part in (
             "activate " + ", ".join(c.name for c in incoming) if incoming else "",
             "deactivate " + ", ".join(c.name for c in outgoing) if outgoing else "",

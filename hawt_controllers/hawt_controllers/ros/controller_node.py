@@ -369,7 +369,8 @@ class ControllerNode(LifecycleNode):
 
 
 def main(args: Optional[List[str]] = None) -> None:
-    """The ``controller`` executable and its aliases: an alias's name is its type (``ros2 run hawt_controllers ipc``)."""
+    """The ``controller`` executable and its aliases: an alias's name is its type
+    (``ros2 run hawt_controllers ipc``)."""
     executable = Path(sys.argv[0]).name
     run_node(partial(ControllerNode, executable if executable in controller_types() else ""), args)
 
