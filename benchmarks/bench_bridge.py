@@ -94,7 +94,7 @@ def host_calls(folder: Path, calls: int, echo: bool) -> float:
     run = build_run(_graph("baseline"))
     path = _bridge_file(folder, "baseline")
     command = ([sys.executable, "-c", _ECHO, str(folder / "baseline.sock")] if echo else
-               [sys.executable, "-m", "hawt_tools.discon_bridge", str(path)])
+               [sys.executable, "-m", "hawt_tools.discon_bridge", "--in-process", str(path)])
     process = _listening(command)
     d = run.description
     host = DisconLibrary(bridge_library(), path, d.blades, d.dt, (d.min_pitch, d.max_pitch, d.max_pitch_rate))
@@ -190,7 +190,7 @@ def openfast_bridged(executable: Path, folder: Path, case: Case, graph: str) -> 
 
     path = case.bridge_file(folder, graph)
     written = case.write_openfast(folder, path.stem, bridge_library(), path)
-    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", str(path)])
+    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", "--in-process", str(path)])
     try:
         wall = run_openfast(executable, written.fst)
     finally:

@@ -35,7 +35,12 @@ setup(
     description='The hawt command, node-graph launcher and example nodes.',
     license='Apache-2.0',
     entry_points={
+        # What each executable is to the engines (hawt_core.node_role).
+        'hawt.nodes': [
+            'bridge_plant = hawt_tools.discon_bridge:BRIDGE_PLANT',
+        ],
         'console_scripts': [
+            'bridge_plant = hawt_tools.bridge_node:main',
             'pulse_source = hawt_tools.example_nodes:main_pulse_source',
             'relay = hawt_tools.example_nodes:main_relay',
             'counter_sink = hawt_tools.example_nodes:main_counter_sink',

@@ -88,13 +88,14 @@ class PlantNode(Node):
 
     def __init__(self, **node_kwargs) -> None:
         super().__init__("plant", **node_kwargs)
-        v = self.values = declare_parameters(self, PARAMETERS)
+        v = self.values = declare_parameters(self, self.PARAMETERS)
         check_parameters(v)
-        turbine, self.model, output = make_plant(v, self.get_logger().info)
+        turbine, self.model, output = self._build_plant(v)
         self.faults = make_faults(v, turbine)
         self.output = self.faults.measure(0, output)
         self.actuator = turbine.pitch_actuator
-        self.blades = self.model.number_of_blades
+        self.turbine = turbine
+        self.blades = turbine.rotor.number_of_blades
         self.command = (np.array(self.output.pitch), float(self.output.generator_torque))
         self.step_index = 0
         self.last_steps = int(round(v["duration"] / v["dt"])) if v["duration"] > 0 else None
@@ -127,14 +128,29 @@ class PlantNode(Node):
         self.latency = LoopLatency()
         self.started = False
         self.created = self.wall_start = self.answered_at = time.monotonic()
-        self.get_logger().info(
-            f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
-            f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
-            f"pitch {math.degrees(self.output.pitch[0]):.2f} deg; {aerodynamics_line(turbine, v)}")
+        self.get_logger().info(self._start_line(turbine))
         if self.lockstep:
             self.create_timer(min(v["resend_period"], 0.05), self._resend)
         else:
             self._start_timer = self.create_timer(0.05, self._start_realtime)
+
+    def _build_plant(self, values: dict) -> tuple:
+        """The turbine, the model the node steps (``step(pitch, generator_torque)`` -> the next output) and step 0's
+        output, from the parameter ``values``: hawt_plant.plant_setup.make_plant (the DISCON bridge's node,
+        hawt_tools.bridge_node, gives a simulator's)."""
+        return make_plant(values, self.get_logger().info)
+
+    def _start_line(self, turbine) -> str:
+        """The node's first log line: the turbine, the wind, the timing, the start and the aerodynamic options."""
+        v = self.values
+        return (f"{v['turbine_file'] or 'NREL 5 MW'}: {v['wind_type']} wind {v['wind_speed']} m/s, "
+                f"{v['mode']} at {1.0 / v['dt']:.0f} Hz, start at {self.output.rotor_speed * 30 / math.pi:.2f} rpm, "
+                f"pitch {math.degrees(self.output.pitch[0]):.2f} deg; {aerodynamics_line(turbine, v)}")
+
+    def _at_end(self) -> bool:
+        """True once the run has reached its end, after a step: ``duration`` (the bridge's node: the simulator's last
+        call)."""
+        return self.last_steps is not None and self.step_index >= self.last_steps
 
     def _publish(self, out: TurbineOutput) -> None:
         stamp = _stamp(out.time)
@@ -240,7 +256,7 @@ class PlantNode(Node):
 
     def destroy_node(self) -> None:
         """Close the command guard and say which step was the last sent (a recording of the run ends there)."""
-        if self.guard is not None:
+        if getattr(self, "guard", None) is not None:  # (none if __init__ failed before it)
             self.guard.close()
         if self.last_sent is not None:
             self.get_logger().info(f"stopped: step {self.last_sent} (t={self.last_sent * self.values['dt']:.2f} s) "
@@ -261,7 +277,7 @@ class PlantNode(Node):
                 self._answered()
             return
         reason = command_rejection(msg.pitch, msg.generator_torque, self.blades, self.actuator.min_angle,
-                                   self.actuator.max_angle, self.model.turbine.generator.max_torque)
+                                   self.actuator.max_angle, self.turbine.generator.max_torque)
         if self.lockstep:
             self._refuse(msg, reason)
             if msg.step != self.step_index:
@@ -395,7 +411,7 @@ class PlantNode(Node):
             self.events(*protection_event(finding, self.safety), step=self.step_index, stamp=_stamp(out.time))
         if self.step_index % max(1, int(round(self.values["report_period"] / self.values["dt"]))) == 0:
             self._progress()
-        if self.last_steps is not None and self.step_index >= self.last_steps:
+        if self._at_end():
             self._finish()
             return
         self._publish(self.output)

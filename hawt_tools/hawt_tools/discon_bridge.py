@@ -69,11 +69,18 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from hawt_controllers.discon.library import Record
+from hawt_core.node_role import NodeRole
+from hawt_core.parameter_table import ParameterSpec
 from hawt_plant.model import TurbineOutput
+from hawt_plant.plant_setup import PARAMETERS as PLANT_PARAMETERS
+from hawt_plant.plant_setup import check_parameters
+from hawt_plant.safety_system import SafetySystem
+from hawt_plant.turbine import Turbine
 
-__all__ = ["BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "BridgeRun", "MISSING_FIELDS", "REQUEST",
-           "REPLY", "SENT_RECORDS", "bridge_library", "build_bridged_run", "encode_reply", "listen", "measurements",
-           "parse_request", "read_bridge_file", "run_bridge", "serve"]
+__all__ = ["BRIDGE_PLANT", "BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "BridgeRun", "BridgedGraph",
+           "HANDOVER", "MISSING_FIELDS", "REQUEST", "REPLY", "SENT_RECORDS", "bridge_library", "bridge_plant",
+           "bridged_graph", "build_bridged_run", "encode_reply", "first_call", "listen", "measurements",
+           "parse_request", "read_bridge_file", "run_bridge", "serve", "simulator_turbine", "without_protection"]
 
 SENT_RECORDS = 129
 """Records 1-129 of the swap array go to the bridge with every call."""
@@ -86,6 +93,12 @@ MISSING_FIELDS = ("aero_torque", "rotor_thrust", "tower_top_fa_disp", "tower_top
                   "tower_base_ss_moment", "yaw_bearing_tilt_moment", "yaw_bearing_yaw_moment", "effective_wind_mean",
                   "effective_wind_cos", "effective_wind_sin")
 """The plant output's fields that the DISCON interface does not carry: NaN in every step of a bridged run."""
+HANDOVER = ParameterSpec("handover", "", "the Unix socket on which hawt bridge hands this node the simulator's "
+                         "connection and first call (hawt_tools.bridge_launch; hawt bridge sets it)", read_only=True)
+"""The bridge plant node's one parameter beyond the plant's."""
+BRIDGE_PLANT = NodeRole("plant", PLANT_PARAMETERS + (HANDOVER,), check_parameters)
+"""The bridge plant node's role (entry point ``hawt.nodes: bridge_plant``; hawt_tools.bridge_node): a plant, with the
+plant's parameters (those of the model and the wind are unused) and :data:`HANDOVER`."""
 _KEYS = ("socket", "graph", "arguments", "parameters", "timeout", "start_timeout", "record")
 _PITCH = (Record.PITCH_1, Record.PITCH_2, Record.PITCH_3)
 
@@ -264,6 +277,24 @@ class BridgeModel:
             raise BridgeClosed(f"the simulator closed the connection after {self.calls} calls, before its last call")
         return parse_request(data)[:2]
 
+    def fail(self, message: str) -> None:
+        """Answer the current call with ``fail = -1`` and ``message``: the library fails with it and gives the
+        simulator its safe commands (a connection already gone is left as it is)."""
+        try:
+            self._send(encode_reply(fail=-1, message=message))
+        except BridgeClosed:
+            pass
+
+    def gone(self) -> bool:
+        """True if the simulator has closed the connection while the bridge owes it an answer (never blocks: a peer
+        that closed reads as an empty message; the library sends nothing else before it has its answer)."""
+        try:
+            return not self.connection.recv(REQUEST.size + 1, socket.MSG_PEEK | socket.MSG_DONTWAIT)
+        except BlockingIOError:
+            return False
+        except OSError:
+            return True
+
     def _send(self, data: bytes) -> None:
         try:
             self.connection.sendall(data)
@@ -298,12 +329,15 @@ def listen(path: str) -> socket.socket:
 
 @dataclass
 class BridgeRun:
-    """What :func:`serve` did: the run (at its last step), the calls answered, the bag written if any."""
+    """What a bridge did: the in-process run (at its last step; None on the ROS graph), the calls answered (None on
+    the ROS graph: its plant node's ``finished`` line counts them), the bag written if any, the in-process run's
+    events, and a line saying how it ended."""
 
     run: Any
-    calls: int
+    calls: Optional[int]
     record: Optional[Path] = None
     events: List[dict] = field(default_factory=list)
+    summary: str = ""
 
 
 def _round_dt(dt32: float) -> float:
@@ -322,55 +356,125 @@ def _graph_file(bridge: BridgeFile) -> Path:
     return installed_graphs().get(bridge.graph) or find_graph(bridge.graph)  # a GraphError naming those there are
 
 
-def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int, swap: np.ndarray,
-                      infile: str, progress: Callable[[str], None] = lambda _: None):
-    """The graph of ``bridge`` built on the simulator's first call (status, records, its bridge file path), with
-    a :class:`BridgeModel` on ``connection`` as its plant. A :class:`BridgeError` for anything that cannot run."""
-    from hawt_tools.graph_file import GraphError, launch_arguments, load_graph
-    from hawt_tools.in_process import build_run, plant_node
-    from hawt_tools.graph_file import package_prefix
+def simulator_turbine(values: Mapping[str, Any], swap: np.ndarray) -> Turbine:
+    """The turbine of the graph's plant (its parameter ``values``), checked against the simulator's first call
+    (records 1-129 in ``swap``): the same blade count (record 61) and, once the rotor turns faster than 0.1 rad/s,
+    the same generator-to-rotor speed ratio within 1 % (records 20, 21). A :class:`BridgeError` naming both."""
+    from hawt_plant.turbine import nrel_5mw, turbine_from
+
+    turbine = turbine_from(values["turbine_file"]) if values["turbine_file"] else nrel_5mw()
+    blades = int(round(float(swap[Record.BLADES - 1])))
+    if blades != turbine.rotor.number_of_blades:
+        raise BridgeError(f"the simulator has {blades} blades (record 61), the graph's turbine "
+                          f"{turbine.name} {turbine.rotor.number_of_blades}")
+    rotor, generator = float(swap[Record.ROTOR_SPEED - 1]), float(swap[Record.GENERATOR_SPEED - 1])
+    gearbox = turbine.drivetrain.gearbox_ratio
+    if rotor > 0.1 and abs(generator / rotor / gearbox - 1) > 0.01:
+        raise BridgeError(f"the simulator's generator speed is {generator / rotor:.4g} times its rotor "
+                          f"speed (records 20, 21), the graph's turbine {turbine.name} has gearbox ratio "
+                          f"{gearbox:g}: another turbine")
+    return turbine
+
+
+def bridge_plant(connection: socket.socket, swap: np.ndarray) -> Callable[[Mapping[str, Any], Callable[[str], None]],
+                                                                          Tuple[Turbine, BridgeModel, TurbineOutput]]:
+    """The plant factory of a bridged graph (hawt_tools.in_process.PlantFactory; the bridge node's too): the
+    graph's turbine checked against the simulator (:func:`simulator_turbine`), a :class:`BridgeModel` on
+    ``connection`` and the first call's measurements (``swap``) as step 0's output."""
+    def plant(values: Mapping[str, Any], _progress: Callable[[str], None]):
+        turbine = simulator_turbine(values, swap)
+        actuator, blades = turbine.pitch_actuator, turbine.rotor.number_of_blades
+        individual = int(round(float(swap[Record.PITCH_CONTROL - 1]))) == 1
+        model = BridgeModel(connection, blades, (actuator.max_angle, actuator.max_rate), individual)
+        return turbine, model, measurements(swap, blades)
+
+    return plant
+
+
+def without_protection(safety: SafetySystem) -> SafetySystem:
+    """The plant's safety system without its protection (module notes, "No plant protection"): the watchdog on the
+    commands stays."""
+    return SafetySystem(safety.settings)
+
+
+@dataclass(frozen=True)
+class BridgedGraph:
+    """The graph a bridge file names, checked for the simulator's first call: the graph, the ``-p`` texts it runs
+    with (the file's, the plant's ``dt`` = the simulator's DT and ``duration`` 0: the simulator ends the run) and
+    those texts parsed."""
+
+    graph: Any
+    parameters: Tuple[str, ...]
+    overrides: Mapping[str, Sequence[Tuple[str, Any]]]
+    plant: Any
+    """The graph's plant node (hawt_tools.graph_file.NodeSpec)."""
+
+
+def bridged_graph(bridge: BridgeFile, status: int, swap: np.ndarray, infile: str) -> BridgedGraph:
+    """The graph of ``bridge`` checked for the simulator's first call (status, records, its bridge file path), as
+    both engines run it: its parameters as ``hawt launch`` checks them, its controllers against the plant, the
+    simulator against its turbine (:func:`simulator_turbine`). A :class:`BridgeError` for anything that cannot
+    run."""
+    from hawt_tools.graph_file import GraphError, launch_arguments, load_graph, package_prefix
+    from hawt_tools.in_process import plant_node, plant_parameters
     from hawt_tools.node_parameters import parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
 
     from hawt_core.parameter_table import ParameterError
-    from hawt_plant.safety_system import SafetySystem
-    from hawt_plant.turbine import nrel_5mw, turbine_from
 
     if status != 0:
         raise BridgeError(f"the simulator's first call has status {status}, not 0 (a first call)")
     if infile and Path(infile).exists() and not os.path.samefile(infile, bridge.path):
         raise BridgeError(f"the simulator's bridge file {infile} is not this bridge's ({bridge.path})")
     dt = _round_dt(float(swap[Record.DT - 1]))
-    blades = int(round(float(swap[Record.BLADES - 1])))
-    individual = int(round(float(swap[Record.PITCH_CONTROL - 1]))) == 1
     try:
         graph = load_graph(_graph_file(bridge), launch_arguments(bridge.arguments, "arguments:"), package_prefix)
-        overrides = dict(parse_overrides(graph, bridge.parameters))
         plant = plant_node(graph)
-        overrides[plant.label] = list(overrides.get(plant.label, ())) + [("dt", dt)]
+        parameters = bridge.parameters + (f"{plant.label}.dt:={dt!r}", f"{plant.label}.duration:=0.0")
+        overrides = parse_overrides(graph, parameters)
         check_against_plant(graph, check_graph_parameters(graph, overrides))
-
-        def bridge_plant(values: Mapping[str, Any], _progress: Callable[[str], None]):
-            turbine = turbine_from(values["turbine_file"]) if values["turbine_file"] else nrel_5mw()
-            if blades != turbine.rotor.number_of_blades:
-                raise BridgeError(f"the simulator has {blades} blades (record 61), the graph's turbine "
-                                  f"{turbine.name} {turbine.rotor.number_of_blades}")
-            rotor, generator = float(swap[Record.ROTOR_SPEED - 1]), float(swap[Record.GENERATOR_SPEED - 1])
-            gearbox = turbine.drivetrain.gearbox_ratio
-            if rotor > 0.1 and abs(generator / rotor / gearbox - 1) > 0.01:
-                raise BridgeError(f"the simulator's generator speed is {generator / rotor:.4g} times its rotor "
-                                  f"speed (records 20, 21), the graph's turbine {turbine.name} has gearbox ratio "
-                                  f"{gearbox:g}: another turbine")
-            actuator = turbine.pitch_actuator
-            model = BridgeModel(connection, turbine.rotor.number_of_blades, (actuator.max_angle, actuator.max_rate),
-                                individual)
-            return turbine, model, measurements(swap, turbine.rotor.number_of_blades)
-
-        run = build_run(graph, overrides, progress, bridge_plant)
+        simulator_turbine(plant_parameters(graph, overrides), swap)
     except (GraphError, ParameterError) as error:
         raise BridgeError(f"bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
-    run.safety = SafetySystem(run.safety.settings)  # no protection: the simulator is the plant (module notes)
+    return BridgedGraph(graph, parameters, overrides, plant)
+
+
+def build_bridged_run(bridge: BridgeFile, connection: socket.socket, status: int, swap: np.ndarray,
+                      infile: str, progress: Callable[[str], None] = lambda _: None):
+    """The graph of ``bridge`` built in process on the simulator's first call (:func:`bridged_graph`), with a
+    :class:`BridgeModel` on ``connection`` as its plant and no protection. A :class:`BridgeError` for anything
+    that cannot run."""
+    from hawt_tools.graph_file import GraphError
+    from hawt_tools.in_process import build_run
+
+    from hawt_core.parameter_table import ParameterError
+
+    bridged = bridged_graph(bridge, status, swap, infile)
+    try:
+        run = build_run(bridged.graph, bridged.overrides, progress, bridge_plant(connection, swap))
+    except (GraphError, ParameterError) as error:
+        raise BridgeError(f"bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
+    run.safety = without_protection(run.safety)
     return run
+
+
+def first_call(bridge: BridgeFile, server: Optional[socket.socket] = None) -> Tuple[socket.socket, bytes]:
+    """The library's connection and its first message: accept it on ``server`` (default: listen at the file's
+    ``socket``), then remove the socket file. :class:`BridgeClosed` if it closes before its first call."""
+    server = server or listen(bridge.socket)
+    try:
+        connection, _ = server.accept()
+    finally:
+        server.close()
+        try:
+            os.unlink(bridge.socket)
+        except FileNotFoundError:
+            pass
+    data = connection.recv(REQUEST.size + 1)
+    if not data:
+        connection.close()
+        raise BridgeClosed("the simulator closed the connection before its first call")
+    return connection, data
 
 
 def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
@@ -391,19 +495,8 @@ def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
 
     from hawt_tools.in_process import RunRecord, write_run
 
-    server = server or listen(bridge.socket)
-    try:
-        connection, _ = server.accept()
-    finally:
-        server.close()
-        try:
-            os.unlink(bridge.socket)
-        except FileNotFoundError:
-            pass
+    connection, data = first_call(bridge, server)
     with connection:
-        data = connection.recv(REQUEST.size + 1)
-        if not data:
-            raise BridgeClosed("the simulator closed the connection before its first call")
         try:
             status, swap, infile = parse_request(data)
             run = build_bridged_run(bridge, connection, status, swap, infile, progress)
@@ -428,14 +521,15 @@ def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
                                  f"{time.monotonic() - start:.1f} s wall, bridged"})
     if bridge.record is not None:
         write_run(run, book, bridge.record)
-    return BridgeRun(run, model.calls, bridge.record, run.events)
+    return BridgeRun(run, model.calls, bridge.record, run.events, run.events[-1]["detail"])
 
 
 def run_bridge(path: Path, graph: Optional[str] = None, arguments: Sequence[str] = (),
                parameters: Sequence[str] = (), record: Optional[Path] = None,
                listening: Callable[[str], None] = lambda _: None,
-               progress: Callable[[str], None] = lambda _: None) -> BridgeRun:
-    """Serve one simulator run of the bridge file at ``path`` (what ``hawt bridge`` does).
+               progress: Callable[[str], None] = lambda _: None, in_process: bool = False) -> BridgeRun:
+    """Serve one simulator run of the bridge file at ``path`` (what ``hawt bridge`` does): on the ROS graph
+    (hawt_tools.bridge_launch.serve_graph), or with ``in_process`` on the in-process engine (:func:`serve`).
 
     ``graph`` with its launch ``arguments`` replaces the file's graph and arguments; ``parameters``
     (``NODE.PARAM:=VALUE``) are added to the file's; ``record`` replaces the file's bag. ``listening`` gets a line
@@ -447,6 +541,8 @@ def run_bridge(path: Path, graph: Optional[str] = None, arguments: Sequence[str]
         The bridge file, the graph or the simulator (one line; also sent to the library if it called).
     BridgeClosed
         The simulator went away before its last call.
+    RuntimeError
+        On the ROS graph: the graph failed once started (the launcher's line names the node).
     """
     from dataclasses import replace
 
@@ -456,36 +552,42 @@ def run_bridge(path: Path, graph: Optional[str] = None, arguments: Sequence[str]
     bridge = replace(bridge, parameters=bridge.parameters + tuple(parameters),
                      record=Path(record) if record is not None else bridge.record)
     server = listen(bridge.socket)
-    listening(f"listening on {bridge.socket} for {bridge.graph}")
-    return serve(bridge, server, progress)
+    listening(f"listening on {bridge.socket} for {bridge.graph} ({'in process' if in_process else 'ROS graph'})")
+    if in_process:
+        return serve(bridge, server, progress)
+    from hawt_tools.bridge_launch import serve_graph
+
+    return serve_graph(bridge, server, progress)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m hawt_tools.discon_bridge FILE``: serve one simulator run of the bridge file FILE (as
-    ``hawt bridge --file FILE``).
+    """``python -m hawt_tools.discon_bridge [--in-process] FILE``: serve one simulator run of the bridge file FILE
+    (as ``hawt bridge [--in-process] --file FILE``).
 
     Exit 0 after the simulator's last call, 2 with one line for a bad bridge file, graph or simulator, 1 with
-    one line when the simulator went away.
+    one line when the simulator went away or the graph failed.
     """
     import sys
 
     args = list(sys.argv[1:] if argv is None else argv)
+    in_process = "--in-process" in args
+    args = [a for a in args if a != "--in-process"]
     if len(args) != 1:
-        print("usage: python -m hawt_tools.discon_bridge BRIDGE_FILE", file=sys.stderr)
+        print("usage: python -m hawt_tools.discon_bridge [--in-process] BRIDGE_FILE", file=sys.stderr)
         return 2
 
     def say(line: str) -> None:
         print(f"hawt bridge: {line}", file=sys.stderr, flush=True)
 
     try:
-        result = run_bridge(Path(args[0]), listening=say, progress=say)
+        result = run_bridge(Path(args[0]), listening=say, progress=say, in_process=in_process)
     except BridgeError as error:
         print(f"hawt bridge: {error}", file=sys.stderr)
         return 2
-    except BridgeClosed as error:
+    except (BridgeClosed, RuntimeError) as error:
         print(f"hawt bridge: {error}", file=sys.stderr)
         return 1
-    print(result.events[-1]["detail"] + (f"; recorded into {result.record}" if result.record else ""))
+    print(result.summary + (f"; recorded into {result.record}" if result.record else ""))
     return 0
 
 

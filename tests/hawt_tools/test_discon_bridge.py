@@ -34,9 +34,10 @@ def _bridge_file(folder: Path, graph: str = "baseline", extra: str = "") -> Path
     return path
 
 
-def _start_bridge(path: Path) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "hawt_tools.discon_bridge", str(path)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+def _start_bridge(path: Path, in_process: bool = True) -> subprocess.Popen:
+    """``python -m hawt_tools.discon_bridge [--in-process] FILE`` (as ``hawt bridge [--in-process] --file FILE``)."""
+    return subprocess.Popen([sys.executable, "-m", "hawt_tools.discon_bridge", *(["--in-process"] * in_process),
+                             str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
 def _listening(bridge: subprocess.Popen) -> subprocess.Popen:
@@ -260,8 +261,9 @@ def test_a_library_older_than_its_source_is_never_used(tmp_path):
 
 
 def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_path):
-    """``hawt bridge ipc NAME:=VALUE --file F --record B``: a file with only a socket serves the command line's
-    graph; at the last call the bag holds one plant/blade_loads and one control/pitch_command per answered call."""
+    """``hawt bridge ipc NAME:=VALUE --file F --record B --in-process``: a file with only a socket serves the command
+    line's graph; at the last call the bag holds one plant/blade_loads and one control/pitch_command per answered
+    call."""
     from hawt_bag.plant_run import load_plant_run
     from hawt_bag.reader import BagReader
 
@@ -270,8 +272,8 @@ def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_p
     path.write_text(f"socket = {tmp_path / 'b.sock'}\n")
     bag = tmp_path / "bridged.mcap"
     bridge = subprocess.Popen([sys.executable, "-m", "hawt_tools.cli", "bridge", "ipc", "wind_speed:=18", "--file",
-                               str(path), "--record", str(bag)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              text=True)
+                               str(path), "--record", str(bag), "--in-process"], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True)
     _listening(bridge)
     host = _host(path, run, individual=True)
     for _ in range(200):

@@ -141,12 +141,13 @@ def _cmd_bridge(args: argparse.Namespace) -> int:
         print(f"hawt bridge: {line}", file=sys.stderr, flush=True)
 
     try:
-        result = run_bridge(Path(args.file), args.graph, args.arguments, args.param, args.record, say, progress)
+        result = run_bridge(Path(args.file), args.graph, args.arguments, args.param, args.record, say, progress,
+                            args.in_process)
     except BridgeError as error:
         raise GraphError(str(error)) from None
     except BridgeClosed as error:
         raise RuntimeError(str(error)) from None
-    print(result.events[-1]["detail"] + (f"; recorded into {result.record}" if result.record else ""))
+    print(result.summary + (f"; recorded into {result.record}" if result.record else ""))
     return 0
 
 
@@ -226,9 +227,12 @@ def _add_bridge(commands: argparse._SubParsersAction) -> None:
     bridge = commands.add_parser(
         "bridge", help="a graph as the controller of a simulator that calls libhawt_discon.so (OpenFAST's ServoDyn)",
         description="Serve one simulator run: libhawt_discon.so (ros2_ws/lib/, ServoDyn's DLL_FileName) reads "
-                    "the bridge file (DLL_InFile) and sends each DISCON call over its socket; the graph steps in "
-                    "process with the call's measurements as its plant and answers that step's pitch and torque. "
-                    "Ends at the simulator's last call. See hawt_tools/discon_bridge.py for the file.")
+                    "the bridge file (DLL_InFile) and sends each DISCON call over its socket. On the first call the "
+                    "graph starts as 'hawt launch' starts it (lockstep), with a bridge plant node in place of its "
+                    "plant: each call is a plant step and is answered with that step's pitch and torque, so 'hawt "
+                    "switch', 'hawt list' and 'hawt view' work during the simulator's run. --in-process steps the "
+                    "graph's cores in this process instead (as 'hawt run': faster, no live switching). Ends at the "
+                    "simulator's last call. See hawt_tools/discon_bridge.py for the file.")
     bridge.add_argument("graph", nargs="?", metavar="GRAPH", help="graph file or installed graph (default: the "
                         "bridge file's graph)")
     bridge.add_argument("arguments", nargs="*", metavar="NAME:=VALUE", help="launch arguments of the graph")
@@ -237,6 +241,8 @@ def _add_bridge(commands: argparse._SubParsersAction) -> None:
     bridge.add_argument("-p", dest="param", action="append", default=[], metavar="NODE.PARAM:=VALUE",
                         help="override a parameter of one node (repeatable)")
     bridge.add_argument("--record", metavar="FILE.mcap", help="write the run's topics into this new bag")
+    bridge.add_argument("--in-process", action="store_true",
+                        help="step the graph in this process (the in-process engine) instead of the ROS graph")
     bridge.set_defaults(run=_cmd_bridge)
 
 
