@@ -6,7 +6,7 @@ from numpy.typing import ArrayLike
 
 from ._checks import finite_array, same_length
 
-__all__ = ["HarmonicAmplitudes", "harmonic_amplitudes"]
+__all__ = ["HarmonicAmplitudes", "harmonic_amplitudes", "revolution_count"]
 
 
 @dataclass(frozen=True)
@@ -32,6 +32,19 @@ class HarmonicAmplitudes:
     amplitude: np.ndarray
     amplitude_per_revolution_rms: np.ndarray
     revolutions: int
+
+
+def _turns(azimuth: np.ndarray) -> np.ndarray:
+    """Revolutions turned since the first sample, counted on the running maximum of the unwrapped azimuth."""
+    unwrapped = np.unwrap(azimuth)
+    return (np.maximum.accumulate(unwrapped) - unwrapped[0]) / (2.0 * np.pi)
+
+
+def revolution_count(azimuth: ArrayLike) -> int:
+    """Whole revolutions an azimuth record [rad] covers, as :func:`harmonic_amplitudes` counts them (0: a standing
+    or idling rotor's record, which has no harmonics)."""
+    psi = finite_array("azimuth", azimuth, ndim=1)
+    return int(np.floor(_turns(psi)[-1])) if psi.size else 0
 
 
 def harmonic_amplitudes(
@@ -90,8 +103,7 @@ def harmonic_amplitudes(
     if orders.size == 0 or orders.min() < 1:
         raise ValueError(f"harmonics: expected harmonic numbers n >= 1, found {tuple(harmonics)}")
 
-    unwrapped = np.unwrap(psi)
-    turns = (np.maximum.accumulate(unwrapped) - unwrapped[0]) / (2.0 * np.pi)
+    turns = _turns(psi)
     revolution = np.floor(turns).astype(int)
     n_revolutions = int(revolution[-1])
     if n_revolutions < 1:

@@ -7,7 +7,7 @@ from numpy.typing import ArrayLike
 
 from .fatigue import CONVENTION as FATIGUE_CONVENTION
 from .fatigue import WohlerExponents, damage_equivalent_load
-from .harmonics import harmonic_amplitudes
+from .harmonics import harmonic_amplitudes, revolution_count
 from .pitch_activity import DEFAULT_RATE_THRESHOLD, pitch_activity, pitch_activity_convention
 from .record import Record, make_record
 from .spectra import power_spectrum, rotor_harmonic_frequencies, spectral_peaks
@@ -105,8 +105,8 @@ def summarize(channels: Mapping[str, ArrayLike], options: AnalysisOptions = Anal
     Raises
     ------
     ValueError
-        Naming the channel at fault (see `make_record`), or ``azimuth`` if the
-        record holds no whole rotor revolution.
+        Naming the channel at fault (see `make_record`). A record without a whole
+        rotor revolution (a parked or idling rotor) has no ``harmonics`` ({}).
     """
     record = make_record(channels)
     loads = load_channels(record)
@@ -184,7 +184,7 @@ def _damage_equivalent_loads(
 
 
 def _harmonics(analysed: dict[str, np.ndarray], azimuth: np.ndarray, harmonics: tuple[int, ...]) -> dict:
-    if not analysed:
+    if not analysed or revolution_count(azimuth) < 1:  # a standing or idling rotor's record has no harmonics
         return {}
     names = list(analysed)
     fit = harmonic_amplitudes(np.column_stack(list(analysed.values())), azimuth, harmonics, name=names[0])

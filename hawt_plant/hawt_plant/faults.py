@@ -12,7 +12,7 @@ entry                                         the fault, from step k = T/dt on
 ``azimuth_offset angle=0.1 at=20``            the azimuth sensor reads psi + 0.1 rad (wrapped to [0, 2 pi))
 ``pitch_stuck blade=1 at=30``                 blade 1's pitch actuator holds the angle of step k
 ``pitch_runaway blade=1 to=feather at=30``    blade 1's pitch actuator runs to feather (or ``to=fine``)
-``grid_loss at=40``                           the generator torque command is 0
+``grid_loss at=40``                           the generator loses the grid: its torque is 0 at once
 ============================================  ==========================================================
 
 Where each acts, as in the field:
@@ -24,10 +24,10 @@ Where each acts, as in the field:
 - **Actuator and grid faults** act between the command and the physics: the pitch actuator of the blade
   ignores its command from step k on — stuck, it is driven to the angle it had at step k (the second-order
   actuator settles there within its response); run away, it is driven to its angle limit, which it reaches
-  at its rate limit. Grid loss sets the generator torque command to 0 from step k: the converter can no
-  longer load the generator. The plant's generator follows its command within ``max_torque_rate`` (that is
-  the model's generator, :mod:`hawt_plant.model`), so the torque falls at that rate, not at once; the
-  protection's grid monitor sees the loss at the end of that step and shuts the turbine down
+  at its rate limit. Grid loss takes the generator off the grid over step k
+  (:meth:`hawt_plant.model.TurbineModel.disconnect_grid`): its torque is 0 from that step on, at once and
+  whatever is commanded, since the converter can no longer load it; the protection's grid monitor sees the
+  loss at the end of that step and shuts the turbine down
   (:class:`hawt_plant.safety_system.Protection`, a ``protection_trip``). They
   act after the safety system too: a tripped plant feathers the blades that still answer; a stuck blade
   stays where it is.
@@ -221,7 +221,7 @@ class PlantFaults:
     With M_i the true out-of-plane moment of blade i at step j ≥ k (the fault's step) and ψ the azimuth,
     the published values are M_i + b (bias), g M_i (gain), M_i(k−1) (frozen; M_i(0) if k = 0), NaN (dead)
     and (ψ + δ) mod 2π (azimuth offset). The command of blade i over step j ≥ k is θ_i(k) (stuck) or
-    θ_max / θ_min (runaway); grid loss makes the torque command 0. Without a fault acting, the model's
+    θ_max / θ_min (runaway); grid loss disconnects the model's generator. Without a fault acting, the model's
     output and the command pass through unchanged (the same objects), so a run without faults is the run
     it was.
 
@@ -284,7 +284,7 @@ class PlantFaults:
             pitch = np.array(pitch, dtype=float)
             for fault in acting:
                 if fault.kind == "grid_loss":
-                    generator_torque = 0.0
+                    model.disconnect_grid()
                 elif fault.kind == "pitch_stuck":
                     if fault not in self._held:
                         self._held[fault] = float(self._pitch[fault.blade - 1])

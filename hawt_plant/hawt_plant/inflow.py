@@ -9,15 +9,15 @@ from hawt_plant.iec_extreme import (ExtremeWindShear, extreme_coherent_gust, ext
                                     steady_extreme_wind)
 from hawt_plant.shear_wind import PowerLawWind
 from hawt_plant.turbulence import TurbulenceSpec, cached_turbulence, rotor_grid_size
-from hawt_plant.wind_field import WindField
+from hawt_plant.wind_field import WindField, YawedWind
 
 __all__ = ["OPERATING_WIND_KINDS", "PARKED_WIND_KINDS", "WIND_KINDS", "InflowSettings", "make_wind"]
 
 OPERATING_WIND_KINDS = ("steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal")
 """The winds an operating rotor runs in: the plant's ``wind_type`` choices."""
 PARKED_WIND_KINDS = ("ewm50", "ewm1")
-"""The steady extreme wind model's, for a parked or idling rotor (IEC DLC 6.x), which the plant does not model yet:
-the operating point has no pitch for rated power at 56-70 m/s."""
+"""The steady extreme wind model's, for an idling or parked rotor only (IEC DLC 6.x; the plant's ``rotor``): no
+operating point holds rated power at 56-70 m/s."""
 WIND_KINDS = OPERATING_WIND_KINDS + PARKED_WIND_KINDS
 
 
@@ -60,6 +60,9 @@ class InflowSettings:
         Speed after the step [m/s]; time of the step or the gust start [s].
     gust_sign : int
         +1 or -1: the sign of the EDC and ECD direction change and of the EWS shear.
+    yaw_misalignment : float
+        Angle [rad] in [-pi, pi] of the whole field's mean wind from the shaft's downwind axis, towards +y when
+        positive (:class:`~hawt_plant.wind_field.YawedWind`); 0: none.
     """
 
     kind: str = "steady"
@@ -76,11 +79,18 @@ class InflowSettings:
     step_speed: float = 14.0
     step_time: float = 20.0
     gust_sign: int = 1
+    yaw_misalignment: float = 0.0
 
 
 def make_wind(settings: InflowSettings, progress: Callable[[str], None] = lambda _: None) -> WindField:
     """The wind field the settings describe (ValueError naming the setting at fault); ``progress`` gets the lines
     of :func:`~hawt_plant.turbulence.cached_turbulence` when a turbulent field has to be generated."""
+    field = _field(settings, progress)
+    return YawedWind(field, settings.yaw_misalignment) if settings.yaw_misalignment else field
+
+
+def _field(settings: InflowSettings, progress: Callable[[str], None]) -> WindField:
+    """The field of :func:`make_wind` before its yaw misalignment."""
     if settings.kind not in WIND_KINDS:
         raise ValueError(f"wind_type: {settings.kind!r} is not one of {', '.join(WIND_KINDS)}")
     common = dict(hub_height=settings.hub_height, shear_exponent=settings.shear_exponent)

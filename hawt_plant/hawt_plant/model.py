@@ -6,7 +6,19 @@ Degrees of freedom
 - first flap mode of each blade (tip deflection out of the coned rotor plane);
 - first fore-aft and side-side tower modes (tower-top displacements);
 - a second-order pitch actuator per blade (:mod:`hawt_plant.pitch_actuator`);
-- the generator torque follows its command within its rate limit.
+- the generator torque follows its command within its rate limit while the generator is on the grid; off it
+  (an idling or parked rotor, a grid loss) the torque is 0 at once.
+
+Rotor states (``ModelConfig.rotor``): ``operating``, the default, runs on the commands; ``idling`` and ``parked`` are
+a turbine shut down for IEC 61400-1's DLC 6.x: the blades held at feather (the actuator's largest angle), the
+generator off the grid, the commands checked but not applied, and for ``parked`` a brake holding the generator (the
+high-speed shaft) at rest, so that the rotor moves only by the shaft's torsion. A standing or idling rotor in
+storm wind, possibly at a large yaw misalignment, is outside what momentum theory describes: its elements see the
+wind without induction (AeroDyn's WakeMod = 0, which Jonkman names with quasi-steady polars for an idling rotor in
+high wind with large skew, OpenFAST discussion #2306; the unsteady-airfoil option stays the turbine's). Its blades are rigid at their deflection of time 0, the tower flexible: the model's one flap mode
+deflects out of the rotor plane, which at feather is the blade's stiff (edgewise) direction, so kept flexible it
+gave a standing rotor at 15-30 deg of yaw misalignment in the 50-year wind a flap-tower stall flutter growing
+fourfold every 5 s (the same at a quarter of the step, and with dynamic stall): an artefact of the mode's direction.
 
 Aerodynamics: blade-element momentum (:mod:`hawt_plant.bem`) on every element of every blade
 at its own azimuth, the inflow sampled from the wind field at the element's position (shear,
@@ -38,6 +50,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
@@ -52,7 +65,11 @@ from hawt_plant.turbine import Turbine
 from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
 from hawt_plant.wind_field import WindChange, WindField
 
-__all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
+__all__ = ["ROTOR_STATES", "STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
+
+ROTOR_STATES = ("operating", "idling", "parked")
+"""What the rotor does (module notes): runs on its commands, idles at feather with the generator off, or is parked by
+the brake."""
 
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
 _PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
@@ -91,6 +108,9 @@ class ModelConfig:
         :class:`hawt_plant.unsteady_airfoil.UnsteadyAirfoil`) on the elements whose airfoil has unsteady
         parameters, advanced once per step; the other elements, the initial equilibrium and
         :meth:`TurbineModel.continuous_dynamics` use the static polars (the model's states settled there).
+    rotor : str
+        One of :data:`ROTOR_STATES` (module notes): ``idling`` and ``parked`` hold the blades at feather and rigid
+        with the generator off, without induction.
     """
 
     dt: float = 0.01
@@ -102,8 +122,11 @@ class ModelConfig:
     tower_drag: bool = True
     skewed_wake: bool = False
     unsteady_airfoil: bool = False
+    rotor: str = "operating"
 
     def __post_init__(self) -> None:
+        if self.rotor not in ROTOR_STATES:
+            raise ValueError(f"rotor: expected one of {', '.join(ROTOR_STATES)}, found {self.rotor!r}")
         if not (math.isfinite(self.dt) and 0.0 < self.dt <= 0.1):
             raise ValueError(f"dt: expected a step in (0, 0.1] s, found {self.dt}")
         if not (isinstance(self.bem_iterations, int) and self.bem_iterations >= 1):
@@ -208,6 +231,9 @@ class TurbineModel:
         self._turbine = turbine
         self._wind = wind
         self._config = config or ModelConfig()
+        self._operating = self._config.rotor == "operating"
+        self._parked = self._config.rotor == "parked"
+        self._grid_connected = self._operating
         self._setup_constants()
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
         self._unsteady = UnsteadyAirfoil(self._bem.polars, turbine.airfoils, turbine.blade_aerodynamics.airfoil,
@@ -250,9 +276,20 @@ class TurbineModel:
         return self._output
 
     @property
-    def operating_point(self) -> OperatingPoint:
-        """The schedule's operating point at the wind's mean speed (from the last reset)."""
+    def operating_point(self) -> OperatingPoint | None:
+        """The schedule's operating point at the wind's mean speed (from the last reset); None for an idling or parked
+        rotor."""
         return self._operating_point
+
+    @property
+    def grid_connected(self) -> bool:
+        """Whether the generator is on the grid (its torque follows the command): an operating rotor's until
+        :meth:`disconnect_grid`."""
+        return self._grid_connected
+
+    def disconnect_grid(self) -> None:
+        """The generator loses the grid (a grid loss): its torque is 0 from the next step on, whatever is commanded."""
+        self._grid_connected = False
 
     def reset_to_operating_point(self, azimuth: float = 0.0, *, rotor_speed: float | None = None,
                                  pitch: float | None = None, flap_offset: np.ndarray | None = None,
@@ -265,7 +302,10 @@ class TurbineModel:
         ``pitch`` is given). The generator torque is limited to [0, max_torque]. The induction is the
         converged steady BEM solution in the wind at time 0; the generator torque, shaft
         torsion and tower deflections balance the loads averaged over one blade passage, the
-        blade deflections the loads at time 0. All rates start at zero.
+        blade deflections the loads at time 0. All rates start at zero. An idling or parked rotor starts
+        at feather with the generator off: parked at rest, the brake holding the shaft's torque; idling at the
+        speed where the mean aerodynamic and gravity torque is zero (:meth:`_idling_speed`), or at rest where it
+        is not positive at rest. The grid is connected again for an operating rotor.
 
         Parameters
         ----------
@@ -300,15 +340,20 @@ class TurbineModel:
         tower_offset = np.zeros(2) if tower_offset is None else np.asarray(tower_offset, dtype=float)
         if tower_offset.shape != (2,) or not np.all(np.isfinite(tower_offset)):
             raise ValueError(f"tower_offset: expected 2 finite values, found {tower_offset.tolist()}")
-        op = baseline_operating_point(self._turbine, self._wind.mean_speed, self._bem)
+        op = baseline_operating_point(self._turbine, self._wind.mean_speed, self._bem) if self._operating else None
         self._operating_point = op
+        self._grid_connected = self._operating
         self._step_index = 0
         self._time = 0.0
         self._azimuth = azimuth % (2.0 * math.pi)
-        self._rotor_speed = op.rotor_speed if rotor_speed is None else float(rotor_speed)
-        self._generator_speed = self._rotor_speed
+        if op is None:
+            self._rotor_speed = 0.0 if rotor_speed is None else float(rotor_speed)
+            self._pitch = np.full(b, actuator.max_angle if pitch is None else float(pitch))
+        else:
+            self._rotor_speed = op.rotor_speed if rotor_speed is None else float(rotor_speed)
+            self._pitch = np.full(b, op.pitch if pitch is None else float(pitch))
+        self._generator_speed = 0.0 if self._parked else self._rotor_speed
         self._torsion = 0.0
-        self._pitch = np.full(b, op.pitch if pitch is None else float(pitch))
         self._pitch_rate = np.zeros(b)
         # Structural coordinates [tower fa, tower ss, flap 1..B] and their rates; the
         # tower and flap arrays are views into them.
@@ -321,11 +366,17 @@ class TurbineModel:
         self._inflow_filter = np.zeros((3, b, n))
         generator = self._turbine.generator
         target_power = self._turbine.rated_mechanical_power
-        refine_pitch = pitch is None and rotor_speed is None and op.pitch > actuator.min_angle
+        refine_pitch = op is not None and pitch is None and rotor_speed is None and op.pitch > actuator.min_angle
+        idling = self._config.rotor == "idling" and rotor_speed is None
         for _ in range(_RESET_ITERATIONS):
+            if idling:
+                self._rotor_speed = self._generator_speed = self._idling_speed()
             shaft, tower_residual = self._passage_mean_loads()
             self._azimuth = azimuth % (2.0 * math.pi)
-            self._generator_torque = min(max(shaft / self._gearbox_ratio, 0.0), generator.max_torque)
+            if self._grid_connected:
+                self._generator_torque = min(max(shaft / self._gearbox_ratio, 0.0), generator.max_torque)
+            elif not self._parked:
+                shaft = 0.0  # a free generator carries no torque in equilibrium
             self._torsion = shaft / self._torsional_stiffness
             self._tower += tower_residual / self._tower_stiffness
             if refine_pitch:
@@ -342,8 +393,10 @@ class TurbineModel:
         return self._output
 
     def _solve_steady_induction(self) -> None:
-        """Converged steady BEM induction at the current state (Ning 2014)."""
+        """Converged steady BEM induction at the current state (Ning 2014); none for an idling or parked rotor."""
         self._sample_inflow()
+        if not self._operating:
+            return
         bem = self._rotor_bem
         vx, vy = self._inflow
         pitch = self._pitch[:, None]
@@ -373,6 +426,27 @@ class TurbineModel:
             tower += (self._residual_fa,
                       self._residual_ss + roll * (self._shaft_torque * (1.0 - 1.0 / self._gearbox_ratio) - torque))
         return shaft / _PASSAGE_SAMPLES, tower / _PASSAGE_SAMPLES
+
+    def _idling_speed(self) -> float:
+        """The rotor speed [rad/s] at which the mean aerodynamic and gravity torque of the rotor, at its pitch and
+        without induction, is zero: an idling rotor's equilibrium with the generator off, searched within plus or
+        minus the rated rotor speed (a feathered rotor may idle backwards); the end of that range the torque drives
+        it to where there is none."""
+        def torque(speed: float) -> float:
+            self._rotor_speed = speed
+            return self._passage_mean_loads()[0]
+
+        start = self._azimuth
+        highest = self._turbine.schedule.rated_rotor_speed
+        try:
+            low, high = torque(-highest), torque(highest)
+            if low > 0.0 > high:
+                return brentq(torque, -highest, highest, xtol=1e-6)
+            if max(low, high) <= 0.0:
+                return -highest
+            return highest if min(low, high) >= 0.0 else 0.0  # or a torque rising with speed: at rest
+        finally:
+            self._azimuth = start
 
     def _rated_pitch_correction(self, shaft_torque: float, target_power: float) -> float:
         """Newton step of the collective pitch towards rated power, slope from steady BEM."""
@@ -404,14 +478,20 @@ class TurbineModel:
         """
         command = self._checked_pitch(pitch_command)
         torque_command = self._checked_torque(generator_torque_command)
+        if not self._operating:
+            command = self._standstill_pitch
         dt = self._config.dt
-        limit = self._turbine.generator.max_torque_rate * dt
-        self._generator_torque += min(max(torque_command - self._generator_torque, -limit), limit)
+        if self._grid_connected:
+            limit = self._turbine.generator.max_torque_rate * dt
+            self._generator_torque += min(max(torque_command - self._generator_torque, -limit), limit)
+        else:
+            self._generator_torque = 0.0
         acting = self._acting_torque()
         self._velocity += dt * self._accelerations(acting)
         self._displacement += dt * self._velocity
         self._rotor_speed += dt * self._rotor_acceleration
-        self._generator_speed += dt * self._generator_acceleration(acting)
+        if not self._parked:
+            self._generator_speed += dt * self._generator_acceleration(acting)
         self._torsion += dt * (self._rotor_speed - self._generator_speed)
         self._azimuth = (self._azimuth + dt * self._rotor_speed) % (2.0 * math.pi)
         self._pitch, self._pitch_rate = self._pitch_actuator.step(self._pitch, self._pitch_rate, command)
@@ -482,7 +562,10 @@ class TurbineModel:
         return derivative, self._make_output(acceleration)
 
     def _acting_torque(self) -> float:
-        """The generator torque acting on the drivetrain: the actuator's plus the periodic disturbance."""
+        """The generator torque acting on the drivetrain: the actuator's plus the periodic disturbance; parked, the
+        brake's, whatever holds the generator at rest against the shaft."""
+        if self._parked:
+            return self._shaft_torque / self._gearbox_ratio
         disturbance = self._config.torque_disturbance
         return self._generator_torque + disturbance * math.sin(self._azimuth) if disturbance else self._generator_torque
 
@@ -524,6 +607,7 @@ class TurbineModel:
         self._b = b = rotor.number_of_blades
         self._n = n = aero.span.size
         self._bem = BemBlade.from_turbine(t)
+        self._standstill_pitch = np.full(b, t.pitch_actuator.max_angle)  # feather: an idling or parked rotor's
         self._rotor_bem = self._bem.tiled(b)  # every element of every blade at once, (B, N) arrays
         self._tip_ratio = self._rotor_bem.radius / self._bem.tip_radius
         half_rho = 0.5 * t.environment.air_density
@@ -722,6 +806,8 @@ class TurbineModel:
         edge = self._rotor_bem.at_ends
         self._induction_bounds[:, 0][:, edge] = 1.0
         self._induction_bounds[:, 1][:, edge] = 0.0
+        if not self._operating:
+            self._induction_bounds[:] = 0.0  # an idling or parked rotor's elements see the wind without induction
         # What blade_element_loads takes of the blade, in its order, and the blades' load sums it writes.
         bem = self._rotor_bem
         self._twist = bem.twist
@@ -842,6 +928,9 @@ class TurbineModel:
         (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
         projected_fa, projected_ss = np.dot(coupling, self._flap_residual).tolist()
         self._coupling = coupling
+        if not self._operating:  # the blades held rigid at their deflection (module notes): the tower's own masses
+            self._schur = (mass_fa, 0.0, self._ss_mass, self._residual_fa, self._residual_ss)
+            return
         self._schur = (
             mass_fa - p00 / m,
             -p01 / m,
@@ -877,7 +966,7 @@ class TurbineModel:
         y_acc = (a11 * r2 - a12 * r1) / det
         out = np.empty(2 + self._b)
         out[0], out[1] = x_acc, y_acc
-        out[2:] = (self._flap_residual - np.dot(out[:2], self._coupling)) / self._flap_mass
+        out[2:] = (self._flap_residual - np.dot(out[:2], self._coupling)) / self._flap_mass if self._operating else 0.0
         return out
 
     # ------------------------------------------------------------------ outputs

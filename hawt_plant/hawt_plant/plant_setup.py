@@ -18,8 +18,8 @@ from hawt_core.node_role import NodeRole
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.faults import parse_faults
-from hawt_plant.inflow import OPERATING_WIND_KINDS, InflowSettings, make_wind
-from hawt_plant.model import ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.inflow import PARKED_WIND_KINDS, WIND_KINDS, InflowSettings, make_wind
+from hawt_plant.model import ROTOR_STATES, ModelConfig, TurbineModel, TurbineOutput
 from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
 from hawt_plant.turbulence import REFERENCE_WIND_SPEED, TURBULENCE_MODELS
@@ -31,6 +31,9 @@ TURBINE = "turbine"
 """The value of an aerodynamic option's parameter that takes the turbine definition's option."""
 MAX_DURATION = 1e6
 """Longest simulated time a parameter may name [s]: eleven days, far beyond any load case."""
+MAX_OPERATING_YAW = math.radians(45.0)
+"""Largest yaw misalignment [rad] of an operating rotor: blade-element momentum theory with a skewed-wake correction
+is not made for more (IEC 61400-1's operating cases ask at most 30 deg); an idling or parked rotor takes any."""
 
 
 def _aerodynamic_option(name: str, description: str) -> ParameterSpec:
@@ -48,7 +51,14 @@ PARAMETERS = (
                   minimum=0.0, maximum=MAX_DURATION, read_only=True),
     ParameterSpec("wind_type", "steady", "inflow model: steady, turbulent, bts, a step, or an IEC 61400-1 extreme "
                   "condition: eog, edc (direction change), ecd (coherent gust with direction change), ews_vertical, "
-                  "ews_horizontal (wind shear)", choices=OPERATING_WIND_KINDS, read_only=True),
+                  "ews_horizontal (wind shear), and for an idling or parked rotor ewm50, ewm1 (steady extreme wind, "
+                  "50- and 1-year, of wind_class)", choices=WIND_KINDS, read_only=True),
+    ParameterSpec("yaw_misalignment", 0.0, "angle of the wind from the rotor's shaft axis, positive towards +y (left "
+                  "looking downwind), the nacelle yawed the other way; at most 45 deg (0.785 rad) for an operating "
+                  "rotor", "rad", minimum=-math.pi, maximum=math.pi, read_only=True),
+    ParameterSpec("rotor", "operating", "operating: runs on the commands; idling, parked: shut down (IEC DLC 6.x), "
+                  "blades held at feather, generator off the grid, commands checked but not applied, no induction; "
+                  "parked: a brake holds the generator at rest", choices=ROTOR_STATES, read_only=True),
     ParameterSpec("wind_speed", 18.0, "mean hub-height wind speed", "m/s",
                   minimum=3.0, maximum=30.0, read_only=True),
     ParameterSpec("shear_exponent", 0.2, "power-law shear exponent alpha", minimum=-0.5, maximum=0.99,
@@ -127,6 +137,15 @@ def check_parameters(values: Mapping[str, Any]) -> None:
     """The plant's rules across parameters (each value already checked against its row) and its faults' entries
     (their blades against the turbine's, if it loads: a turbine_file that does not is named by
     hawt_tools.parameter_check), without building the model; ParameterError if broken."""
+    if values["rotor"] == "operating":
+        if values["wind_type"] in PARKED_WIND_KINDS:
+            raise ParameterError(f"wind_type: {values['wind_type']} is the extreme wind of a shut-down turbine: set "
+                                 "rotor to idling or parked")
+        if abs(values["yaw_misalignment"]) > MAX_OPERATING_YAW:
+            raise ParameterError(f"yaw_misalignment: {values['yaw_misalignment']:g} rad "
+                                 f"({math.degrees(values['yaw_misalignment']):.1f} deg) is beyond the 45 deg an "
+                                 "operating rotor's blade-element momentum theory takes; set rotor to idling or parked "
+                                 "for a shut-down turbine")
     if values["mode"] == "lockstep" and values["command_timeout"] <= values["resend_period"]:
         raise ParameterError(f"command_timeout: {values['command_timeout']} s must exceed resend_period "
                              f"{values['resend_period']} s in lockstep (a step is resent before the safety system "
@@ -180,11 +199,14 @@ def make_plant(values: Mapping[str, Any], progress: Callable[[str], None] = lamb
         hub_height=turbine.hub_height, rotor_radius=turbine.rotor.tip_radius,
         turbulence_class=v["turbulence_class"], turbulence_model=v["turbulence_model"],
         turbine_class=v["wind_class"], seed=v["seed"], field_duration=max(v["field_duration"], v["duration"]),
-        bts_file=v["bts_file"], step_speed=v["step_speed"], step_time=v["step_time"], gust_sign=v["gust_sign"]),
-        progress)
+        bts_file=v["bts_file"], step_speed=v["step_speed"], step_time=v["step_time"], gust_sign=v["gust_sign"],
+        yaw_misalignment=v["yaw_misalignment"]), progress)
+    if v["rotor"] != "operating":
+        progress(f"rotor {v['rotor']}: blades at feather, generator off the grid"
+                 + (", brake on" if v["rotor"] == "parked" else "") + "; the controllers' commands are not applied")
     options = aerodynamic_options(turbine, v)
     model = TurbineModel(turbine, wind, ModelConfig(
-        dt=v["dt"], torque_disturbance=v["torque_disturbance"],
+        dt=v["dt"], torque_disturbance=v["torque_disturbance"], rotor=v["rotor"],
         **{name: getattr(options, name) for name in AERODYNAMIC_OPTIONS}), azimuth=v["initial_azimuth"])
     return turbine, model, model.output
 

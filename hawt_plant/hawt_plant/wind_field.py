@@ -9,7 +9,7 @@ from typing import Protocol
 
 import numpy as np
 
-__all__ = ["WindChange", "WindField"]
+__all__ = ["WindChange", "WindField", "YawedWind"]
 
 
 class WindField(Protocol):
@@ -59,3 +59,33 @@ class WindChange:
         else:
             velocity[0, :len(self.change)] += self.change.reshape((-1,) + (1,) * (x.ndim - 1))
         return velocity
+
+
+class YawedWind:
+    """A wind field met by a rotor yawed against it: the field turned about the tower's axis (z through the origin)
+    by the yaw misalignment gamma, so that its mean wind blows along (cos gamma, sin gamma, 0), from +x towards +y
+    for gamma > 0 (as :class:`hawt_plant.iec_extreme.DirectionChange` turns it; the nacelle yawed by -gamma).
+
+    A point p of the rotor's frame is the field's point R(-gamma) p, and the field's velocity there turns by
+    R(gamma): a frozen turbulent field is convected along its own mean wind.
+    """
+
+    def __init__(self, field: WindField, yaw_misalignment: float) -> None:
+        if not abs(yaw_misalignment) <= np.pi:
+            raise ValueError(f"yaw_misalignment: expected an angle in [-pi, pi] rad, found {yaw_misalignment}")
+        self.field = field
+        self.yaw_misalignment = float(yaw_misalignment)
+        self._cos, self._sin = np.cos(self.yaw_misalignment), np.sin(self.yaw_misalignment)
+
+    @property
+    def mean_speed(self) -> float:
+        return self.field.mean_speed
+
+    @property
+    def hub_height(self) -> float:
+        return self.field.hub_height
+
+    def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
+        c, s = self._cos, self._sin
+        u, v, w = self.field.velocity(t, c * x + s * y, c * y - s * x, z)
+        return np.stack((c * u - s * v, s * u + c * v, w))

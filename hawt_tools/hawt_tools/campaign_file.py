@@ -3,7 +3,8 @@
 A campaign file is YAML::
 
     turbine: iea15                    # optional: a packaged turbine's name, or a turbine's folder or definition file
-    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1, 1.3-1.5, 2.1, 2.3
+    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1, 1.3-1.5, 2.1, 2.3,
+                                      # 6.1-6.3
     fault: pitch_runaway blade=1 to=fine  # DLC 2.x only: the fault of every case (hawt_plant.faults), without at=
     wind:
       speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing
@@ -31,7 +32,13 @@ horizontal), all of them unless ``seeds`` picks some. DLC 2.1 and 2.3 add a faul
 system fault (default: blade 1's pitch actuator runs away to feather) ``GUST_START`` s into the analysed time,
 γ_f 1.35; 2.3, the extreme operating gust starting then with a loss of the electrical network (default
 ``grid_loss``) at the gust's start, in its dip and at its peak (cases 1-3, ``EOG_FAULT_DELAYS``; the IEC asks for
-the timing that loads most), γ_f 1.1 (abnormal).
+the timing that loads most), γ_f 1.1 (abnormal). DLC 6.1-6.3 are the turbine shut down, its rotor idling (the
+plant's ``rotor``: blades at feather, generator off) in the steady extreme wind model of the site's class
+(:func:`hawt_plant.iec_extreme.steady_extreme_wind`), one case per yaw misalignment (``DesignLoadCase.yaw``): 6.1,
+the 50-year wind at -15 and +15 deg (Ed. 3 §7.4.7, the steady model's), γ_f 1.35; 6.2, the 50-year wind with the
+grid lost, so that the nacelle cannot yaw, at -135 to 180 deg every 45 deg, γ_f 1.1; 6.3, the 1-year wind at -30
+and +30 deg, γ_f 1.35. Their wind speed is the model's (70 and 56 m/s at the hub for class I), so they take no
+``speeds``.
 
 A file may run several DLCs, each with its own ``speeds``, ``seeds`` and ``fault`` (what an entry leaves out is the
 file's ``wind.speeds``, ``wind.seeds`` and the DLC's own fault), the rest shared (``campaigns/ultimate.yaml``)::
@@ -52,6 +59,7 @@ controller's ``arguments`` may not give another. Without it each graph runs its 
 Everything is checked before a case runs (:func:`hawt_tools.campaign.plan_cases`): an error is a
 :class:`CampaignError` whose one line names the file, the line and the key at fault.
 """
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Tuple
@@ -59,7 +67,7 @@ from typing import Any, Dict, List, Mapping, Tuple
 from hawt_analysis.lifetime import IEC_CLASS_MEAN_SPEED, WindDistribution
 from hawt_core.parameter_table import ParameterError
 from hawt_plant.faults import parse_faults
-from hawt_plant.gusts import EOG_DURATION
+from hawt_plant.gusts import EOG_DURATION, extreme_wind_speed
 from hawt_tools.graph_file import GraphError, did_you_mean, load_marked_yaml, resolve_turbine
 
 __all__ = ["Campaign", "CampaignError", "ControllerConfig", "load_campaign", "case_overrides", "graph_arguments",
@@ -79,12 +87,21 @@ class DesignLoadCase:
     transients: Tuple[Tuple[str, int], ...] = ()
     fault: str = ""
     fault_delays: Tuple[float, ...] = ()
+    yaw: Tuple[float, ...] = ()
+    """An extreme wind DLC's (6.x) yaw misalignment of each case [deg], one per transient; its rotor is idling."""
+
+    @property
+    def extreme_wind(self) -> str:
+        """The steady extreme wind model a shut-down turbine's DLC runs in (ewm50 or ewm1), '' for the others."""
+        return self.transients[0][0] if self.yaw else ""
 
     def label(self, seed: int) -> str:
         """How a case of this DLC is named beside its speed."""
         if not self.transients:
             return f"seed {seed}"
         kind, sign = self.transients[seed - 1]
+        if self.yaw:
+            return f"{kind.upper()}, yaw {self.yaw[seed - 1]:+g} deg"
         if self.fault_delays:
             return f"{kind.replace('_', ' ').upper()}, fault at +{self.fault_delays[seed - 1]:.2f} s"
         return f"{kind.replace('_', ' ').upper()} {'+' if sign > 0 else '-'}"
@@ -105,7 +122,10 @@ DLCS = {"1.1": DesignLoadCase("NTM"), "1.2": DesignLoadCase("NTM"), "1.3": Desig
         "1.5": DesignLoadCase(transients=(("ews_vertical", 1), ("ews_vertical", -1), ("ews_horizontal", 1),
                                           ("ews_horizontal", -1))),
         "2.1": DesignLoadCase("NTM", fault="pitch_runaway blade=1 to=feather"),
-        "2.3": DesignLoadCase(transients=(("eog", 1),) * 3, fault="grid_loss", fault_delays=EOG_FAULT_DELAYS)}
+        "2.3": DesignLoadCase(transients=(("eog", 1),) * 3, fault="grid_loss", fault_delays=EOG_FAULT_DELAYS),
+        **{name: DesignLoadCase(transients=((wind, 1),) * len(yaw), yaw=yaw) for name, wind, yaw in (
+            ("6.1", "ewm50", (-15.0, 15.0)), ("6.2", "ewm50", tuple(range(-135, 181, 45))),
+            ("6.3", "ewm1", (-30.0, 30.0)))}}
 """The design-load cases a campaign runs."""
 _EXTRAPOLATION_SEEDS = 3
 _KEYS = {"": ("turbine", "dlc", "fault", "wind", "site", "duration", "transient", "controllers"),
@@ -255,15 +275,8 @@ def _campaign(read: _Reader, top: Mapping, wind: Mapping, dlc_value: str, dlc_li
     """One DLC's campaign: its ``speeds``, ``seeds`` and ``fault`` from ``settings`` (:func:`_setting`), the rest
     from the file's ``top`` and ``wind``."""
     dlc = read.choice(dlc_value, dlc_line, "dlc", tuple(DLCS))
-    speeds, line, name = settings["speeds"]
-    if speeds is None:
-        read.fail(dlc_line if name.startswith("dlc") else _line(top, "wind"),
-                  f"{name.rpartition('.')[0]}: missing key 'speeds'")
-    if not isinstance(speeds, list) or not speeds:
-        read.fail(line, f"{name}: expected a list of wind speeds [m/s], found {speeds!r}")
-    speeds = tuple(read.number(v, line, name, 3.0, 30.0) for v in speeds)
-    if any(b <= a for a, b in zip(speeds, speeds[1:])):
-        read.fail(line, f"{name}: expected increasing speeds, found {list(speeds)}")
+    site = _site(read, top.get("site", {}), _line(top, "site"))
+    speeds = _speeds(read, top, dlc, dlc_line, settings["speeds"], site)
     transients = DLCS[dlc].transients
     value, line, name = settings["seeds"]
     seeds = _seeds(read, len(transients) or 1 if value is None else value, line, name)
@@ -280,7 +293,7 @@ def _campaign(read: _Reader, top: Mapping, wind: Mapping, dlc_value: str, dlc_li
         read.fail(_line(top, "controllers"), "controllers: expected a mapping NAME: {graph: GRAPH, ...}, found "
                   f"{controllers!r}")
     turbine = _turbine(read, top.get("turbine", ""), _line(top, "turbine"))
-    if (transients or DLCS[dlc].fault) and duration < GUST_START + 20.0:
+    if (transients and not DLCS[dlc].extreme_wind or DLCS[dlc].fault) and duration < GUST_START + 20.0:
         what = "transient starts" if transients else "fault acts"
         read.fail(_line(top, "duration"), f"duration: DLC {dlc}'s {what} {GUST_START:g} s into the analysed time "
                   f"and its loads follow for up to 12 s: expected at least {GUST_START + 20.0:g} s, found {duration:g}")
@@ -295,7 +308,28 @@ def _campaign(read: _Reader, top: Mapping, wind: Mapping, dlc_value: str, dlc_li
                                      "wind.turbulence_class", TURBULENCE_CLASSES),
         shear_exponent=read.number(wind.get("shear_exponent", 0.2), _line(wind, "shear_exponent"),
                                    "wind.shear_exponent", -0.5, 0.99),
-        site=_site(read, top.get("site", {}), _line(top, "site")))
+        site=site)
+
+
+def _speeds(read: _Reader, top: Mapping, dlc: str, dlc_line: int, setting: Tuple[Any, int, str],
+            site: WindDistribution) -> Tuple[float, ...]:
+    """A DLC's bin speeds [m/s]: its ``speeds`` (or the file's ``wind.speeds``), increasing, in the plant's range; an
+    extreme wind DLC's the one of its model for the site's class (an entry of its own giving speeds is refused)."""
+    speeds, line, name = setting
+    wind = DLCS[dlc].extreme_wind
+    if wind:
+        if speeds is not None and name.startswith("dlc"):
+            read.fail(line, f"{name}: DLC {dlc} runs in the {wind.upper()} of the site's class: it takes no speeds")
+        return (extreme_wind_speed(site_wind_class(site), int(wind.removeprefix("ewm"))),)
+    if speeds is None:
+        read.fail(dlc_line if name.startswith("dlc") else _line(top, "wind"),
+                  f"{name.rpartition('.')[0]}: missing key 'speeds'")
+    if not isinstance(speeds, list) or not speeds:
+        read.fail(line, f"{name}: expected a list of wind speeds [m/s], found {speeds!r}")
+    speeds = tuple(read.number(v, line, name, 3.0, 30.0) for v in speeds)
+    if any(b <= a for a, b in zip(speeds, speeds[1:])):
+        read.fail(line, f"{name}: expected increasing speeds, found {list(speeds)}")
+    return speeds
 
 
 def site_wind_class(site: WindDistribution) -> str:
@@ -392,6 +426,10 @@ def case_overrides(campaign: Campaign, speed: float, seed: int) -> List[str]:
     """The ``-p`` texts that set the plant's wind and duration for the case (speed, seed)."""
     total = campaign.transient + campaign.duration  # the plant makes its turbulent field at least this long
     dlc = DLCS[campaign.dlc]
+    if dlc.extreme_wind:  # the speed is the model's, beyond the operating range of wind_speed
+        return [f"plant.wind_type:={dlc.extreme_wind}", "plant.rotor:=idling",
+                f"plant.yaw_misalignment:={math.radians(dlc.yaw[seed - 1])!r}",
+                f"plant.wind_class:={site_wind_class(campaign.site)}", f"plant.duration:={total!r}"]
     if dlc.transients:
         kind, sign = dlc.transients[seed - 1]
         wind = [f"plant.wind_type:={kind}", f"plant.gust_sign:={sign}",

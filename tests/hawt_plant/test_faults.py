@@ -30,14 +30,17 @@ class _Model:
     """A model whose step k+1 has M_oop = (k+1) * (1, 2, 3) MN*m, azimuth 0.1 (k+1) and the commanded pitch."""
 
     def __init__(self) -> None:
-        self.k, self.commands = 0, []
+        self.k, self.commands, self.grid_connected = 0, [], True
+
+    def disconnect_grid(self) -> None:
+        self.grid_connected = False
 
     def output(self, pitch) -> _Output:
         return _Output(self.k * DT, 0.1 * self.k % (2 * math.pi), self.k * np.array([1e6, 2e6, 3e6]),
                        np.asarray(pitch, dtype=float))
 
     def step(self, pitch, generator_torque) -> _Output:
-        self.commands.append((pitch, generator_torque))
+        self.commands.append((pitch, generator_torque if self.grid_connected else 0.0))  # as TurbineModel applies it
         self.k += 1
         return self.output(pitch)
 
@@ -124,7 +127,7 @@ def test_an_azimuth_offset_shifts_the_published_azimuth_from_its_step_on_wrapped
 def test_an_actuator_or_grid_fault_changes_the_command_the_physics_gets_from_its_step_on(entry, blade_1, torque):
     """The command over step k < 3 is the controllers'; from step 3 blade 1's actuator is driven to the angle it had
     at step 3 (stuck: here the command of step 2, which the model follows at once) or to its limit (runaway), or the
-    generator torque is 0 (grid loss); the other blades get their commands; the published moments are the truth."""
+    generator is off the grid, its torque 0 (grid loss); the other blades get their commands; the published moments are the truth."""
     model, published = _run(entry)
     for k, (pitch, applied_torque) in enumerate(model.commands):
         commanded = 0.1 + 0.01 * k

@@ -9,7 +9,7 @@ from hawt_core.parameter_table import ParameterError, resolve_values
 from hawt_plant.gusts import ExtremeOperatingGust
 from hawt_plant.iec_extreme import DirectionChange, ExtremeWindShear
 from hawt_plant.inflow import OPERATING_WIND_KINDS, WIND_KINDS, InflowSettings, make_wind
-from hawt_plant.plant_setup import PARAMETERS
+from hawt_plant.plant_setup import PARAMETERS, check_parameters
 from hawt_plant.shear_wind import PowerLawWind
 
 ROWS = {row.name: row for row in PARAMETERS}
@@ -20,15 +20,16 @@ def _hub(wind, t: float) -> np.ndarray:
     return wind.velocity(t, *HUB)[:, 0]
 
 
-def test_the_plant_offers_every_operating_wind_kind_and_refuses_the_parked_rotors_in_one_line():
-    """wind_type takes every kind make_wind builds for an operating rotor: the earlier five and the IEC EDC, ECD and
-    EWS (both). The EWM's (50- and 1-year) are a parked or idling rotor's, which the plant does not model: refused
-    with the choices, before anything is built."""
-    assert ROWS["wind_type"].choices == OPERATING_WIND_KINDS == (
+def test_the_plant_offers_every_wind_kind_and_the_extreme_wind_only_to_a_shut_down_rotor():
+    """wind_type takes every kind make_wind builds: the operating rotor's (the earlier five and the IEC EDC, ECD and
+    EWS, both) and the EWM's (50- and 1-year), which only an idling or parked rotor runs in: with an operating rotor
+    the EWM is refused in one line naming the remedy, before anything is built."""
+    assert OPERATING_WIND_KINDS == (
         "steady", "turbulent", "bts", "step", "eog", "edc", "ecd", "ews_vertical", "ews_horizontal")
-    assert WIND_KINDS == OPERATING_WIND_KINDS + ("ewm50", "ewm1")
-    with pytest.raises(ParameterError, match="wind_type"):
-        resolve_values(PARAMETERS, {"wind_type": "ewm50"})
+    assert ROWS["wind_type"].choices == WIND_KINDS == OPERATING_WIND_KINDS + ("ewm50", "ewm1")
+    with pytest.raises(ParameterError, match="^wind_type: ewm50 is the extreme wind of a shut-down turbine: set rotor"):
+        check_parameters(resolve_values(PARAMETERS, {"wind_type": "ewm50"}))
+    check_parameters(resolve_values(PARAMETERS, {"wind_type": "ewm50", "rotor": "parked"}))
 
 
 @pytest.mark.parametrize("name, bad", [("gust_sign", 0), ("gust_sign", 2), ("wind_class", "IV"),

@@ -144,6 +144,30 @@ def test_dlc_2_3_loses_the_grid_at_the_start_the_dip_and_the_peak_of_an_extreme_
             case_overrides(campaign, 13.0, seed))
 
 
+def test_dlc_6_runs_an_idling_rotor_in_the_extreme_wind_of_the_sites_class_one_case_per_yaw_misalignment(tmp_path):
+    """DLC 6.1: the 50-year wind (70 m/s at the hub for class I; 59.5 m/s for a site of class II's mean, 8.5 m/s) at
+    -15 and +15 deg;
+    6.2: with the grid lost, from -135 to 180 deg every 45 deg; 6.3: the 1-year wind at -30 and +30 deg. The rotor
+    idles (blades at feather, generator off), the speed is the model's and is not a plant parameter; the file's
+    speeds do not apply, and a DLC 6.x entry of its own giving speeds is refused."""
+    several = GOOD.replace("  seeds: 2\n", "").replace("site: {mean: 8.5, shape: 2.2}", "site: {wind_class: I}")
+    dlc61, dlc62, dlc63 = load_campaigns(_write(tmp_path, "dlc: {6.1: , 6.2: , 6.3: }\n" + several))
+    assert (dlc61.speeds, dlc61.seeds, dlc62.seeds) == ((70.0,), (1, 2), tuple(range(1, 9)))
+    assert dlc63.speeds == (pytest.approx(56.0),)
+    overrides = case_overrides(dlc61, 70.0, 2)
+    assert {"plant.wind_type:=ewm50", "plant.rotor:=idling", "plant.yaw_misalignment:=0.2617993877991494",
+            "plant.wind_class:=I"} <= set(overrides)
+    assert not any(text.startswith("plant.wind_speed") for text in overrides)
+    assert "plant.yaw_misalignment:=3.141592653589793" in case_overrides(dlc62, 70.0, 8)
+    assert "plant.wind_type:=ewm1" in case_overrides(dlc63, 56.0, 1)
+    class_ii = load_campaign(_write(tmp_path, "dlc: 6.1\n" + GOOD))
+    assert class_ii.speeds == (pytest.approx(59.5),) and "plant.wind_class:=II" in case_overrides(class_ii, 59.5, 1)
+    with pytest.raises(CampaignError, match=r"campaign.yaml:1: dlc.6.1.speeds: DLC 6.1 runs in the EWM50 of the "
+                                            "site's class: it takes no speeds"):
+        load_campaigns(_write(tmp_path, "dlc: {6.1: {speeds: [50]}}\n" + several))
+    assert {c.key for c in plan_cases(dlc61)}.isdisjoint({c.key for c in plan_cases(dlc63)})
+
+
 @pytest.mark.parametrize("text, message", [
     ("dlc: 1.3\nfault: grid_loss\n", "campaign.yaml:2: fault: DLC 1.3 has no fault; faults belong to DLC 2.1 and 2.3"),
     ("dlc: 2.1\nfault: grid_loss at=30\n", "campaign.yaml:2: fault: expected one fault entry 'KIND key=value ...' "
