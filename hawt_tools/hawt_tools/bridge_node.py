@@ -16,14 +16,16 @@ What differs from the plant node:
   ends the plant's, once the recorder has written the last step sent; the process exits 0 and, through ``on_exit:
   shutdown``, ends the graph.
 - **No plant protection** (hawt_tools.discon_bridge, "No plant protection"): the simulator's own applies.
-- **The watchdog fails the library instead of feathering**: a step unanswered for ``command_timeout`` (before the
-  first command ``startup_timeout``) is answered with ``fail = -1`` and the watchdog's reason, so the library gives
-  the simulator its safe commands and the simulator stops with that line. The library's own ``timeout`` bounds the
-  same wait from its side, and also a hold for the recorder, which the watchdog does not count.
+- **The watchdog fails the library instead of feathering**: a step unanswered for ``command_timeout`` from the arrival
+  of its call (before the first command ``startup_timeout``) is answered with ``fail = -1`` and the watchdog's reason,
+  so the library gives the simulator its safe commands and the simulator stops with that line. A simulator that
+  pauses between calls is not the controllers' fault: the clock restarts at each call. The library's own ``timeout``
+  bounds the same wait from its side, and also a hold for the recorder, which the watchdog does not count.
 - **The simulator gone** (a closed connection, seen within 0.1 s while the node waits for the graph, at once while it
   waits for a call) ends the node with one line and exit 1, and the launcher stops the graph.
 """
 import sys
+import time
 from typing import List, Optional
 
 from hawt_node.node_main import first_done, run_nodes
@@ -67,10 +69,15 @@ class BridgePlantNode(PlantNode):
         return self.model.finished
 
     def _advance(self) -> None:
+        """Answer the call with the step's command and wait for the next call (the model's step), then publish it. The
+        wait for the simulator does not count against the controllers: the watchdog's clock restarts once the call
+        is there (a simulator may pause between calls, as a held plant does)."""
         try:
             super()._advance()
         except (BridgeClosed, BridgeError) as error:  # the simulator went away, or cannot apply the command
             self._fail(str(error))
+            return
+        self.safety.command_applied(time.monotonic())
 
     def _watch(self) -> bool:
         """The watchdog's trip fails the library with its reason (module notes); the node never steps on alone."""
@@ -80,7 +87,7 @@ class BridgePlantNode(PlantNode):
         return False
 
     def _check_the_simulator(self) -> None:
-        if not self.done.done() and self.model.gone():
+        if not self.done.done() and not self.model.finished and self.model.gone():  # (after the last call, it may)
             self._fail(f"the simulator closed the connection at step {self.step_index} (t={self.output.time:.2f} s), "
                        "before its last call")
 

@@ -592,4 +592,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    # this module's own classes, not __main__'s copies: hawt_tools.bridge_launch raises hawt_tools.discon_bridge's
+    from hawt_tools.discon_bridge import main as module_main
+
+    raise SystemExit(module_main())

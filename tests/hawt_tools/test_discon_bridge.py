@@ -1,7 +1,9 @@
 """libhawt_discon.so and hawt_tools.discon_bridge: a graph as a DISCON library, driven by hawt's own DISCON host.
 
 The host is hawt_controllers.discon.library (ctypes, float32 swap array, a private loaded copy per instance);
-the bridge is a separate process (``python -m hawt_tools.discon_bridge FILE``), as it is beside OpenFAST.
+the bridge is a separate process (``python -m hawt_tools.discon_bridge --in-process FILE``), as it is beside
+OpenFAST. The bridge on the ROS graph (its default) is tests/hawt_tools/test_bridge_node.py's; the faults found at the
+first call, before a graph starts, are checked here on both.
 """
 import os
 import signal
@@ -12,51 +14,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hawt_controllers.discon.library import DisconFailure, DisconInputs, DisconLibrary
-from hawt_tools.graph_file import find_graph
-from hawt_tools.discon_bridge import (MISSING_FIELDS, BridgeError, bridge_library, measurements,
-                                      read_bridge_file)
-from hawt_tools.graph_file import load_graph
+from discon_host import bridge_file as _bridge_file
+from discon_host import graph as _graph
+from discon_host import host, inputs as _inputs
+from discon_host import listening as _listening
+from discon_host import start_bridge as _start_bridge
+from hawt_controllers.discon.library import DisconFailure, DisconLibrary
+from hawt_tools.discon_bridge import MISSING_FIELDS, BridgeError, bridge_library, measurements, read_bridge_file
 from hawt_tools.in_process import RunRecord, build_run
-from hawt_tools.graph_file import package_prefix
 
 STEPS = 600
 """Calls per run: 6 s at the graphs' 100 Hz."""
 
 
-def _graph(name):
-    return load_graph(find_graph(name), {}, package_prefix)
-
-
-def _bridge_file(folder: Path, graph: str = "baseline", extra: str = "") -> Path:
-    path = folder / "bridge.txt"
-    path.write_text(f"# test bridge\nsocket = {folder / 'bridge.sock'}\ngraph = {graph}\ntimeout = 5\n{extra}")
-    return path
-
-
-def _start_bridge(path: Path, in_process: bool = True) -> subprocess.Popen:
-    """``python -m hawt_tools.discon_bridge [--in-process] FILE`` (as ``hawt bridge [--in-process] --file FILE``)."""
-    return subprocess.Popen([sys.executable, "-m", "hawt_tools.discon_bridge", *(["--in-process"] * in_process),
-                             str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-
-
-def _listening(bridge: subprocess.Popen) -> subprocess.Popen:
-    """Wait for the bridge's first line, which it prints once it listens."""
-    line = bridge.stderr.readline()
-    assert "listening on" in line, line
-    return bridge
-
-
 def _host(path: Path, run, individual: bool = False) -> DisconLibrary:
-    d = run.description
-    return DisconLibrary(bridge_library(), path, d.blades, d.dt, (d.min_pitch, d.max_pitch, d.max_pitch_rate),
-                         individual_pitch=individual)
-
-
-def _inputs(o) -> DisconInputs:
-    return DisconInputs(o.time, o.pitch, o.generator_speed, o.rotor_speed, o.generator_torque, o.electrical_power,
-                        o.aero_torque * o.rotor_speed, o.hub_wind_speed, o.root_moment_oop, o.root_moment_ip,
-                        o.azimuth, o.tower_top_fa_accel, o.tower_top_ss_accel, o.hub_tilt_moment, o.hub_yaw_moment)
+    return host(path, run.description, individual)
 
 
 class _Replay:
@@ -207,22 +179,23 @@ def test_a_bad_bridge_file_is_one_line_on_both_sides(tmp_path, text, message):
     path.write_text(text)
     with pytest.raises(DisconFailure, match=message):
         _host(path, run).step(_inputs(output))
-    bridge = _start_bridge(path)
+    bridge = _start_bridge(path, in_process=False)  # the default engine, the ROS graph: the file is read first
     _, err = bridge.communicate(timeout=60)
     assert bridge.returncode == 2
     assert err.count("\n") == 1 and message in err
 
 
+@pytest.mark.parametrize("in_process", [True, False], ids=["in_process", "ros_graph"])
 @pytest.mark.parametrize("extra, message", [
     ("parameters = cpc.no_such_gain:=1\n", "no_such_gain"),
     ("arguments = wind_speed:=fast\n", "wind_speed"),
 ])
-def test_a_graph_error_is_one_line_exit_2_and_the_library_fails_with_it(tmp_path, extra, message):
+def test_a_graph_error_is_one_line_exit_2_and_the_library_fails_with_it(tmp_path, extra, message, in_process):
     """A graph the bridge cannot build: the bridge says why in one line and exits 2; the library's first call fails
-    with the same line."""
+    with the same line. On either engine: the ROS graph's is checked before it starts."""
     run, output = _steady_run()
     path = _bridge_file(tmp_path, "baseline", extra)
-    bridge = _start_bridge(path)
+    bridge = _start_bridge(path, in_process)
     with pytest.raises(DisconFailure, match=message) as failure:
         _host(path, run).step(_inputs(output))
     _, err = bridge.communicate(timeout=60)
@@ -338,14 +311,15 @@ def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_ex
 
 
 
-def test_a_simulator_of_another_turbine_is_refused_at_its_first_call(tmp_path):
+@pytest.mark.parametrize("in_process", [True, False], ids=["in_process", "ros_graph"])
+def test_a_simulator_of_another_turbine_is_refused_at_its_first_call(tmp_path, in_process):
     """Generator speed 50 times the rotor's (the graph's NREL 5 MW has 97): the first call fails naming both, and
-    the bridge exits 2."""
+    the bridge exits 2, on either engine (the ROS graph's before it starts)."""
     from dataclasses import replace
 
     run, output = _steady_run()
     path = _bridge_file(tmp_path)
-    bridge = _start_bridge(path)
+    bridge = _start_bridge(path, in_process)
     with pytest.raises(DisconFailure, match="generator speed is 50 times its rotor speed .* gearbox ratio 97"):
         _host(path, run).step(replace(_inputs(output), generator_speed=50 * output.rotor_speed))
     bridge.communicate(timeout=60)
