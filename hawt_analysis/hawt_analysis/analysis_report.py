@@ -100,8 +100,9 @@ def analysis_text(summary: Mapping) -> str:
                               summary["harmonics"].get(name, {}).get("amplitude", [])))
         table.append([name, _fmt(entry and entry["m"]), _fmt(entry and entry["value"], factor),
                       *(_fmt(amplitudes.get(n), factor) for n in (1, 2, 3)), unit])
-    lines += ["", "damage-equivalent loads (1 Hz) and harmonic amplitudes (azimuth-domain fit):", *text_table(table),
-              ""]
+    fit = ("harmonic amplitudes (azimuth-domain fit)" if summary["harmonics"] else
+           f"no harmonics (the rotor turned {summary.get('revolutions', 0.0):.2f} revolutions, less than one)")
+    lines += ["", f"damage-equivalent loads (1 Hz) and {fit}:", *text_table(table), ""]
     for label, pitch in (("pitch (measured)", summary.get("pitch")), ("pitch (command)", summary.get("pitch_command"))):
         if pitch:
             lines.append(f"{label:<18} travel {_DEG * pitch['travel_rad']['total']:.4g}° (sum of all blades), "

@@ -6,7 +6,7 @@ from numpy.typing import ArrayLike
 
 from ._checks import finite_array, same_length
 
-__all__ = ["HarmonicAmplitudes", "harmonic_amplitudes", "revolution_count"]
+__all__ = ["HarmonicAmplitudes", "harmonic_amplitudes", "revolutions"]
 
 
 @dataclass(frozen=True)
@@ -40,11 +40,11 @@ def _turns(azimuth: np.ndarray) -> np.ndarray:
     return (np.maximum.accumulate(unwrapped) - unwrapped[0]) / (2.0 * np.pi)
 
 
-def revolution_count(azimuth: ArrayLike) -> int:
-    """Whole revolutions an azimuth record [rad] covers, as :func:`harmonic_amplitudes` counts them (0: a standing
-    or idling rotor's record, which has no harmonics)."""
+def revolutions(azimuth: ArrayLike) -> float:
+    """Revolutions an azimuth record [rad] covers, as :func:`harmonic_amplitudes` counts them: it fits harmonics
+    over the whole ones, and refuses a record of less than one (a short record, or a standing or idling rotor's)."""
     psi = finite_array("azimuth", azimuth, ndim=1)
-    return int(np.floor(_turns(psi)[-1])) if psi.size else 0
+    return float(_turns(psi)[-1]) if psi.size else 0.0
 
 
 def harmonic_amplitudes(

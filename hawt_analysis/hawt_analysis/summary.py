@@ -7,7 +7,7 @@ from numpy.typing import ArrayLike
 
 from .fatigue import CONVENTION as FATIGUE_CONVENTION
 from .fatigue import WohlerExponents, damage_equivalent_load
-from .harmonics import harmonic_amplitudes, revolution_count
+from .harmonics import harmonic_amplitudes, revolutions
 from .pitch_activity import DEFAULT_RATE_THRESHOLD, pitch_activity, pitch_activity_convention
 from .record import Record, make_record
 from .spectra import power_spectrum, rotor_harmonic_frequencies, spectral_peaks
@@ -105,8 +105,9 @@ def summarize(channels: Mapping[str, ArrayLike], options: AnalysisOptions = Anal
     Raises
     ------
     ValueError
-        Naming the channel at fault (see `make_record`). A record without a whole
-        rotor revolution (a parked or idling rotor) has no ``harmonics`` ({}).
+        Naming the channel at fault (see `make_record`). A record of less than one
+        rotor revolution (``revolutions``: a short one, or a parked or idling rotor's)
+        has no ``harmonics`` ({}).
     """
     record = make_record(channels)
     loads = load_channels(record)
@@ -117,6 +118,7 @@ def summarize(channels: Mapping[str, ArrayLike], options: AnalysisOptions = Anal
         "sample_rate_hz": record.sample_rate,
         "n_blades": record.n_blades,
         "del": _damage_equivalent_loads(loads, record.duration, options),
+        "revolutions": revolutions(record.scalars["azimuth"]),
         "harmonics": _harmonics(analysed, record.scalars["azimuth"], options.harmonics),
         "psd": _spectra(analysed, record.sample_rate, float(rotor_speed.mean()), options),
         "pitch": _pitch(record, options),
@@ -184,7 +186,7 @@ def _damage_equivalent_loads(
 
 
 def _harmonics(analysed: dict[str, np.ndarray], azimuth: np.ndarray, harmonics: tuple[int, ...]) -> dict:
-    if not analysed or revolution_count(azimuth) < 1:  # a standing or idling rotor's record has no harmonics
+    if not analysed or revolutions(azimuth) < 1.0:  # a short record's, or a standing or idling rotor's
         return {}
     names = list(analysed)
     fit = harmonic_amplitudes(np.column_stack(list(analysed.values())), azimuth, harmonics, name=names[0])

@@ -83,9 +83,9 @@ def test_a_dead_blade_root_sensor_fades_lqg_and_repetitive_ipc_out_as_it_does_th
 
 def test_a_grid_loss_at_18_m_s_is_seen_by_the_grid_monitor_which_shuts_the_turbine_down():
     """baseline, grid lost at 5 s: an ERROR fault event at step 500; the protection's grid monitor sees the loss at the
-    end of that step and trips (step 501), feathering every blade at the actuator's rate limit; the generator torque
-    falls at the generator's rate limit and is 0 once rated torque / max_torque_rate has passed; the rotor never
-    overspeeds."""
+    end of that step and trips (step 501), feathering every blade at the actuator's rate limit; the generator, off the
+    grid, has no torque from that step on; the rotor, its load gone at once, speeds up to 1.04 x rated until the
+    blades have feathered enough, short of the protection's warning level (1.12 x rated)."""
     run, topics = _run("baseline", "['grid_loss at=5']", 20)
     (fault,) = _events(run, "fault")
     assert (fault["step"], fault["level"]) == (500, 40)
@@ -93,12 +93,11 @@ def test_a_grid_loss_at_18_m_s_is_seen_by_the_grid_monitor_which_shuts_the_turbi
     assert trip["step"] == 501 and trip["detail"].startswith("grid loss: the generator is off the network")
     torque = topics["plant/state"]["generator_torque"]
     assert torque[500] > 0.9 * TURBINE.generator.rated_torque
-    falls = TURBINE.generator.rated_torque / TURBINE.generator.max_torque_rate
-    assert np.all(torque[500 + int(np.ceil(falls / DT)) + 2:] == 0.0)
+    assert np.all(torque[501:] == 0.0)
     pitch = topics["plant/blade_loads"]["pitch"]
     np.testing.assert_allclose(np.diff(pitch[600:1000], axis=0), TURBINE.pitch_actuator.max_rate * DT, rtol=1e-2)
     speed = topics["plant/blade_loads"]["rotor_speed"]
-    assert speed[500:].max() < 1.01 * RATED and _events(run, "protection_warning") == []
+    assert 1.02 * RATED < speed[500:].max() < 1.06 * RATED and _events(run, "protection_warning") == []
 
 
 def test_a_pitch_runaway_to_feather_on_one_blade_trips_the_pitch_asymmetry_protection_which_feathers_all():
