@@ -3,7 +3,9 @@
 Measured one after the other on this machine:
 - the channel alone: hawt's ctypes DISCON host calls libhawt_discon.so, which sends each call over the Unix
   socket to a bridge that answers at once without a graph (an echo of fixed commands): the round trip per call;
-- the same host against the bridge with the ``baseline`` graph: the cost per call with the graph stepped;
+- the same host against the bridge with the ``baseline`` graph, in process (``--in-process``) and on the ROS graph
+  (``hawt bridge``'s default: the graph's nodes in their processes, lockstep over DDS): the cost per call with the
+  graph stepped;
 - ``hawt run baseline`` in process: the cost per step of the same graph on hawt's own plant, for comparison;
 - with ``$HAWT_OPENFAST`` (``../shared/tools/openfast/`` has one; its README says how to install it): OpenFAST on the
   NREL 5 MW deck (the inputs ``hawt validate`` writes, steady 18 m/s, shear 0.2) with ServoDyn's DLL_FileName
@@ -12,11 +14,15 @@ Measured one after the other on this machine:
   both graphs on hawt's plant beside them (in process), with the changes of ipc against baseline on both plants;
 - the same on the plant's own class B turbulent field at 18 m/s (seed 1) written as a TurbSim ``.bts`` that both
   plants read (``--turbulent-duration``, the first 60 s not analysed);
-- OpenFAST's wall time on the steady case with ROSCO, the baseline and the ipc bridge, run in turn ``--repeat``
-  times (the shortest of each: the machine is shared);
+- OpenFAST's wall time on the steady case with ROSCO, the baseline and the ipc bridge in process, and the baseline
+  bridge on the ROS graph, run in turn ``--repeat`` times (the shortest of each: the machine is shared);
+- one live switch during an OpenFAST run through the ROS-graph bridge: the ``switching`` graph on the steady case,
+  ``hawt switch --activate ipc_h1`` once OpenFAST reports ``--switch-at`` s; the step the switch answered, and the
+  blade-root 1P and the blades' pitch spread on OpenFAST before and after it;
 - the ``ipc`` run again with its bridge SIGKILLed at t = 10 s: how long OpenFAST takes to stop, and what it says.
 
-Usage: ./hawt bench bridge [--duration S] [--turbulent-duration S] [--repeat N] [--calls N] [--keep DIR]
+Usage: ./hawt bench bridge [--duration S] [--turbulent-duration S] [--repeat N] [--calls N] [--switch-at S]
+                          [--keep DIR]
 """
 import argparse
 import os
@@ -84,18 +90,24 @@ def _bridge_file(folder: Path, graph: str, name: str = None) -> Path:
     return path
 
 
-def host_calls(folder: Path, calls: int, echo: bool) -> float:
+BRIDGES = {"echo": [sys.executable, "-c", _ECHO], "in_process": [sys.executable, "-m", "hawt_tools.discon_bridge",
+                                                                   "--in-process"],
+           "ros_graph": [sys.executable, "-m", "hawt_tools.discon_bridge"]}
+"""The command lines (then the socket or bridge file) of the echo, the in-process bridge and the ROS-graph bridge."""
+
+
+def host_calls(folder: Path, calls: int, bridge: str) -> float:
     """Wall time per DISCON call [s] of hawt's ctypes host stepping the library ``calls`` times against the echo or
-    the ``baseline`` bridge, on the operating point of the baseline graph's step 0."""
+    the ``baseline`` bridge (``bridge``, a key of :data:`BRIDGES`), on the operating point of the baseline graph's
+    step 0."""
     from hawt_controllers.discon.library import DisconLibrary
     from hawt_tools.discon_bridge import bridge_library
     from hawt_tools.in_process import build_run
 
     run = build_run(_graph("baseline"))
     path = _bridge_file(folder, "baseline")
-    command = ([sys.executable, "-c", _ECHO, str(folder / "baseline.sock")] if echo else
-               [sys.executable, "-m", "hawt_tools.discon_bridge", "--in-process", str(path)])
-    process = _listening(command)
+    echo = bridge == "echo"
+    process = _listening(BRIDGES[bridge] + [str(folder / "baseline.sock") if echo else str(path)])
     d = run.description
     host = DisconLibrary(bridge_library(), path, d.blades, d.dt, (d.min_pitch, d.max_pitch, d.max_pitch_rate))
     inputs = _inputs(run.output)
@@ -150,11 +162,12 @@ class Case:
             self.parameters = [f"plant.bts_file:={self.bts}"]
         self.arguments["duration"] = f"{duration:g}"
 
-    def bridge_file(self, folder: Path, graph: str) -> Path:
-        """The bridge file of ``graph`` on this case (its socket beside it)."""
-        name = f"{self.name}-{graph}"
+    def bridge_file(self, folder: Path, graph: str, bridge: str = "in_process", arguments: str = "") -> Path:
+        """The bridge file of ``graph`` on this case (its socket beside it), named after the ``bridge`` too, with more
+        launch ``arguments`` if given."""
+        name = f"{self.name}-{graph}" + ("-ros" if bridge == "ros_graph" else "")
         path = folder / f"{name}.bridge"
-        arguments = " ".join(f"{k}:={v}" for k, v in self.arguments.items())
+        arguments = " ".join([f"{k}:={v}" for k, v in self.arguments.items()] + ([arguments] if arguments else []))
         path.write_text(f"socket = {folder / (name + '.sock')}\ngraph = {graph}\narguments = {arguments}\n"
                         f"parameters = {' '.join(self.parameters)}\ntimeout = 30\n")
         return path
@@ -182,19 +195,22 @@ class Case:
         return write_case(deck_of("nrel_5mw"), folder / name, name, inputs)
 
 
-def openfast_bridged(executable: Path, folder: Path, case: Case, graph: str) -> tuple:
-    """OpenFAST with libhawt_discon.so and ``graph`` on ``case``: its wall time [s] and channels."""
+def openfast_bridged(executable: Path, folder: Path, case: Case, graph: str, bridge: str = "in_process",
+                     progress=lambda t, total: None, arguments: str = "") -> tuple:
+    """OpenFAST with libhawt_discon.so and ``graph`` (with more launch ``arguments``) on ``case``, bridged by
+    ``bridge`` (``in_process`` or ``ros_graph``); ``progress(t, TMax)`` as OpenFAST reports. Its wall time [s] and
+    channels."""
     from hawt_analysis.openfast_output import read_openfast_output
     from hawt_tools.discon_bridge import bridge_library
     from hawt_tools.openfast_case import output_of, run_openfast
 
-    path = case.bridge_file(folder, graph)
+    path = case.bridge_file(folder, graph, bridge, arguments)
     written = case.write_openfast(folder, path.stem, bridge_library(), path)
-    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", "--in-process", str(path)])
+    bridge = _listening(BRIDGES[bridge] + [str(path)])
     try:
-        wall = run_openfast(executable, written.fst)
+        wall = run_openfast(executable, written.fst, progress)
     finally:
-        out, err = bridge.communicate(timeout=60)
+        out, err = bridge.communicate(timeout=120)
     if bridge.returncode != 0:
         sys.exit(f"bench bridge: the {graph} bridge failed (exit {bridge.returncode}): {err[-2000:]}")
     return wall, read_openfast_output(output_of(written.fst))
@@ -240,7 +256,7 @@ def openfast_bridge_killed(executable: Path, folder: Path, case: Case, at: float
     killed_path = path.with_name(f"{path.stem}-killed.bridge")
     killed_path.write_text(path.read_text().replace(".sock", "-killed.sock"))
     written = case.write_openfast(folder, killed_path.stem, bridge_library(), killed_path)
-    bridge = _listening([sys.executable, "-m", "hawt_tools.discon_bridge", str(killed_path)])
+    bridge = _listening(BRIDGES["in_process"] + [str(killed_path)])
     killed = []
 
     def progress(t: float, total: float) -> None:
@@ -318,19 +334,54 @@ def compare(executable: Path, folder: Path, case: Case) -> dict:
 def speed(executable: Path, folder: Path, case: Case, repeat: int) -> None:
     """OpenFAST's wall time on ``case`` with ROSCO, the baseline and the ipc bridge, run in turn ``repeat`` times;
     prints the shortest of each and the ratios (the machine is shared: the shortest is the least disturbed)."""
-    walls = {"rosco": [], "baseline": [], "ipc": []}
+    walls = {"rosco": [], "baseline": [], "ipc": [], "baseline ros graph": []}
     for _ in range(repeat):
         for name in walls:
             run = openfast_rosco(executable, folder, case) if name == "rosco" else \
-                openfast_bridged(executable, folder, case, name)
+                openfast_bridged(executable, folder, case, name.split()[0],
+                                 "ros_graph" if name.endswith("ros graph") else "in_process")
             walls[name].append(run[0])
     best = {name: min(values) for name, values in walls.items()}
     print(f"OpenFAST wall time on {case.name} ({case.duration:g} s), shortest of {repeat} runs in turn: " +
           ", ".join(f"{name} {best[name]:.1f} s ({case.duration / best[name]:.2f}x rt; all: "
                     f"{' '.join(f'{w:.1f}' for w in walls[name])})" for name in walls), flush=True)
-    for name in ("baseline", "ipc"):
+    for name in ("baseline", "ipc", "baseline ros graph"):
         print(f"  OpenFAST speed with the {name} bridge / with ROSCO: {best['rosco'] / best[name]:.2f} (target >= 0.5)",
               flush=True)
+
+
+def live_switch(executable: Path, folder: Path, case: Case, at: float, namespace: str = "bench_switch") -> None:
+    """OpenFAST through the ROS-graph bridge with the ``switching`` graph on ``case``; ``hawt switch --activate
+    ipc_h1`` once OpenFAST reports ``at`` s. Prints the step the switch answered, and the blade-root 1P and the
+    blades' pitch spread on OpenFAST over 30 s before it and from 10 s after it (the ramp, 2 s, and the integrator's
+    rise) to the end."""
+    import re
+
+    switch = []
+
+    def progress(t: float, total: float) -> None:
+        if t >= at and not switch:
+            switch.append((t, subprocess.Popen([sys.executable, "-m", "hawt_tools.cli", "switch", "--activate",
+                                                "ipc_h1", "--namespace", namespace], stdout=subprocess.PIPE,
+                                               stderr=subprocess.STDOUT, text=True)))
+
+    wall, channels = openfast_bridged(executable, folder, case, "switching", "ros_graph", progress,
+                                      f"namespace:={namespace}")
+    if not switch:
+        sys.exit(f"bench bridge: OpenFAST never reported t = {at:g} s")
+    asked, process = switch[0]
+    answer = process.communicate(timeout=60)[0].strip()
+    found = re.search(r"at step (\d+)", answer)
+    if process.returncode != 0 or not found:
+        sys.exit(f"bench bridge: hawt switch failed (exit {process.returncode}): {answer}")
+    effective = int(found.group(1)) * float(np.median(np.diff(channels["time"])))
+    before = figures(channels, (effective - 30.0, effective))
+    after = figures(channels, (effective + 10.0, case.duration))
+    print(f"live switch through the ROS-graph bridge ({wall:.1f} s wall for {case.duration:g} s, "
+          f"{case.duration / wall:.2f}x rt): hawt switch --activate ipc_h1 at OpenFAST t = {asked:.1f} s answered "
+          f"'{answer}' (t = {effective:.2f} s); blade-root 1P {before['one_p'] / 1e6:.3f} -> "
+          f"{after['one_p'] / 1e6:.3f} MN*m ({after['one_p'] / before['one_p'] - 1:+.1%}), pitch spread "
+          f"{np.degrees(before['pitch_spread']):.2f} -> {np.degrees(after['pitch_spread']):.2f} deg", flush=True)
 
 
 def main() -> None:
@@ -341,6 +392,8 @@ def main() -> None:
     parser.add_argument("--calls", type=int, default=5000, help="DISCON calls timed per host measurement")
     parser.add_argument("--repeat", type=int, default=3, help="runs in turn of OpenFAST with ROSCO, the baseline "
                         "and the ipc bridge on the steady case for the speed figures (0: leave them out)")
+    parser.add_argument("--switch-at", type=float, default=40.0, help="OpenFAST time of the live switch through the "
+                        "ROS-graph bridge [s] (0: leave it out)")
     parser.add_argument("--keep", help="write the OpenFAST cases into this folder and keep them")
     args = parser.parse_args()
     # a socket path must stay under 108 characters: a short temporary folder
@@ -348,12 +401,15 @@ def main() -> None:
         folder = Path(args.keep or temporary).resolve()
         folder.mkdir(parents=True, exist_ok=True)
         sockets = Path(temporary)
-        echo = host_calls(sockets, args.calls, echo=True)
+        echo = host_calls(sockets, args.calls, "echo")
         print(f"channel round trip (ctypes host -> library -> Unix socket -> echo):  {echo * 1e6:7.1f} us per call",
               flush=True)
-        bridged = host_calls(sockets, args.calls, echo=False)
-        print(f"DISCON call with the baseline graph bridged (host -> library -> bridge): {bridged * 1e6:7.1f} us "
+        bridged = host_calls(sockets, args.calls, "in_process")
+        print(f"DISCON call with the baseline graph bridged in process (--in-process):  {bridged * 1e6:7.1f} us "
               "per call", flush=True)
+        graph = host_calls(sockets, args.calls, "ros_graph")
+        print(f"DISCON call with the baseline graph bridged on the ROS graph (lockstep over DDS): {graph * 1e6:7.1f} "
+              "us per call", flush=True)
         step = in_process_step(args.calls)
         print(f"hawt run baseline, one step in process (hawt's plant included):      {step * 1e6:7.1f} us", flush=True)
         executable = os.environ.get("HAWT_OPENFAST")
@@ -367,6 +423,8 @@ def main() -> None:
         print(f"blade-root 1P cut by ipc against baseline on OpenFAST, {steady.name}: {cut:.1%} (target >= 90 %)")
         if args.repeat > 0:
             speed(executable, folder, steady, args.repeat)
+        if args.switch_at > 0:
+            live_switch(executable, folder, steady, args.switch_at)
         if args.turbulent_duration > 0:
             compare(executable, folder, Case(folder, args.turbulent_duration, turbulent=True))
         lines, after = openfast_bridge_killed(executable, folder, steady)
