@@ -3,14 +3,22 @@
 ``libhawt_discon.so`` (``hawt_tools/discon_bridge/hawt_discon.c``, built by ``scripts/setup.sh``) is a Bladed-style
 DISCON library. OpenFAST's ServoDyn (or Bladed, HAWC2, QBlade, hawt's own ``discon`` host) loads it and calls
 ``DISCON`` once per communication interval; each call sends the swap array's records 1-129 over a Unix domain
-socket to this bridge, which steps the graph's cores once in process and answers that step's commands: pitch
-per blade (records 42-44), collective pitch (45, the blades' mean) and generator torque (47).
+socket to the bridge, which steps the graph once and answers that step's commands: pitch per blade (records
+42-44), collective pitch (45, the blades' mean) and generator torque (47).
 
-The bridge is the graph's plant. :func:`serve` builds the graph with the in-process runner
-(:func:`hawt_tools.in_process.build_run`) and a :class:`BridgeModel` in place of hawt's turbine model: the plant's
-output of step k is what the simulator measured at call k (:func:`measurements`), and the model's ``step`` sends
-the command of step k back and waits for call k + 1. Everything else (controllers, schedule, loop assembly, the
-turbine's limits) is the runner's, so the graph runs as ``hawt run`` runs it.
+The bridge is the graph's plant: a :class:`BridgeModel` in place of hawt's turbine model, whose output of step k is
+what the simulator measured at call k (:func:`measurements`) and whose ``step`` sends the command of step k back
+and waits for call k + 1 (:func:`bridge_plant` builds it from the plant's parameters). On the simulator's first
+call :func:`bridged_graph` checks the bridge file, the graph and the simulator for both engines the model runs on:
+
+- **the ROS graph** (the default; hawt_tools.bridge_launch, hawt_tools.bridge_node): the graph launched as
+  ``hawt launch`` launches it, its plant node replaced by the bridge plant node, a plant node with this model. It
+  is the default because it is the graph as it runs everywhere else: live switches (``hawt switch``), parameter
+  sets, ``hawt list`` and ``hawt view`` during the simulator's run, the recorder, the nodes that would run beside a
+  real turbine. A call costs a lockstep round trip over DDS through the graph's nodes (``./hawt bench bridge``).
+- **in process** (``--in-process``, :func:`serve`): the graph's cores stepped by the in-process runner
+  (:func:`hawt_tools.in_process.build_run` with :func:`bridge_plant`), as ``hawt run`` runs them: the same commands
+  to the bit, several times cheaper per call, without live switching; for speed.
 
 **The bridge file** (``accINFILE``, ``key = value`` lines, ``#`` comments)::
 
@@ -20,7 +28,7 @@ turbine's limits) is the runner's, so the graph runs as ``hawt run`` runs it.
     parameters = ipc_h1.active:=false   # more NODE.PARAM:=VALUE, space-separated (as -p)
     timeout = 10                        # [s] the library's bound on waiting for an answer (default 10)
     start_timeout = 60                  # [s] and for the bridge to listen and answer the first call (default 60)
-    record = run.mcap                   # write the graph's topics to this bag at the last call (optional)
+    record = run.mcap                   # record the graph's topics into this new bag (optional)
 
 The library reads ``socket``, ``timeout`` and ``start_timeout``; the bridge reads the rest (and checks them
 all). The plant's ``dt`` is the simulator's communication interval (record 3); the turbine is the graph's plant's
@@ -53,8 +61,9 @@ are on one machine, the messages are small (1.5 kB, 1.1 kB), and the cost of the
 
 **Failure.** A bad bridge file, a graph that cannot be built (one line, :class:`BridgeError`) or a simulator
 that does not match the graph's turbine is answered with ``fail < 0`` and that line, which the library puts in
-``avcMSG`` with ``aviFAIL = -1``; the bridge then stops (``hawt bridge``: exit 2). The library's own safety
-(no answer within the timeout, a bridge that died) is in the C file's notes.
+``avcMSG`` with ``aviFAIL = -1``; the bridge then stops (``hawt bridge``: exit 2), on either engine before a graph
+starts. The library's own safety (no answer within the timeout, a bridge that died) is in the C file's notes; the
+bridge plant node's watchdog and its end when the simulator goes away are hawt_tools.bridge_node's.
 """
 from __future__ import annotations
 
