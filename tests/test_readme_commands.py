@@ -115,6 +115,11 @@ PARSED = {
     "./hawt bridge --file case.bridge --record run.mcap": "serves a simulator's DISCON calls: waits for OpenFAST "
                                                           "(tests/hawt_tools/test_discon_bridge.py drives a bridge "
                                                           "with hawt's own DISCON host)",
+    "./hawt bridge switching namespace:=of --file case.bridge --record run.mcap":
+        "serves a simulator's DISCON calls on the ROS graph: waits for OpenFAST (tests/hawt_tools/test_bridge_node.py "
+        "drives one with hawt's own DISCON host and switches it live)",
+    "./hawt switch --activate ipc_h1 --namespace of": "acts on the bridged switching graph of the line before, during "
+                                                      "the simulator's run",
     "./hawt lifecycle ipc_h4 deactivate": BESIDE_SWITCHING,
     "./hawt list": BESIDE_SWITCHING,
 }
