@@ -63,10 +63,15 @@ def pytest_report_header(config):
             config.stash.get(_CLEANED, "")]
 
 
+@pytest.hookimpl(tryfirst=True)  # before -m deselects by marker
 def pytest_collection_modifyitems(items):
-    """The files that start ROS graphs first (stable order otherwise): xdist hands out whole files in collection
-    order, so the long graph files start at once and the many short core files fill the workers at the end,
-    rather than one graph file running on alone after everything else."""
+    """A test that runs hawt in a shell (the ``hawt_cli`` fixture) and starts no ROS graph is marked ``processes``, so
+    ``--quick`` leaves it out. Then the files that start ROS graphs first (stable order otherwise): xdist hands out
+    whole files in collection order, so the long graph files start at once and the many short core files fill the
+    workers at the end, rather than one graph file running on alone after everything else."""
+    for item in items:
+        if "hawt_cli" in getattr(item, "fixturenames", ()) and item.get_closest_marker("ros") is None:
+            item.add_marker(pytest.mark.processes)
     items.sort(key=lambda item: item.get_closest_marker("ros") is None)
 
 
