@@ -76,12 +76,24 @@ def _blade_mean_mn_m(channels: dict) -> np.ndarray:
     return 1e-6 * np.mean([harmonics[f"root_moment_oop_{blade}"]["amplitude"] for blade in (1, 2, 3)], axis=0)
 
 
-def test_the_compare_page_has_the_blade_root_harmonics_as_a_table_one_column_per_run(runs, tmp_path):
-    """One row per harmonic 1P-6P, one column per run: the blades' mean amplitude in MN·m (the unit of the text
-    tables), the second run's with its change against the first."""
+@pytest.fixture(scope="module")
+def written(runs, tmp_path_factory) -> dict:
+    """hawt analyze's page of run "a" and hawt compare's page of "a" against "b", each written once into a folder of
+    its own: page name -> its index.html."""
     analyses = [_analysis(label, channels) for label, channels in runs.items()]
     comparison = compare_summaries([analysis.summary for analysis in analyses], list(runs))
-    page = Page(write_comparison_report(comparison, tmp_path, analyses).read_text(encoding="utf-8"))
+    return {"analyze": write_analysis_report(_analysis("run.mcap", runs["a"]), tmp_path_factory.mktemp("analyze")),
+            "compare": write_comparison_report(comparison, tmp_path_factory.mktemp("compare"), analyses)}
+
+
+def _page(written: dict, name: str) -> Page:
+    return Page(written[name].read_text(encoding="utf-8"))
+
+
+def test_the_compare_page_has_the_blade_root_harmonics_as_a_table_one_column_per_run(runs, written):
+    """One row per harmonic 1P-6P, one column per run: the blades' mean amplitude in MN·m (the unit of the text
+    tables), the second run's with its change against the first."""
+    page = _page(written, "compare")
     first, second = _blade_mean_mn_m(runs["a"]), _blade_mean_mn_m(runs["b"])
     assert page.rows == [["harmonic", "a", "b"]] + [[f"{n}P", f"{a:.4g}", f"{b:.4g} (-50.0 %)"]
                                                    for n, a, b in zip(range(1, 7), first, second)]
@@ -89,29 +101,23 @@ def test_the_compare_page_has_the_blade_root_harmonics_as_a_table_one_column_per
     assert 1.9 < first[0] < 2.1  # the synthetic run's 2 MN·m 1P
 
 
-def test_the_analyze_page_has_the_harmonic_table_with_one_column(runs, tmp_path):
+def test_the_analyze_page_has_the_harmonic_table_with_one_column(runs, written):
     """hawt analyze's page: the same table, one column named after the bag, no change."""
-    page = Page(write_analysis_report(_analysis("run.mcap", runs["a"]), tmp_path).read_text(encoding="utf-8"))
-    assert page.rows == [["harmonic", "run.mcap"]] + [[f"{n}P", f"{a:.4g}"]
-                                                     for n, a in zip(range(1, 7), _blade_mean_mn_m(runs["a"]))]
+    assert _page(written, "analyze").rows == [["harmonic", "run.mcap"]] + [
+        [f"{n}P", f"{a:.4g}"] for n, a in zip(range(1, 7), _blade_mean_mn_m(runs["a"]))]
 
 
-@pytest.mark.parametrize("page", ["analyze", "compare"])
-def test_every_image_and_link_of_the_page_is_a_file_beside_it(runs, tmp_path, page):
+@pytest.mark.parametrize("page, expected", [
+    ("analyze", (["time_series.png", "spectra.png", "del.png"], ["summary.json"])),
+    ("compare", (["del.png", "comparison.png", "compared_time_series.png", "compared_spectra.png"],
+                 ["comparison.json"])),
+])
+def test_every_image_and_link_of_the_page_is_a_file_beside_it(written, page, expected):
     """The figures (the DEL bars first on the compare page, then the changes) and the JSON link name files that
     were written into the report folder."""
-    analyses = [_analysis(label, channels) for label, channels in runs.items()]
-    if page == "analyze":
-        index = write_analysis_report(analyses[1], tmp_path)
-        expected = ["time_series.png", "spectra.png", "del.png"], ["summary.json"]
-    else:
-        comparison = compare_summaries([analysis.summary for analysis in analyses], list(runs))
-        index = write_comparison_report(comparison, tmp_path, analyses)
-        expected = ["del.png", "comparison.png", "compared_time_series.png", "compared_spectra.png"], \
-            ["comparison.json"]
-    parsed = Page(index.read_text(encoding="utf-8"))
+    parsed = _page(written, page)
     assert (parsed.images, parsed.links) == expected
-    assert all((tmp_path / name).is_file() for name in parsed.images + parsed.links)
+    assert all((written[page].parent / name).is_file() for name in parsed.images + parsed.links)
 
 
 @pytest.mark.parametrize("page, headings", [
@@ -123,13 +129,6 @@ def test_every_image_and_link_of_the_page_is_a_file_beside_it(runs, tmp_path, pa
                  "the runs over time: rotor speed, pitch, blade 1 root, hub and tower loads",
                  "the runs' power spectral densities: blade 1 root, hub and tower moments"]),
 ])
-def test_each_figure_is_headed_by_what_it_shows_not_by_its_file_name(runs, tmp_path, page, headings):
+def test_each_figure_is_headed_by_what_it_shows_not_by_its_file_name(written, page, headings):
     """Once "del" and "comparison": the headings say what the figure shows, after the harmonics table's."""
-    analyses = [_analysis(label, channels) for label, channels in runs.items()]
-    if page == "analyze":
-        index = write_analysis_report(analyses[0], tmp_path)
-    else:
-        index = write_comparison_report(compare_summaries([analysis.summary for analysis in analyses], list(runs)),
-                                        tmp_path, analyses)
-    assert Page(index.read_text(encoding="utf-8")).headings == [
-        "harmonics of the blade-root out-of-plane moment", *headings]
+    assert _page(written, page).headings == ["harmonics of the blade-root out-of-plane moment", *headings]
