@@ -67,7 +67,9 @@ class YawedWind:
     for gamma > 0 (as :class:`hawt_plant.iec_extreme.DirectionChange` turns it; the nacelle yawed by -gamma).
 
     A point p of the rotor's frame is the field's point R(-gamma) p, and the field's velocity there turns by
-    R(gamma): a frozen turbulent field is convected along its own mean wind.
+    R(gamma): a frozen turbulent field is convected along its own mean wind. The rotor model's tower shadow stays
+    the potential flow of a wind along the shaft (:mod:`hawt_plant.tower_shadow`), right for small misalignments;
+    the tower's drag takes the turned wind.
     """
 
     def __init__(self, field: WindField, yaw_misalignment: float) -> None:
