@@ -442,7 +442,10 @@ def bridged_graph(bridge: BridgeFile, status: int, swap: np.ndarray, infile: str
         parameters = bridge.parameters + (f"{plant.label}.dt:={dt!r}", f"{plant.label}.duration:=0.0")
         overrides = parse_overrides(graph, parameters)
         check_against_plant(graph, check_graph_parameters(graph, overrides))
-        simulator_turbine(plant_parameters(graph, overrides), swap)
+        values = plant_parameters(graph, overrides)
+        if any(entry.strip() for entry in values["faults"]):
+            raise ParameterError(f"{plant.label}.faults: the simulator is the plant: inject faults there")
+        simulator_turbine(values, swap)
     except (GraphError, ParameterError) as error:
         raise BridgeError(f"bridge file {bridge.path}: graph {bridge.graph}: {error}") from None
     return BridgedGraph(graph, parameters, overrides, plant)
