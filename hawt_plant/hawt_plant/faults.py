@@ -114,7 +114,7 @@ class Fault:
             "pitch_runaway": f"pitch actuator of blade {b} running away to {self.to}"
                              + (f" ({_runaway_angle(self, actuator):g} rad) at its rate limit {actuator.max_rate:g} "
                                 "rad/s" if actuator is not None else ""),
-            "grid_loss": "grid loss: generator torque command 0",
+            "grid_loss": "grid loss: the generator off the grid, its torque 0",
         }[self.kind]
 
 

@@ -15,10 +15,11 @@ generator off the grid, the commands checked but not applied, and for ``parked``
 high-speed shaft) at rest, so that the rotor moves only by the shaft's torsion. A standing or idling rotor in
 storm wind, possibly at a large yaw misalignment, is outside what momentum theory describes: its elements see the
 wind without induction (AeroDyn's WakeMod = 0, which Jonkman names with quasi-steady polars for an idling rotor in
-high wind with large skew, OpenFAST discussion #2306; the unsteady-airfoil option stays the turbine's). Its blades are rigid at their deflection of time 0, the tower flexible: the model's one flap mode
-deflects out of the rotor plane, which at feather is the blade's stiff (edgewise) direction, so kept flexible it
-gave a standing rotor at 15-30 deg of yaw misalignment in the 50-year wind a flap-tower stall flutter growing
-fourfold every 5 s (the same at a quarter of the step, and with dynamic stall): an artefact of the mode's direction.
+high wind with large skew, OpenFAST discussion #2306; the unsteady-airfoil option stays the turbine's). Its blades
+are rigid at their deflection of time 0, the tower flexible: the model's one flap mode deflects out of the rotor
+plane, which at feather is the blade's stiff (edgewise) direction, so kept flexible it gave a standing rotor at
+15-30 deg of yaw misalignment in the 50-year wind a flap-tower stall flutter growing fourfold every 5 s (the same at a
+quarter of the step, and with dynamic stall): an artefact of the mode's direction.
 
 Aerodynamics: blade-element momentum (:mod:`hawt_plant.bem`) on every element of every blade
 at its own azimuth, the inflow sampled from the wind field at the element's position (shear,

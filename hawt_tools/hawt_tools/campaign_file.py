@@ -3,8 +3,8 @@
 A campaign file is YAML::
 
     turbine: iea15                    # optional: a packaged turbine's name, or a turbine's folder or definition file
-    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1, 1.3-1.5, 2.1, 2.3,
-                                      # 6.1-6.3
+    dlc: 1.2                          # IEC 61400-1 DLC of every case: 1.2 (fatigue, the default), 1.1,
+                                      # 1.3-1.5, 2.1, 2.3, 6.1-6.3
     fault: pitch_runaway blade=1 to=fine  # DLC 2.x only: the fault of every case (hawt_plant.faults), without at=
     wind:
       speeds: [5, 9, 13, 17, 21, 25]  # bin centres [m/s], increasing

@@ -127,7 +127,8 @@ def test_an_azimuth_offset_shifts_the_published_azimuth_from_its_step_on_wrapped
 def test_an_actuator_or_grid_fault_changes_the_command_the_physics_gets_from_its_step_on(entry, blade_1, torque):
     """The command over step k < 3 is the controllers'; from step 3 blade 1's actuator is driven to the angle it had
     at step 3 (stuck: here the command of step 2, which the model follows at once) or to its limit (runaway), or the
-    generator is off the grid, its torque 0 (grid loss); the other blades get their commands; the published moments are the truth."""
+    generator is off the grid, its torque 0 (grid loss); the other blades get their commands; the published moments
+    are the truth."""
     model, published = _run(entry)
     for k, (pitch, applied_torque) in enumerate(model.commands):
         commanded = 0.1 + 0.01 * k
@@ -152,7 +153,7 @@ def test_without_faults_the_output_and_the_command_pass_through_as_the_same_obje
                                     "entry 'load_dead blade=2 at=20')"),
     ("pitch_runaway blade=1 to=feather at=5", 40,
      "pitch actuator of blade 1 running away to feather (1.5708 rad) at its rate limit 0.139626 rad/s from step 500"),
-    ("grid_loss at=40", 40, "grid loss: generator torque command 0 from step 4000"),
+    ("grid_loss at=40", 40, "grid loss: the generator off the grid, its torque 0 from step 4000"),
 ])
 def test_a_fault_is_a_warning_for_a_sensor_and_an_error_for_an_actuator_or_the_grid(entry, level, text):
     (fault,) = parse_faults([entry], DT)

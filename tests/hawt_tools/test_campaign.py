@@ -365,7 +365,7 @@ def test_a_case_whose_safety_system_trips_says_so_and_its_commanded_rate_is_the_
 
 
 @pytest.mark.parametrize("dlc, seed, fault, trip", [
-    ("2.3", 3, "grid loss: generator torque command 0 at t=20.25 s", "protection_trip at t=20.26 s"),
+    ("2.3", 3, "grid loss: the generator off the grid, its torque 0 at t=20.25 s", "protection_trip at t=20.26 s"),
     ("2.1", 1, "pitch actuator of blade 1 running away to feather (1.5708 rad) at its rate limit 0.139626 rad/s at "
                "t=15.00 s", "protection_trip at t=17.25 s"),
 ])

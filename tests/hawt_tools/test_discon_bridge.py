@@ -189,7 +189,8 @@ def test_a_bad_bridge_file_is_one_line_on_both_sides(tmp_path, text, message):
 @pytest.mark.parametrize("extra, message", [
     ("parameters = cpc.no_such_gain:=1\n", "no_such_gain"),
     ("arguments = wind_speed:=fast\n", "wind_speed"),
-    ("parameters = plant.faults:=['grid_loss at=1']\n", "plant.faults: the simulator is the plant: inject faults there"),
+    ("parameters = plant.faults:=['grid_loss at=1']\n",
+     "plant.faults: the simulator is the plant: inject faults there"),
 ])
 def test_a_graph_error_is_one_line_exit_2_and_the_library_fails_with_it(tmp_path, extra, message, in_process):
     """A graph the bridge cannot build: the bridge says why in one line and exits 2; the library's first call fails
