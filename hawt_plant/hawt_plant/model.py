@@ -305,8 +305,8 @@ class TurbineModel:
         torsion and tower deflections balance the loads averaged over one blade passage, the
         blade deflections the loads at time 0. All rates start at zero. An idling or parked rotor starts
         at feather with the generator off: parked at rest, the brake holding the shaft's torque; idling at the
-        speed where the mean aerodynamic and gravity torque is zero (:meth:`_idling_speed`), or at rest where it
-        is not positive at rest. The grid is connected again for an operating rotor.
+        speed where the mean aerodynamic and gravity torque is zero (:meth:`_idling_speed`). The grid is connected
+        again for an operating rotor.
 
         Parameters
         ----------
