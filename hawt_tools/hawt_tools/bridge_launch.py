@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Callable, Iterator, Optional, Tuple
 
 from hawt_tools.discon_bridge import (REQUEST, BridgeClosed, BridgeError, BridgeFile, BridgeRun, bridged_graph,
-                                      encode_reply, first_call, listen, parse_request)
+                                      checked_first_call, encode_reply, first_call, listen)
 from hawt_tools.graph_file import Graph, NodeSpec
 
 __all__ = ["BRIDGE_EXECUTABLE", "bridge_graph", "hand_over", "serve_graph", "take_over"]
@@ -108,12 +108,7 @@ def serve_graph(bridge: BridgeFile, server: Optional[socket.socket] = None,
 
     connection, data = first_call(bridge, server)
     with connection:
-        try:
-            status, swap, infile = parse_request(data)
-            bridged = bridged_graph(bridge, status, swap, infile)
-        except BridgeError as error:
-            connection.sendall(encode_reply(fail=-1, message=str(error)))
-            raise
+        bridged = checked_first_call(connection, data, lambda *call: bridged_graph(bridge, *call))
         progress(f"{bridged.graph.path.name}: launching the graph, {bridged.plant.label} is the bridge")
         with hand_over(connection, data, bridge.start_timeout) as (path, handed):
             try:

@@ -73,7 +73,7 @@ import socket
 import struct
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, TypeVar
 
 import numpy as np
 
@@ -88,8 +88,12 @@ from hawt_plant.turbine import Turbine
 
 __all__ = ["BRIDGE_PLANT", "BridgeError", "BridgeFile", "BridgeModel", "BridgeClosed", "BridgeRun", "BridgedGraph",
            "HANDOVER", "MISSING_FIELDS", "REQUEST", "REPLY", "SENT_RECORDS", "bridge_library", "bridge_plant",
-           "bridged_graph", "build_bridged_run", "encode_reply", "first_call", "listen", "measurements",
-           "parse_request", "read_bridge_file", "run_bridge", "serve", "simulator_turbine", "without_protection"]
+           "bridged_graph", "build_bridged_run", "checked_first_call", "encode_reply", "first_call", "listen",
+           "measurements", "parse_request", "read_bridge_file", "run_bridge", "serve", "simulator_turbine",
+           "without_protection"]
+
+T = TypeVar("T")
+"""What a first call's check makes of it."""
 
 SENT_RECORDS = 129
 """Records 1-129 of the swap array go to the bridge with every call."""
@@ -489,6 +493,17 @@ def first_call(bridge: BridgeFile, server: Optional[socket.socket] = None) -> Tu
     return connection, data
 
 
+def checked_first_call(connection: socket.socket, data: bytes, check: Callable[[int, np.ndarray, str], T]) -> T:
+    """``check`` of the simulator's first call ``data`` (its status, records and bridge file path), as both engines
+    take it: a :class:`BridgeError` it raises is answered with ``fail = -1`` and its line, so the library fails with
+    it, and raised."""
+    try:
+        return check(*parse_request(data))
+    except BridgeError as error:
+        connection.sendall(encode_reply(fail=-1, message=str(error)))
+        raise
+
+
 def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
           progress: Callable[[str], None] = lambda _: None) -> BridgeRun:
     """Serve one simulator run: accept the library's connection, build the graph on its first call, step it once
@@ -509,12 +524,7 @@ def serve(bridge: BridgeFile, server: Optional[socket.socket] = None,
 
     connection, data = first_call(bridge, server)
     with connection:
-        try:
-            status, swap, infile = parse_request(data)
-            run = build_bridged_run(bridge, connection, status, swap, infile, progress)
-        except BridgeError as error:
-            connection.sendall(encode_reply(fail=-1, message=str(error)))
-            raise
+        run = checked_first_call(connection, data, lambda *call: build_bridged_run(bridge, connection, *call, progress))
         model: BridgeModel = run.model
         progress(f"{run.turbine.name}: bridged, dt {run.description.dt:g} s, {model.blades} blades, "
                  f"{'individual' if model.individual else 'collective'} pitch; fields without a measurement: "
