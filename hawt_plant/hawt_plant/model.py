@@ -925,13 +925,13 @@ class TurbineModel:
         linear, quadratic = self._fa_mass_azimuthal
         mass_fa = (self._fa_mass_constant + linear * sum(fa_mass[0].tolist())
                    + quadratic * float(np.dot(fa_mass[1], fa_mass[1])))
-        m = self._flap_mass
-        (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
-        projected_fa, projected_ss = np.dot(coupling, self._flap_residual).tolist()
         self._coupling = coupling
         if not self._operating:  # the blades held rigid at their deflection (module notes): the tower's own masses
             self._schur = (mass_fa, 0.0, self._ss_mass, self._residual_fa, self._residual_ss)
             return
+        m = self._flap_mass
+        (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
+        projected_fa, projected_ss = np.dot(coupling, self._flap_residual).tolist()
         self._schur = (
             mass_fa - p00 / m,
             -p01 / m,

@@ -143,7 +143,8 @@ def check_parameters(values: Mapping[str, Any]) -> None:
                                  "rotor to idling or parked")
         if abs(values["yaw_misalignment"]) > MAX_OPERATING_YAW:
             raise ParameterError(f"yaw_misalignment: {values['yaw_misalignment']:g} rad "
-                                 f"({math.degrees(values['yaw_misalignment']):.1f} deg) is beyond the 45 deg an "
+                                 f"({math.degrees(values['yaw_misalignment']):.1f} deg) is beyond the "
+                                 f"{math.degrees(MAX_OPERATING_YAW):g} deg an "
                                  "operating rotor's blade-element momentum theory takes; set rotor to idling or parked "
                                  "for a shut-down turbine")
     if values["mode"] == "lockstep" and values["command_timeout"] <= values["resend_period"]:
