@@ -14,7 +14,7 @@ the inflow without induction (vx, vy) to each blade's load sums:
    a <- a + r (a_qs - a), repeated ``iterations`` times, or Øye's dynamic inflow filter (Hansen, Aerodynamics
    of Wind Turbines, 2008, §10.2);
 4. the element loads dF_n = q (c_l cos phi + c_d sin phi), dF_t = q (c_l sin phi - c_d cos phi),
-   q = 1/2 rho W^2 c dr, and their sums per blade against the span functions (1, s, phi).
+   q = 1/2 rho W^2 c dr, and their sums per blade against the span functions (the model's 1, s and mode shapes).
 
 Each element is independent of the others within a step, so iterating per element gives what iterating over
 all elements at once would. The formulas themselves live in the modules named above, as scalar compiled
@@ -51,12 +51,12 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
     ``inflow_filter`` (3, B, N), Øye's intermediate and induced velocity and the last quasi-steady one;
     ``pitch_twist``, ``local_solidity``, ``pressure_to_load`` (1/2 rho c dr), ``tip_ratio`` (r / R): (B, N);
-    ``loss_exponents`` (2, B, N); ``bounds`` (lower, upper) x (a, a') (2, 2, B, N); ``span_functions`` (N, 3);
+    ``loss_exponents`` (2, B, N); ``bounds`` (lower, upper) x (a, a') (2, 2, B, N); ``span_functions`` (N, F);
     ``cos_azimuth`` (B,), each blade's azimuth from the most downwind position of the disk (used when
     ``skewed``); ``polar_table`` and the grid constants of :class:`~hawt_plant.airfoil_table.ElementPolars`, the
     ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` (used when
     ``unsteady``). Without ``update`` the static polars give the loads (the dynamic stall states are settled at
-    this state). Writes ``sums`` (2, B, 3): each blade's dF_n and dF_t summed against 1, s and phi.
+    this state). Writes ``sums`` (2, B, F): each blade's dF_n and dF_t summed against each span function.
     """
     blades, elements = pitch_twist.shape
     sums[:] = 0.0
@@ -98,7 +98,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
             q = (un * un + ut * ut) * pressure_to_load[i, j]
             normal = q * (cl * cos_phi + cd * sin_phi)
             tangential = q * (cl * sin_phi - cd * cos_phi)
-            for m in range(3):
+            for m in range(span_functions.shape[1]):
                 sums[0, i, m] += normal * span_functions[j, m]
                 sums[1, i, m] += tangential * span_functions[j, m]
 

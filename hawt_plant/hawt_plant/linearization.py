@@ -32,7 +32,7 @@ OUTPUTS = ("root_moment_oop", "root_moment_ip", "rotor_speed", "generator_speed"
 _BLADE_OUTPUTS = ("root_moment_oop", "root_moment_ip")
 
 _STATE_STEPS = {"rotor_speed": 1e-3, "generator_speed": 1e-3, "shaft_torsion": 1e-6, "tower": 1e-3,
-                "flap": 1e-3, "pitch": 1e-4}
+                "flap": 1e-3, "edge": 1e-3, "pitch": 1e-4}
 """Central-difference half steps per kind of state (rates: the same as their state, per second)."""
 _INPUT_STEPS = {"pitch_command": 1e-4, "generator_torque": 10.0, "wind": 1e-2}
 

@@ -1,4 +1,4 @@
-"""Generalized (modal) properties of the blade's first flap mode and the tower's first modes.
+"""Generalized (modal) properties of the blade's first flap and edgewise modes and the tower's first modes.
 
 The mode shapes are ElastoDyn's sixth-order polynomials phi(x) = sum_{k=2..6} c_k x^k with
 x the fraction of the beam length and phi(1) = 1 (Jonkman 2009 model files, BldFl1Sh,
@@ -8,8 +8,8 @@ blade adds the centrifugal stiffening int N(s) phi'^2 and the tower loses the gr
 stiffness g int m_above(h) phi'^2. Integrals use the trapezoidal rule on a fine grid with
 linear interpolation of the distributed properties.
 
-The plant has no edgewise degree of freedom; :func:`blade_edgewise_frequency` estimates the first edgewise
-frequency from the blade's edge stiffness for what needs it (the speed filter of a controller design).
+:func:`blade_edgewise_frequency` estimates the first edgewise frequency from the blade's edge stiffness alone, with
+no mode shape given, for what needs it before a plant exists (the speed filter of a controller design).
 :func:`beam_first_mode` gives a tower's first mode shape where no deck does: a tower on a flexible base (its
 substructure's sections below the tower's) as the import builds it.
 """
@@ -24,9 +24,11 @@ from scipy.linalg import eigh
 from hawt_plant.turbine import Turbine
 
 __all__ = [
+    "BladeMode",
     "BladeModalProperties",
     "TowerModalProperties",
     "beam_first_mode",
+    "blade_edge_mode",
     "blade_edgewise_frequency",
     "blade_modal_properties",
     "polynomial_mode",
@@ -37,27 +39,21 @@ _GRID_POINTS = 2001
 
 
 @dataclass(frozen=True)
-class BladeModalProperties:
-    """Mass moments and first-flap-mode integrals of one blade.
+class BladeMode:
+    """Integrals of one blade mode, flap or edgewise, of shape phi (phi = 1 at the tip).
 
     Distances ``s`` run along the blade from its root [m].
 
     Attributes
     ----------
-    mass : float
-        int mu ds [kg].
-    first_moment : float
-        int mu s ds [kg m]; ``first_moment / mass`` is the centre of mass from the root.
-    second_moment : float
-        int mu s^2 ds [kg m^2].
     modal_mass : float
-        Generalized mass of the flap mode, int mu phi^2 ds [kg] (phi = 1 at the tip).
+        Generalized mass int mu phi^2 ds [kg].
     modal_first_moment : float
         int mu phi ds [kg].
     modal_moment_arm : float
         int mu phi s ds [kg m].
     stiffness : float
-        Generalized stiffness int EI phi''^2 ds [N/m].
+        Generalized stiffness int EI phi''^2 ds [N/m], EI the stiffness in the mode's plane.
     centrifugal_stiffness : float
         Centrifugal stiffening per rotor speed squared, int N(s)/Omega^2 phi'^2 ds [kg]
         with N the axial force of the coned rotating blade.
@@ -65,9 +61,6 @@ class BladeModalProperties:
         Structural damping ratio [-].
     """
 
-    mass: float
-    first_moment: float
-    second_moment: float
     modal_mass: float
     modal_first_moment: float
     modal_moment_arm: float
@@ -77,8 +70,27 @@ class BladeModalProperties:
 
     @property
     def natural_frequency(self) -> float:
-        """Non-rotating first flap frequency [rad/s]."""
+        """Non-rotating frequency [rad/s]."""
         return float(np.sqrt(self.stiffness / self.modal_mass))
+
+
+@dataclass(frozen=True)
+class BladeModalProperties(BladeMode):
+    """Mass moments of one blade and the integrals of its first flap mode (the :class:`BladeMode` fields).
+
+    Attributes
+    ----------
+    mass : float
+        int mu ds [kg].
+    first_moment : float
+        int mu s ds [kg m]; ``first_moment / mass`` is the centre of mass from the root.
+    second_moment : float
+        int mu s^2 ds [kg m^2].
+    """
+
+    mass: float = 0.0
+    first_moment: float = 0.0
+    second_moment: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -163,10 +175,29 @@ def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
     BladeModalProperties
     """
     structure = turbine.blade_structure
+    _, s, mu = _blade_stations(turbine)
+    flap = _blade_mode(turbine, structure.flap_mode_shape, structure.flap_stiffness, structure.flap_damping_ratio)
+    trapezoid = np.trapezoid
+    return BladeModalProperties(**vars(flap), mass=float(trapezoid(mu, s)), first_moment=float(trapezoid(mu * s, s)),
+                                second_moment=float(trapezoid(mu * s**2, s)))
+
+
+def blade_edge_mode(turbine: Turbine) -> BladeMode | None:
+    """The integrals of the blade's first edgewise mode (``edge_mode_shape``, bending with the edge stiffness);
+    None for a blade rigid edgewise (no mode shape in its definition)."""
+    structure = turbine.blade_structure
+    if structure.edge_mode_shape is None:
+        return None
+    return _blade_mode(turbine, structure.edge_mode_shape, structure.edge_stiffness, structure.edge_damping_ratio)
+
+
+def _blade_mode(turbine: Turbine, coefficients: np.ndarray, stiffness: np.ndarray, damping_ratio: float) -> BladeMode:
+    """The assumed-modes integrals (module notes) of the mode of these ElastoDyn coefficients, bending with this
+    distributed stiffness [N m^2] at the blade's stations."""
     length = turbine.blade_length
     x, s, mu = _blade_stations(turbine)
-    ei = np.interp(x, structure.span_fraction, structure.flap_stiffness)
-    phi, d1, d2 = polynomial_mode(structure.flap_mode_shape, x)
+    ei = np.interp(x, turbine.blade_structure.span_fraction, stiffness)
+    phi, d1, d2 = polynomial_mode(coefficients, x)
     cos_cone = np.cos(turbine.rotor.cone_angle)
     # Axial force per Omega^2: int_s^L mu (r_hub + s') cos^2(cone) ds' (radius from the shaft
     # times the component of the centrifugal force along the coned blade).
@@ -174,16 +205,13 @@ def blade_modal_properties(turbine: Turbine) -> BladeModalProperties:
     segment = 0.5 * (integrand[1:] + integrand[:-1]) * np.diff(s)
     axial = np.concatenate((np.cumsum(segment[::-1])[::-1], [0.0]))
     trapezoid = np.trapezoid
-    return BladeModalProperties(
-        mass=float(trapezoid(mu, s)),
-        first_moment=float(trapezoid(mu * s, s)),
-        second_moment=float(trapezoid(mu * s**2, s)),
+    return BladeMode(
         modal_mass=float(trapezoid(mu * phi**2, s)),
         modal_first_moment=float(trapezoid(mu * phi, s)),
         modal_moment_arm=float(trapezoid(mu * phi * s, s)),
         stiffness=float(trapezoid(ei * (d2 / length**2) ** 2, s)),
         centrifugal_stiffness=float(trapezoid(axial * (d1 / length) ** 2, s)),
-        damping_ratio=structure.flap_damping_ratio,
+        damping_ratio=damping_ratio,
     )
 
 

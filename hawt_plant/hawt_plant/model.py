@@ -56,8 +56,8 @@ from scipy.optimize import brentq
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
 from hawt_plant.blade_elements import blade_element_loads
-from hawt_plant.modal import (blade_modal_properties, hub_centre_moments, polynomial_mode, rotor_inertia,
-                              tower_modal_properties)
+from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
+                              rotor_inertia, tower_modal_properties)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
@@ -74,6 +74,10 @@ the brake."""
 
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
 _PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
+LOAD_ROWS = (("n", 0), ("n", 1), ("n", 2), ("n", 3), ("t", 0), ("t", 1), ("t", 2), ("t", 3), ("z", 0), ("z", 2), ("z", 3))
+"""The per-blade load sums the model keeps, as (direction, span function): the element loads along e_n, e_t and e_z
+summed against 1, s (from the root), phi_flap and phi_edge (0..3); the e_n and e_t rows first, four each, as the
+aerodynamic sums come."""
 _ONE = np.array(1.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
 _NO_UNSTEADY = (np.zeros((5, 1, 1)), np.zeros((1, 2, 5)), np.zeros((8, 1)))  # blade_element_loads's arrays, unused
 
@@ -236,6 +240,7 @@ class TurbineModel:
         self._parked = self._config.rotor == "parked"
         self._grid_connected = self._operating
         self._setup_constants()
+        self._flexible_edge = self._operating and self._has_edge
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
         self._unsteady = UnsteadyAirfoil(self._bem.polars, turbine.airfoils, turbine.blade_aerodynamics.airfoil,
                                          turbine.blade_aerodynamics.chord, self._b) \
@@ -294,6 +299,7 @@ class TurbineModel:
 
     def reset_to_operating_point(self, azimuth: float = 0.0, *, rotor_speed: float | None = None,
                                  pitch: float | None = None, flap_offset: np.ndarray | None = None,
+                                 edge_offset: np.ndarray | None = None,
                                  tower_offset: tuple[float, float] | None = None) -> TurbineOutput:
         """Restart at time 0 in the steady operating point of the wind's mean speed.
 
@@ -316,8 +322,9 @@ class TurbineModel:
             Start at this rotor speed [rad/s] (>= 0) instead of the schedule's.
         pitch : float, optional
             Start at this collective pitch [rad] instead of the schedule's.
-        flap_offset : array_like, shape (B,), optional
-            Added to the equilibrium blade-tip flap deflections [m] (free-decay tests).
+        flap_offset, edge_offset : array_like, shape (B,), optional
+            Added to the equilibrium blade-tip flap and edgewise deflections [m] (free-decay tests; the edgewise
+            one needs a blade with an edgewise mode).
         tower_offset : (float, float), optional
             Added to the equilibrium tower-top fore-aft and side-side displacements [m].
 
@@ -335,9 +342,10 @@ class TurbineModel:
             raise ValueError(
                 f"pitch: expected a value in [{actuator.min_angle}, {actuator.max_angle}] rad, found {pitch}")
         b, n = self._b, self._n
-        flap_offset = np.zeros(b) if flap_offset is None else np.asarray(flap_offset, dtype=float)
-        if flap_offset.shape != (b,) or not np.all(np.isfinite(flap_offset)):
-            raise ValueError(f"flap_offset: expected {b} finite values, found {flap_offset.tolist()}")
+        flap_offset, edge_offset = (self._checked_blade_offset(name, value) for name, value in
+                                    (("flap_offset", flap_offset), ("edge_offset", edge_offset)))
+        if np.any(edge_offset) and not self._has_edge:
+            raise ValueError(f"edge_offset: the turbine {self._turbine.name!r} has no edgewise mode (rigid blades)")
         tower_offset = np.zeros(2) if tower_offset is None else np.asarray(tower_offset, dtype=float)
         if tower_offset.shape != (2,) or not np.all(np.isfinite(tower_offset)):
             raise ValueError(f"tower_offset: expected 2 finite values, found {tower_offset.tolist()}")
@@ -356,12 +364,12 @@ class TurbineModel:
         self._generator_speed = 0.0 if self._parked else self._rotor_speed
         self._torsion = 0.0
         self._pitch_rate = np.zeros(b)
-        # Structural coordinates [tower fa, tower ss, flap 1..B] and their rates; the
-        # tower and flap arrays are views into them.
-        self._displacement = np.zeros(2 + b)
-        self._velocity = np.zeros(2 + b)
-        self._tower, self._flap = self._displacement[:2], self._displacement[2:]
-        self._tower_rate, self._flap_rate = self._velocity[:2], self._velocity[2:]
+        # Structural coordinates [tower fa, tower ss, flap 1..B, edge 1..B] and their rates; the tower, flap and
+        # edge arrays are views into them (a blade rigid edgewise keeps its edge coordinates at 0).
+        self._displacement = np.zeros(2 + 2 * b)
+        self._velocity = np.zeros(2 + 2 * b)
+        self._tower, self._flap, self._edge = np.split(self._displacement, (2, 2 + b))
+        self._tower_rate, self._flap_rate, self._edge_rate = np.split(self._velocity, (2, 2 + b))
         self._generator_torque = 0.0
         self._induction = np.zeros((2, b, n))  # axial and tangential induction factors a, a'
         self._inflow_filter = np.zeros((3, b, n))
@@ -386,12 +394,23 @@ class TurbineModel:
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
             self._flap += self._flap_residual / self._flap_stiffness_now
+            if self._has_edge:
+                self._edge += self._edge_residual / self._edge_stiffness_now
         self._flap += flap_offset
+        self._edge += edge_offset
         self._tower += tower_offset
         self._sample_inflow()
         self._evaluate_loads(update_induction=False)
         self._output = self._make_output(self._accelerations(self._generator_torque))
         return self._output
+
+    def _checked_blade_offset(self, name: str, offset: np.ndarray | None) -> np.ndarray:
+        """A deflection offset per blade [m], zeros if None; refused by ``name`` unless B finite values."""
+        b = self._b
+        values = np.zeros(b) if offset is None else np.asarray(offset, dtype=float)
+        if values.shape != (b,) or not np.all(np.isfinite(values)):
+            raise ValueError(f"{name}: expected {b} finite values, found {values.tolist()}")
+        return values
 
     def _solve_steady_induction(self) -> None:
         """Converged steady BEM induction at the current state (Ning 2014); none for an idling or parked rotor."""
@@ -488,9 +507,10 @@ class TurbineModel:
         else:
             self._generator_torque = 0.0
         acting = self._acting_torque()
-        self._velocity += dt * self._accelerations(acting)
+        acceleration = self._accelerations(acting)
+        self._velocity += dt * acceleration[:-1]
         self._displacement += dt * self._velocity
-        self._rotor_speed += dt * self._rotor_acceleration
+        self._rotor_speed += dt * acceleration[-1]
         if not self._parked:
             self._generator_speed += dt * self._generator_acceleration(acting)
         self._torsion += dt * (self._rotor_speed - self._generator_speed)
@@ -507,19 +527,26 @@ class TurbineModel:
 
     def state_names(self) -> tuple[str, ...]:
         """Names of the entries of :meth:`state` (blade i as ``_<i>``, i from 1): rotor and generator speed
-        [rad/s], shaft torsion [rad], tower-top fore-aft and side-side displacement [m], flap tip deflection [m],
-        their rates, pitch angle [rad] and pitch rate [rad/s] of every blade. The azimuth is not among them:
-        it is the variable a linear model is periodic in."""
+        [rad/s], shaft torsion [rad], tower-top fore-aft and side-side displacement [m], flap and edgewise tip
+        deflections [m] (edgewise for a blade with the mode), their rates, pitch angle [rad] and pitch rate [rad/s] of
+        every blade. The azimuth is not among them: it is the variable a linear model is periodic in."""
         blades = range(1, self._b + 1)
+        bases = ("flap", "edge") if self._has_edge else ("flap",)
         return ("rotor_speed", "generator_speed", "shaft_torsion", "tower_fa", "tower_ss",
-                *(f"flap_{i}" for i in blades), "tower_fa_rate", "tower_ss_rate",
-                *(f"flap_rate_{i}" for i in blades), *(f"pitch_{i}" for i in blades),
+                *(f"{base}_{i}" for base in bases for i in blades), "tower_fa_rate", "tower_ss_rate",
+                *(f"{base}_rate_{i}" for base in bases for i in blades), *(f"pitch_{i}" for i in blades),
                 *(f"pitch_rate_{i}" for i in blades))
 
     def state(self) -> np.ndarray:
         """The model's continuous state now, in the order of :meth:`state_names`."""
-        return np.concatenate(((self._rotor_speed, self._generator_speed, self._torsion), self._displacement,
-                               self._velocity, self._pitch, self._pitch_rate))
+        kept = self._structural_states
+        return np.concatenate(((self._rotor_speed, self._generator_speed, self._torsion), self._displacement[kept],
+                               self._velocity[kept], self._pitch, self._pitch_rate))
+
+    @property
+    def _structural_states(self) -> slice:
+        """The structural coordinates that are states: all, or without the edge ones of a blade rigid edgewise."""
+        return slice(None) if self._has_edge else slice(0, 2 + self._b)
 
     def continuous_dynamics(self, state: np.ndarray, azimuth: float, pitch_command: np.ndarray,
                             generator_torque: float, wind_change=0.0) -> tuple[np.ndarray, TurbineOutput]:
@@ -536,11 +563,13 @@ class TurbineModel:
         values = np.asarray(state, dtype=float)
         if values.shape != (len(self.state_names()),):
             raise ValueError(f"state: expected {len(self.state_names())} values, found shape {values.shape}")
+        kept = self._structural_states
+        dof = len(self._displacement[kept])
         self._rotor_speed, self._generator_speed, self._torsion = values[:3].tolist()
-        self._displacement[:] = values[3:5 + b]
-        self._velocity[:] = values[5 + b:7 + 2 * b]
-        self._pitch = values[7 + 2 * b:7 + 3 * b].copy()
-        self._pitch_rate = values[7 + 3 * b:].copy()
+        self._displacement[kept] = values[3:3 + dof]
+        self._velocity[kept] = values[3 + dof:3 + 2 * dof]
+        self._pitch = values[3 + 2 * dof:3 + 2 * dof + b].copy()
+        self._pitch_rate = values[3 + 2 * dof + b:].copy()
         self._azimuth = float(azimuth)
         self._generator_torque = float(generator_torque)
         wind = self._wind
@@ -557,9 +586,10 @@ class TurbineModel:
         w, zeta = actuator.natural_frequency, actuator.damping_ratio
         pitch_acceleration = w * w * (np.asarray(pitch_command, dtype=float) - self._pitch) \
             - 2.0 * zeta * w * self._pitch_rate
-        derivative = np.concatenate(((self._rotor_acceleration, self._generator_acceleration(acting),
-                                      self._rotor_speed - self._generator_speed), self._velocity, acceleration,
-                                     self._pitch_rate, pitch_acceleration))
+        kept = self._structural_states
+        derivative = np.concatenate(((acceleration[-1], self._generator_acceleration(acting),
+                                      self._rotor_speed - self._generator_speed), self._velocity[kept],
+                                     acceleration[:-1][kept], self._pitch_rate, pitch_acceleration))
         return derivative, self._make_output(acceleration)
 
     def _acting_torque(self) -> float:
@@ -632,34 +662,42 @@ class TurbineModel:
         self._tower_height = t.tower.height
         # Blade: lumped element masses for the loads, continuous integrals for the modes.
         blade = blade_modal_properties(t)
+        edge_mode = blade_edge_mode(t)
+        self._has_edge = edge_mode is not None
         length = t.blade_length
         fine = np.linspace(0.0, 1.0, 4001) * length
         density = np.interp(fine, t.blade_structure.span_fraction * length, t.blade_structure.mass_density)
         cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(fine))))
         edges = np.concatenate(([0.0], np.cumsum(aero.width)))  # each node's stretch of blade
         mass = np.diff(np.interp(np.clip(edges, 0.0, length), fine, cumulative))
-        mode = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)[0]
-        # Element loads are summed per blade against the span functions 1, s (from the root)
-        # and phi: the rows of `loads` are [F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z]
-        # for the out-of-plane (e_n), in-plane (e_t) and axial (e_z) components.
-        self._span_functions = np.ascontiguousarray(np.column_stack((np.ones(n), span, mode)))
-        # Positions and velocities of the elements are per blade combinations of 1, s_abs and phi.
-        self._element_basis = np.vstack((np.ones(n), s_abs, mode))
-        sums = np.array([mass.sum(), mass @ span, mass @ mode])
-        radius_sums = np.array([mass @ radius, mass @ (radius * span), mass @ (radius * mode)])
+        flap_shape = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)[0]
+        edge_shape = polynomial_mode(t.blade_structure.edge_mode_shape, span / length)[0] if self._has_edge \
+            else np.zeros(n)
+        # Element loads are summed per blade against the span functions f = 1, s (from the root), phi_flap and
+        # phi_edge; the load rows (LOAD_ROWS) are the components along e_n, e_t and e_z against them.
+        functions = np.vstack((np.ones(n), span, flap_shape, edge_shape))
+        self._span_functions = np.ascontiguousarray(functions.T)
+        # Positions and velocities of the elements are per blade combinations of 1, s_abs, phi_flap and phi_edge.
+        self._element_basis = np.vstack((np.ones(n), s_abs, flap_shape, edge_shape))
+        # Mass sums of each span function f: sum m f, sum m f s_abs, sum m f r and against each mode shape.
+        sums, nod, radius_sums = functions @ mass, functions @ (mass * s_abs), functions @ (mass * radius)
+        flap_sums, edge_sums = functions @ (mass * flap_shape), functions @ (mass * edge_shape)
         self._mass_radius = float(radius_sums[0])
-        centrifugal_sums = np.concatenate((sb * radius_sums, np.zeros(3), cb * radius_sums[[0, 2]]))
-        angular_sums = np.concatenate((np.zeros(3), -radius_sums, np.zeros(2)))
-        nod = np.array([mass @ s_abs, mass @ (span * s_abs), mass @ (mode * s_abs)])
-        inertia_translation = np.concatenate((sums, sums, sums[[0, 2]]))
-        inertia_nodding = np.concatenate((nod, nod, np.zeros(2)))
-        inertia_flap = np.array([mass @ mode, mass @ (span * mode), mass @ (mode * mode)])
         self._mass_moments = hub_centre_moments(t, blade)
-        p0, p1 = blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment
         self._flap_mass = blade.modal_mass
         self._flap_stiffness = blade.stiffness
         self._flap_centrifugal = blade.centrifugal_stiffness
         self._flap_damping = 2.0 * blade.damping_ratio * math.sqrt(blade.stiffness * blade.modal_mass)
+        flap_arms = (blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment)
+        edge = edge_mode or BladeMode(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # rigid: no coupling, never advanced
+        edge_arms = (edge.modal_first_moment, edge.modal_moment_arm + rh * edge.modal_first_moment)
+        self._edge_mass = edge.modal_mass
+        self._edge_stiffness = edge.stiffness
+        self._edge_centrifugal = edge.centrifugal_stiffness
+        self._edge_damping = 2.0 * edge.damping_ratio * math.sqrt(edge.stiffness * edge.modal_mass)
+        # The rotor's rotation and an edgewise deflection move the blade's mass along e_t alike: their coupling
+        # int mu phi_edge r ds in the kinetic energy.
+        self._edge_rotor_coupling = cb * edge_arms[1]
         # Drivetrain.
         drivetrain = t.drivetrain
         self._gearbox_ratio = drivetrain.gearbox_ratio
@@ -723,19 +761,18 @@ class TurbineModel:
         c1 = {"t": np.array([0.0, -sfa * sb, 0.0]), "z": np.zeros(3), "n": np.array([sfa, 0.0, 0.0])}
         y_part = {"t": gain * e_t[1], "z": gain * e_z[1], "n": gain * e_n[1]}
         gravity_part = {"t": -g * e_t[2], "z": -g * e_z[2], "n": -g * e_n[2]}
-        columns = ["n", "n", "n", "t", "t", "t", "z", "z"]
-        weight = np.concatenate((sums, sums, sums[[0, 2]]))
+        by_row = [(d, sums[f], nod[f], radius_sums[f]) for d, f in LOAD_ROWS]
         blocks = {
             "basis": unit,
-            # Generalized tower forces per load row (arms from the root shifted to the apex).
-            "fa": np.array([c0["n"] + rh * c1["n"], c1["n"], 0 * c1["n"], c0["t"] + rh * c1["t"], c1["t"],
-                            0 * c1["t"], c0["z"], 0 * c0["z"]]),
-            "ss": np.array([y_part["n"], 0 * y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"],
-                            0 * y_part["t"], y_part["z"], 0 * y_part["z"]]),
-            "coupling": np.array([c0["n"] * p0 + c1["n"] * p1, y_part["n"] * p0]),
-            "inertia_fa": np.array([c0[d] * wt + c1[d] * wn for d, wt, wn in
-                                    zip(columns, inertia_translation, inertia_nodding)]),
-            "inertia_ss": np.array([y_part[d] * w for d, w in zip(columns, inertia_translation)]),
+            # Generalized tower forces per load row: the element's load along the motion U0 + s_abs U1 of its
+            # point per metre of tower-top motion (arms from the root shifted to the apex).
+            "fa": np.array([c0[d] + rh * c1[d] if f == 0 else c1[d] if f == 1 else 0 * c1[d] for d, f in LOAD_ROWS]),
+            "ss": np.array([y_part[d] if f == 0 else 0 * y_part[d] for d, f in LOAD_ROWS]),
+            # Each mode's inertial coupling with the tower coordinates: int mu phi (U . e) ds.
+            "coupling": np.array([c0["n"] * flap_arms[0] + c1["n"] * flap_arms[1], y_part["n"] * flap_arms[0]]),
+            "edge_coupling": np.array([c0["t"] * edge_arms[0] + c1["t"] * edge_arms[1], y_part["t"] * edge_arms[0]]),
+            "inertia_fa": np.array([c0[d] * w + c1[d] * wn for d, w, wn, _ in by_row]),
+            "inertia_ss": np.array([y_part[d] * w for d, w, _, _ in by_row]),
             "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
             # Inflow (vx, vy) of blade points per unit tower-top velocity: constant and s_abs
             # parts of minus the speed along e_n, then of the speed along e_t; fore-aft, then
@@ -756,50 +793,52 @@ class TurbineModel:
         self._tower_force_rows = slice(rows["fa"].start, rows["ss"].stop)
         self._inertia_rows = slice(rows["inertia_fa"].start, rows["inertia_ss"].stop)
         self._inflow_motion_rows = slice(rows["inflow_motion_fa"].start, rows["inflow_motion_ss"].stop)
-        # Per blade: cos psi, sin psi, 1 and the rotor's omega^2 and angular acceleration. Load
-        # sums without the inertia of the structural accelerations: gravity, centrifugal and
-        # rotor-acceleration loads, linear in these.
+        # Per blade: cos psi, sin psi, 1, the rotor's omega^2 and omega^2 times the edgewise deflection. Load sums
+        # without the inertia of the accelerations: gravity, centrifugal loads (radial, along e_r = cb e_z + sb e_n,
+        # and along e_t where the edgewise deflection moves the mass off the radius), linear in these.
         self._blade_basis = np.ones((5, b))
         self._trig = self._blade_basis[:3]
         self._load_operator = np.column_stack((
-            [gravity_part[d] * w for d, w in zip(columns, weight)], centrifugal_sums, angular_sums))
-        self._placement = np.empty((3, b, 3))  # per coordinate and blade: apex, e_z, flap e_n
+            [gravity_part[d] * w for d, w, _, _ in by_row],
+            [sb * r if d == "n" else cb * r if d == "z" else 0.0 for d, _, _, r in by_row],
+            [edge_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS]))
+        self._placement = np.empty((3, b, 4))  # per coordinate and blade: apex, e_z, flap e_n, edge e_t
         # The wind is sampled at the elements and, after each blade's last element, at the
         # rotor apex (s_abs = 0 without deflection), whose wind is the hub wind.
-        self._point_basis = np.column_stack((self._element_basis, (1.0, 0.0, 0.0)))
+        self._point_basis = np.column_stack((self._element_basis, (1.0, 0.0, 0.0, 0.0)))
         # The inflow of every element as one product: rows vx of blades 1..B, then vy; columns
         # wind u, v, w of blades 1..B (e_n and -e_t on the block diagonals), then the element
-        # motion along 1, s_abs and phi (a view per blade, `_inflow_motion`).
-        self._inflow_operator = np.zeros((2 * b, 3 * b + 3))
-        self._inflow_motion = self._inflow_operator[:, 3 * b:].reshape(2, b, 3)
-        row, component, blade = np.meshgrid(np.arange(2), np.arange(3), np.arange(b), indexing="ij")
+        # motion along 1, s_abs, phi_flap and phi_edge (a view per blade, `_inflow_motion`).
+        self._inflow_operator = np.zeros((2 * b, 3 * b + 4))
+        self._inflow_motion = self._inflow_operator[:, 3 * b:].reshape(2, b, 4)
+        row, component, blade_index = np.meshgrid(np.arange(2), np.arange(3), np.arange(b), indexing="ij")
         self._inflow_axes_index = np.ravel_multi_index(
-            (row * b + blade, component * b + blade), self._inflow_operator.shape).ravel()
-        self._inflow_operands = np.empty((3 * b + 3, n))
+            (row * b + blade_index, component * b + blade_index), self._inflow_operator.shape).ravel()
+        self._inflow_operands = np.empty((3 * b + 4, n))
         self._inflow_operands[3 * b:] = self._element_basis
         self._inflow = np.empty((2, b, n))
-        # Inertial load sums of the accelerations [fa, ss, flap 1..B] as one product: the tower
-        # rows follow the azimuth (set each step), a blade's flap acceleration acts on its own
-        # F_n, s F_n and phi F_n.
-        self._inertia_operator = np.zeros((2 + b, 8, b))
-        self._inertia_operator[2 + np.arange(b), 0:3, np.arange(b)] = inertia_flap
-        # Per-blade outputs as one product with the load sums; the parts weighted by the flap
-        # deflection w are added from the last two rows. Apex moments A = s F_n + r_h F_n -
-        # w phi F_z, B = s F_t + r_h F_t, C = w phi F_t; root moments oop = s F_n - w phi F_z,
-        # ip = s F_t; forces F_n, F_t, F_z.
-        self._output_selector = np.array([
-            # F_n, s F_n, phi F_n, F_t, s F_t, phi F_t, F_z, phi F_z
-            [rh, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # A + w phi F_z
-            [0.0, 0.0, 0.0, rh, 1.0, 0.0, 0.0, 0.0],  # B
-            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # C (w phi F_t)
-            [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # oop + w phi F_z
-            [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],  # ip
-            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],  # F_n
-            [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],  # F_t
-            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],  # F_z
-            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],  # phi F_z
-            [0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],  # phi F_t
-        ])
+        # Inertial load sums of the accelerations [fa, ss, flap 1..B, edge 1..B, rotor] as one product: the tower
+        # rows follow the azimuth (set each step); a blade's flap acceleration acts on its own e_n rows, its edgewise
+        # acceleration and the rotor's on its e_t rows.
+        self._inertia_operator = np.zeros((3 + 2 * b, len(LOAD_ROWS), b))
+        every = np.arange(b)
+        for r, (d, f) in enumerate(LOAD_ROWS):
+            if d == "n":
+                self._inertia_operator[2 + every, r, every] = flap_sums[f]
+            elif d == "t":
+                self._inertia_operator[2 + b + every, r, every] = edge_sums[f]
+                self._inertia_operator[2 + 2 * b, r, :] = radius_sums[f]
+        # Per-blade outputs as one product with the load sums; the parts weighted by the flap deflection w and the
+        # edgewise deflection v are added from the last four rows. Apex moments A = s F_n + r_h F_n - w phi F_z
+        # (about -e_t), B = s F_t + r_h F_t - v phi_e F_z (about e_n), C = w phi F_t - v phi_e F_n (about -e_z);
+        # root moments oop = s F_n - w phi F_z, ip = s F_t - v phi_e F_z; forces F_n, F_t, F_z.
+        selected = [(("n", 0), rh), (("n", 1), 1.0)], [(("t", 0), rh), (("t", 1), 1.0)], [], [(("n", 1), 1.0)], \
+            [(("t", 1), 1.0)], [(("n", 0), 1.0)], [(("t", 0), 1.0)], [(("z", 0), 1.0)], [(("z", 2), 1.0)], [(("t", 2), 1.0)], \
+            [(("z", 3), 1.0)], [(("n", 3), 1.0)]
+        self._output_selector = np.zeros((len(selected), len(LOAD_ROWS)))
+        for k, terms in enumerate(selected):
+            for key, value in terms:
+                self._output_selector[k, LOAD_ROWS.index(key)] = value
         self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
@@ -814,7 +853,7 @@ class TurbineModel:
         self._twist = bem.twist
         self._blade_constants = (bem.polars.table, *bem.polars.grid_constants, bem.loss_exponents, bem.local_solidity,
                                  self._induction_bounds, self._pressure_to_load, self._span_functions)
-        self._aero_sums = np.empty((2, b, 3))
+        self._aero_sums = np.empty((2, b, len(self._element_basis)))
 
     # ------------------------------------------------------------------ loads
 
@@ -837,12 +876,13 @@ class TurbineModel:
         apex = (self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
                 self._tower_height + self._apex_z_top + x_top * u0z)
         self._apex = apex
-        # Element positions apex + s_abs e_z + flap phi e_n.
+        # Element positions apex + s_abs e_z + flap phi e_n + edge phi_e e_t.
         placement = self._placement
         placement[:, :, 0].T[...] = apex
         placement[:, :, 1] = features[6:9]
         np.multiply(features[0:3], self._flap, out=placement[:, :, 2])
-        points = np.dot(placement.reshape(3 * b, 3), self._point_basis).reshape(3, b, n + 1)
+        np.multiply(features[3:6], self._edge, out=placement[:, :, 3])
+        points = np.dot(placement.reshape(3 * b, 4), self._point_basis).reshape(3, b, n + 1)
         drag = self._tower_drag
         if drag is None:
             velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
@@ -868,11 +908,12 @@ class TurbineModel:
             u = wind[0]
             wind[1] += u * dv
             u *= _ONE + du
-        # Element velocity from the tower and flap motion and the rotation (omega r, r = s_abs cos cone).
+        # Element velocity from the tower, flap and edgewise motion and the rotation (omega r, r = s_abs cos cone).
         motion = self._inflow_motion
         tower_parts = np.dot(self._tower_rate, features[self._inflow_motion_rows].reshape(2, 4 * b))
         motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(0, 2, 1)
         np.negative(self._flap_rate, out=motion[0, :, 2])
+        motion[1, :, 3] = self._edge_rate
         motion[1, :, 1] += self._rotor_speed * self._cos_cone
         operator = self._inflow_operator
         operator.put(self._inflow_axes_index, features[self._rows["inflow_axes"]])
@@ -899,46 +940,62 @@ class TurbineModel:
         shaft = self._torsional_stiffness * self._torsion + self._torsional_damping * (
             self._rotor_speed - self._generator_speed)
         self._shaft_torque = shaft
-        self._rotor_acceleration = (self._aero_torque + self._gravity_torque - shaft) / self._rotor_inertia
         omega2 = self._rotor_speed * self._rotor_speed
-        # Per-blade load sums without the inertia of the structural accelerations (unknown yet).
+        # Per-blade load sums without the inertia of the accelerations (unknown yet).
         self._blade_basis[3] = omega2
-        self._blade_basis[4] = self._rotor_acceleration
+        np.multiply(self._edge, omega2, out=self._blade_basis[4])
         loads = np.dot(self._load_operator, self._blade_basis)
-        aero_loads = loads[0:6].reshape(2, 3, b)  # a view: rows F_n, s F_n, phi F_n, F_t, s F_t, phi F_t
+        aero_loads = loads[0:8].reshape(2, 4, b)  # a view: the e_n and e_t rows
         aero_loads += aero.transpose(0, 2, 1)
         self._loads = loads
-        # Generalized forces: flap from the phi-weighted normal loads, tower from projections.
-        tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, 8 * b), loads.reshape(8 * b)).tolist()
+        # Generalized forces: the modes from their own rows, the tower from projections.
+        tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, 11 * b), loads.reshape(11 * b)).tolist()
         q_fa = tower_fa + self._fa_gravity_force + self._tower_drag_loads.fa_force
         q_ss = tower_ss + self._tower_drag_loads.ss_force - self._slope_ss * self._cos_tilt * shaft * (
             1.0 - 1.0 / self._gearbox_ratio)
         self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
         self._flap_residual = loads[2] - self._flap_damping * self._flap_rate - self._flap_stiffness_now * self._flap
+        self._edge_stiffness_now = self._edge_stiffness + self._edge_centrifugal * omega2
+        self._edge_residual = loads[7] - self._edge_damping * self._edge_rate - self._edge_stiffness_now * self._edge
         (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
         (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
         self._residual_fa = q_fa - damping_fa * rate_fa - stiffness_fa * x_top
         self._residual_ss = q_ss - damping_ss * rate_ss - stiffness_ss * y_top
-        # Mass matrix reduced to the tower coordinates (Schur complement of the flap block).
-        coupling = features[rows["coupling"]]
+        self._rotor_residual = self._aero_torque + self._gravity_torque - shaft
+        # The mass matrix over [tower fa, tower ss, flap 1..B, edge 1..B, rotor] reduced to the tower coordinates
+        # and the rotor (Schur complement of the diagonal blade blocks, module notes).
+        coupling, edge_coupling = features[rows["coupling"]], features[rows["edge_coupling"]]
         fa_mass = features[rows["fa_mass"]]
         linear, quadratic = self._fa_mass_azimuthal
         mass_fa = (self._fa_mass_constant + linear * sum(fa_mass[0].tolist())
                    + quadratic * float(np.dot(fa_mass[1], fa_mass[1])))
-        self._coupling = coupling
-        if not self._operating:  # the blades held rigid at their deflection (module notes): the tower's own masses
-            self._schur = (mass_fa, 0.0, self._ss_mass, self._residual_fa, self._residual_ss)
-            return
-        m = self._flap_mass
+        self._coupling, self._edge_coupling = coupling, edge_coupling
+        reduced = [mass_fa, 0.0, self._ss_mass, self._residual_fa, self._residual_ss, 0.0, 0.0, self._rotor_inertia,
+                   self._rotor_residual]
+        if self._operating:  # otherwise the blades are held rigid at their deflection (module notes)
+            self._reduce(reduced, coupling, self._flap_residual, self._flap_mass, 0.0)
+        if self._flexible_edge:
+            self._reduce(reduced, edge_coupling, self._edge_residual, self._edge_mass, self._edge_rotor_coupling)
+        self._schur = reduced
+
+    @staticmethod
+    def _reduce(reduced: list, coupling: np.ndarray, residual: np.ndarray, mass: float, rotor_coupling: float) -> None:
+        """Eliminate one mode of every blade (generalized mass ``mass``, inertial coupling ``coupling`` (2, B) with the
+        tower and ``rotor_coupling`` with the rotor, generalized force ``residual`` (B,)) from the reduced system
+        ``reduced`` = [m_fa, m_fa_ss, m_ss, r_fa, r_ss, m_fa_rotor, m_ss_rotor, m_rotor, r_rotor], in place."""
         (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
-        projected_fa, projected_ss = np.dot(coupling, self._flap_residual).tolist()
-        self._schur = (
-            mass_fa - p00 / m,
-            -p01 / m,
-            self._ss_mass - p11 / m,
-            self._residual_fa - projected_fa / m,
-            self._residual_ss - projected_ss / m,
-        )
+        projected_fa, projected_ss = np.dot(coupling, residual).tolist()
+        total_fa, total_ss = np.add.reduce(coupling, axis=1).tolist()
+        c = rotor_coupling / mass
+        reduced[0] -= p00 / mass
+        reduced[1] -= p01 / mass
+        reduced[2] -= p11 / mass
+        reduced[3] -= projected_fa / mass
+        reduced[4] -= projected_ss / mass
+        reduced[5] -= c * total_fa
+        reduced[6] -= c * total_ss
+        reduced[7] -= c * rotor_coupling * len(residual)
+        reduced[8] -= c * sum(residual.tolist())
 
     def _skew(self) -> tuple[bool, float, np.ndarray]:
         """Pitt & Peters's skewed wake for the wind at the rotor apex: whether it is skewed, its angle χ_0 to the
@@ -959,15 +1016,24 @@ class TurbineModel:
         return (self._shaft_torque - ratio * generator_torque) / (self._generator_inertia * ratio * ratio)
 
     def _accelerations(self, generator_torque: float) -> np.ndarray:
-        """Tower-top and flap accelerations [fa, ss, flap_1..B] with this generator torque."""
-        a11, a12, a22, r1, r2 = self._schur
+        """The accelerations [tower fa, tower ss, flap 1..B, edge 1..B, rotor] with this generator torque: the
+        reduced 3 x 3 system of the tower and the rotor solved by eliminating the rotor, then each blade's modes."""
+        m11, m12, m22, r1, r2, m13, m23, m33, r3 = self._schur
         r2 -= self._slope_ss * self._cos_tilt * generator_torque
+        a11, a12, a22 = m11 - m13 * m13 / m33, m12 - m13 * m23 / m33, m22 - m23 * m23 / m33
+        b1, b2 = r1 - m13 * r3 / m33, r2 - m23 * r3 / m33
         det = a11 * a22 - a12 * a12
-        x_acc = (a22 * r1 - a12 * r2) / det
-        y_acc = (a11 * r2 - a12 * r1) / det
-        out = np.empty(2 + self._b)
-        out[0], out[1] = x_acc, y_acc
-        out[2:] = (self._flap_residual - np.dot(out[:2], self._coupling)) / self._flap_mass if self._operating else 0.0
+        x_acc = (a22 * b1 - a12 * b2) / det
+        y_acc = (a11 * b2 - a12 * b1) / det
+        rotor_acc = (r3 - m13 * x_acc - m23 * y_acc) / m33
+        b = self._b
+        out = np.zeros(3 + 2 * b)
+        out[0], out[1], out[-1] = x_acc, y_acc, rotor_acc
+        if self._operating:
+            out[2:2 + b] = (self._flap_residual - np.dot(out[:2], self._coupling)) / self._flap_mass
+        if self._flexible_edge:
+            out[2 + b:2 + 2 * b] = (self._edge_residual - np.dot(out[:2], self._edge_coupling)
+                                    - self._edge_rotor_coupling * rotor_acc) / self._edge_mass
         return out
 
     # ------------------------------------------------------------------ outputs
@@ -975,16 +1041,19 @@ class TurbineModel:
     def _make_output(self, acc: np.ndarray) -> TurbineOutput:
         x_acc, y_acc = acc[:2].tolist()
         b = self._b
-        features, rows = self._feature_values, self._rows
+        features = self._feature_values
         inertia = self._inertia_operator
-        inertia[0:2] = features[self._inertia_rows].reshape(2, 8, b)
-        loads = self._loads - np.dot(acc, inertia.reshape(2 + b, 8 * b)).reshape(8, b)
+        rows = len(LOAD_ROWS)
+        inertia[0:2] = features[self._inertia_rows].reshape(2, rows, b)
+        loads = self._loads - np.dot(acc, inertia.reshape(3 + 2 * b, rows * b)).reshape(rows, b)
         per_blade = np.dot(self._output_selector, loads)
         flapped = self._flap * per_blade[8:10]
+        edged = self._edge * per_blade[10:12]
         per_blade[0] -= flapped[0]
-        per_blade[2] = flapped[1]
+        per_blade[1] -= edged[0]
+        per_blade[2] = flapped[1] - edged[1]
         oop = per_blade[3] - flapped[0]
-        ip = per_blade[4]
+        ip = per_blade[4] - edged[0]
         # Moments about the apex per blade: A about -e_t, B about e_n, C about -e_z; summed
         # against cos, sin and 1 of the blade azimuths.
         (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = np.dot(self._trig, per_blade[0:3].T).tolist()
@@ -993,7 +1062,7 @@ class TurbineModel:
         yaw = sa + cone_s * cb_ - cone_c * cc
         spin = cone_c * ob + cone_s * oc
         # Rotor force at the apex in inertial axes: sum over blades of F_n e_n + F_t e_t + F_z e_z.
-        axes = features[rows["axes_by_component"]].reshape(3, 3 * b)
+        axes = features[self._rows["axes_by_component"]].reshape(3, 3 * b)
         fx, fy, fz = np.dot(axes, per_blade[5:8].reshape(3 * b)).tolist()
         ax, ay, az = self._apex
         g = self._g
@@ -1029,7 +1098,7 @@ class TurbineModel:
         base_fa += drag.base_fa_moment
         base_ss += drag.base_ss_moment
         ratio = self._gearbox_ratio
-        spin_reaction = (self._hub_inertia * self._rotor_acceleration
+        spin_reaction = (self._hub_inertia * acc[-1]
                          + self._generator_inertia * ratio * self._generator_acceleration(self._acting_torque()))
         base_ss -= spin_reaction * self._cos_tilt
         bearing_yaw += spin_reaction * self._sin_tilt

@@ -139,7 +139,7 @@ class BladeAerodynamics:
 
 @dataclass(frozen=True, eq=False)
 class BladeStructure:
-    """Distributed structural properties and first flap mode of one blade (ElastoDyn blade file).
+    """Distributed structural properties and first flap and edgewise modes of one blade (ElastoDyn blade file).
 
     Attributes
     ----------
@@ -155,6 +155,11 @@ class BladeStructure:
         Coefficients of x^2 .. x^6 of the first flap mode (x = span fraction), tip value 1.
     flap_damping_ratio : float
         Structural damping ratio of the first flap mode [-].
+    edge_mode_shape : ndarray, shape (5,) or None
+        Coefficients of x^2 .. x^6 of the first edgewise mode, tip value 1 (ElastoDyn's BldEdgSh); None: the blade
+        is rigid edgewise (a definition written before the plant had the mode, or a deck with EdgeDOF off).
+    edge_damping_ratio : float
+        Structural damping ratio of the first edgewise mode [-].
     """
 
     span_fraction: np.ndarray
@@ -164,6 +169,8 @@ class BladeStructure:
     edge_stiffness: np.ndarray
     flap_mode_shape: np.ndarray
     flap_damping_ratio: float
+    edge_mode_shape: np.ndarray | None = None
+    edge_damping_ratio: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -822,9 +829,10 @@ def _blade_structure(s: _Section, rotor: Rotor) -> BladeStructure:
     factor = s.number("mass_density_factor", low=0.0)
     mass_density = s.array("mass_density", length=n, positive=True) * factor
     mass_density.flags.writeable = False
-    mode = s.array("flap_mode_shape", length=5)
-    if abs(mode.sum() - 1.0) > 1e-3:
-        raise s.error("flap_mode_shape", f"coefficients add up to {mode.sum():.4f}, expected 1 (unit tip value)")
+    mode = _mode_shape(s, "flap_mode_shape")
+    edge_mode = _mode_shape(s, "edge_mode_shape") if s.has("edge_mode_shape") else None
+    if edge_mode is not None and not s.has("edge_damping_ratio"):
+        raise s.error("edge_damping_ratio", "missing: an edgewise mode needs its damping ratio")
     length = rotor.tip_radius - rotor.hub_radius
     mass = float(np.trapezoid(mass_density, fraction * length))
     cg = float(np.trapezoid(mass_density * fraction * length, fraction * length)) / mass
@@ -840,7 +848,18 @@ def _blade_structure(s: _Section, rotor: Rotor) -> BladeStructure:
         edge_stiffness=s.array("edge_stiffness", length=n, positive=True),
         flap_mode_shape=mode,
         flap_damping_ratio=s.number("flap_damping_ratio", low=0.0, high=1.0, strict=False),
+        edge_mode_shape=edge_mode,
+        edge_damping_ratio=s.number("edge_damping_ratio", low=0.0, high=1.0, strict=False) if edge_mode is not None
+        else 0.0,
     )
+
+
+def _mode_shape(s: _Section, key: str, end: str = "tip") -> np.ndarray:
+    """An ElastoDyn mode shape's five coefficients of x^2 .. x^6, which add up to the unit value at its ``end``."""
+    mode = s.array(key, length=5)
+    if abs(mode.sum() - 1.0) > 1e-3:
+        raise s.error(key, f"coefficients add up to {mode.sum():.4f}, expected 1 (unit {end} value)")
+    return mode
 
 
 def _tower(s: _Section) -> Tower:
@@ -850,9 +869,7 @@ def _tower(s: _Section) -> Tower:
     n = fraction.size
     modes = {}
     for key in ("fa_mode_shape", "ss_mode_shape"):
-        modes[key] = s.array(key, length=5)
-        if abs(modes[key].sum() - 1.0) > 1e-3:
-            raise s.error(key, f"coefficients add up to {modes[key].sum():.4f}, expected 1 (unit top value)")
+        modes[key] = _mode_shape(s, key, end="top")
     elevation = s.array("outline_elevation", increasing=True)
     height = s.number("height", low=0.0)
     base = s.number("base_height", low=0.0, strict=False, default=0.0)

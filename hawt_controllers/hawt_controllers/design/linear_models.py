@@ -56,9 +56,11 @@ def _group(names: Sequence[str], base: str, blades: int) -> tuple:
 
 
 def blade_groups(periodic: PeriodicLinearization, blades: int) -> BladeGroups:
-    """The blade-wise channels of the plant's linear model (hawt_plant.linearization's names)."""
-    states = tuple(_group(periodic.states, base, blades) for base in ("flap", "flap_rate", "pitch", "pitch_rate"))
-    return BladeGroups(states=states, rates=((1, 0), (3, 2)),
+    """The blade-wise channels of the plant's linear model (hawt_plant.linearization's names; the edgewise states of
+    blades that have the mode)."""
+    bases = ("flap", "pitch", "edge") if "edge_1" in periodic.states else ("flap", "pitch")
+    states = tuple(_group(periodic.states, name, blades) for base in bases for name in (base, f"{base}_rate"))
+    return BladeGroups(states=states, rates=tuple((2 * k + 1, 2 * k) for k in range(len(bases))),
                        inputs=tuple(_group(periodic.inputs, base, blades) for base in ("pitch_command", "wind")),
                        outputs=tuple(_group(periodic.outputs, base, blades)
                                      for base in ("root_moment_oop", "root_moment_ip")))
