@@ -3,7 +3,10 @@
 Degrees of freedom
 ------------------
 - rotor azimuth and speed, generator speed, low-speed-shaft torsion (two-inertia drivetrain);
-- first flap mode of each blade (tip deflection out of the coned rotor plane);
+- first flap and first edgewise mode of each blade (tip deflections; ElastoDyn's BldFl1Sh and BldEdgSh), turning with
+  the blade's pitch as ElastoDyn's do: the flap mode along cos(theta) e_n + sin(theta) e_t, the edgewise one along the
+  chord, cos(theta) e_t - sin(theta) e_n (the structural twist does not turn them, ElastoDyn's does); a blade whose
+  definition has no edgewise mode is rigid edgewise;
 - first fore-aft and side-side tower modes (tower-top displacements);
 - a second-order pitch actuator per blade (:mod:`hawt_plant.pitch_actuator`);
 - the generator torque follows its command within its rate limit while the generator is on the grid; off it
@@ -16,10 +19,11 @@ high-speed shaft) at rest, so that the rotor moves only by the shaft's torsion. 
 storm wind, possibly at a large yaw misalignment, is outside what momentum theory describes: its elements see the
 wind without induction (AeroDyn's WakeMod = 0, which Jonkman names with quasi-steady polars for an idling rotor in
 high wind with large skew, OpenFAST discussion #2306; the unsteady-airfoil option stays the turbine's). Its blades
-are rigid at their deflection of time 0, the tower flexible: the model's one flap mode deflects out of the rotor
-plane, which at feather is the blade's stiff (edgewise) direction, so kept flexible it gave a standing rotor at
-15-30 deg of yaw misalignment in the 50-year wind a flap-tower stall flutter growing fourfold every 5 s (the same at a
-quarter of the step, and with dynamic stall): an artefact of the mode's direction.
+are rigid at their deflection of time 0, the tower flexible. Flexible, a feathered rotor in the 50-year wind at
+-30 deg of yaw misalignment has a stall-induced blade vibration that grows over 30 s (blade-root flap peak-to-peak in
+three 10 s windows: parked 1.0 -> 1.9 -> 3.1 MN m, idling 2.2 -> 5.2 -> 6.1); at 0, 15, 90 and 180 deg the parked
+rotor's stays below 0.8 MN m. Stall-induced vibration of a standing rotor is known physics, but this model's amount
+of it needs OpenFAST's answer for the same case before the blades of a shut-down rotor are made flexible.
 
 Aerodynamics: blade-element momentum (:mod:`hawt_plant.bem`) on every element of every blade
 at its own azimuth, the inflow sampled from the wind field at the element's position (shear,
@@ -28,10 +32,14 @@ tower) in the relative velocity, and the induction carried from step to step: a 
 fixed-point iterations per step from the previous step's induction, or Øye's dynamic inflow.
 
 Structure: assumed modes with Kane-style generalized forces. Every blade element's load
-(aerodynamic, gravity, and the inertial force of the rotor's rotation) is projected on the
+(aerodynamic, gravity, and the centrifugal force of the rotor's rotation, which stiffens the modes and, where a
+deflection moves the mass off the radius, softens the edgewise one) is projected on the
 motion each coordinate gives it; the tower-top rotation of the fore-aft mode nods the rotor,
 the side-side mode translates it and takes the drivetrain's roll reaction. The mass matrix
-follows the azimuth. Blade-root and tower-base moments are force sums over the elements
+follows the azimuth and the pitch: the blades' modes couple with the tower and, by their part along e_t, with the
+rotor's rotation (the drivetrain's torsion takes the blades' collective edgewise bending with it); each step solves it
+by eliminating every blade's modes (their blocks are diagonal) and then the rotor from a 3 x 3 system with the
+tower. Blade-root and tower-base moments are force sums over the elements
 including the inertial loads of the accelerations of the step.
 
 Frames (DESIGN.md §3): inertial x downwind, z up, y to the left looking downwind, origin at
@@ -695,9 +703,9 @@ class TurbineModel:
         self._edge_stiffness = edge.stiffness
         self._edge_centrifugal = edge.centrifugal_stiffness
         self._edge_damping = 2.0 * edge.damping_ratio * math.sqrt(edge.stiffness * edge.modal_mass)
-        # The rotor's rotation and an edgewise deflection move the blade's mass along e_t alike: their coupling
-        # int mu phi_edge r ds in the kinetic energy.
-        self._edge_rotor_coupling = cb * edge_arms[1]
+        # The rotor's rotation moves the blade's mass along e_t, as a mode does by its part along e_t: their
+        # coupling is that part of int mu phi r ds (r = s_abs cos cone) in the kinetic energy.
+        self._flap_rotor_arm, self._edge_rotor_arm = cb * flap_arms[1], cb * edge_arms[1]
         # Drivetrain.
         drivetrain = t.drivetrain
         self._gearbox_ratio = drivetrain.gearbox_ratio
@@ -768,9 +776,10 @@ class TurbineModel:
             # point per metre of tower-top motion (arms from the root shifted to the apex).
             "fa": np.array([c0[d] + rh * c1[d] if f == 0 else c1[d] if f == 1 else 0 * c1[d] for d, f in LOAD_ROWS]),
             "ss": np.array([y_part[d] if f == 0 else 0 * y_part[d] for d, f in LOAD_ROWS]),
-            # Each mode's inertial coupling with the tower coordinates: int mu phi (U . e) ds.
-            "coupling": np.array([c0["n"] * flap_arms[0] + c1["n"] * flap_arms[1], y_part["n"] * flap_arms[0]]),
-            "edge_coupling": np.array([c0["t"] * edge_arms[0] + c1["t"] * edge_arms[1], y_part["t"] * edge_arms[0]]),
+            # Each mode's inertial coupling with the tower coordinates, int mu phi (U . e) ds, for a mode along e_n
+            # and along e_t (combined with the mode's direction each step).
+            **{f"{mode}_coupling_{d}": np.array([c0[d] * arms[0] + c1[d] * arms[1], y_part[d] * arms[0]])
+               for mode, arms in (("flap", flap_arms), ("edge", edge_arms)) for d in ("n", "t")},
             "inertia_fa": np.array([c0[d] * w + c1[d] * wn for d, w, wn, _ in by_row]),
             "inertia_ss": np.array([y_part[d] * w for d, w, _, _ in by_row]),
             "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
@@ -793,16 +802,17 @@ class TurbineModel:
         self._tower_force_rows = slice(rows["fa"].start, rows["ss"].stop)
         self._inertia_rows = slice(rows["inertia_fa"].start, rows["inertia_ss"].stop)
         self._inflow_motion_rows = slice(rows["inflow_motion_fa"].start, rows["inflow_motion_ss"].stop)
-        # Per blade: cos psi, sin psi, 1, the rotor's omega^2 and omega^2 times the edgewise deflection. Load sums
-        # without the inertia of the accelerations: gravity, centrifugal loads (radial, along e_r = cb e_z + sb e_n,
-        # and along e_t where the edgewise deflection moves the mass off the radius), linear in these.
-        self._blade_basis = np.ones((5, b))
+        # Per blade: cos psi, sin psi, 1, the rotor's omega^2 and omega^2 times each mode's deflection along e_t.
+        # Load sums without the inertia of the accelerations: gravity, centrifugal loads (radial, along
+        # e_r = cb e_z + sb e_n, and along e_t where a deflection moves the mass off the radius), linear in these.
+        self._blade_basis = np.ones((6, b))
         self._trig = self._blade_basis[:3]
         self._load_operator = np.column_stack((
             [gravity_part[d] * w for d, w, _, _ in by_row],
             [sb * r if d == "n" else cb * r if d == "z" else 0.0 for d, _, _, r in by_row],
+            [flap_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS],
             [edge_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS]))
-        self._placement = np.empty((3, b, 4))  # per coordinate and blade: apex, e_z, flap e_n, edge e_t
+        self._placement = np.empty((3, b, 4))  # per coordinate and blade: apex, e_z, flap and edge directions
         # The wind is sampled at the elements and, after each blade's last element, at the
         # rotor apex (s_abs = 0 without deflection), whose wind is the hub wind.
         self._point_basis = np.column_stack((self._element_basis, (1.0, 0.0, 0.0, 0.0)))
@@ -818,23 +828,19 @@ class TurbineModel:
         self._inflow_operands[3 * b:] = self._element_basis
         self._inflow = np.empty((2, b, n))
         # Inertial load sums of the accelerations [fa, ss, flap 1..B, edge 1..B, rotor] as one product: the tower
-        # rows follow the azimuth (set each step); a blade's flap acceleration acts on its own e_n rows, its edgewise
-        # acceleration and the rotor's on its e_t rows.
+        # rows follow the azimuth, a blade's modes its pitch (both set each step): a mode's acceleration acts on its
+        # own blade's e_n and e_t rows by its direction; the rotor's on every blade's e_t rows.
         self._inertia_operator = np.zeros((3 + 2 * b, len(LOAD_ROWS), b))
-        every = np.arange(b)
-        for r, (d, f) in enumerate(LOAD_ROWS):
-            if d == "n":
-                self._inertia_operator[2 + every, r, every] = flap_sums[f]
-            elif d == "t":
-                self._inertia_operator[2 + b + every, r, every] = edge_sums[f]
-                self._inertia_operator[2 + 2 * b, r, :] = radius_sums[f]
-        # Per-blade outputs as one product with the load sums; the parts weighted by the flap deflection w and the
-        # edgewise deflection v are added from the last four rows. Apex moments A = s F_n + r_h F_n - w phi F_z
-        # (about -e_t), B = s F_t + r_h F_t - v phi_e F_z (about e_n), C = w phi F_t - v phi_e F_n (about -e_z);
-        # root moments oop = s F_n - w phi F_z, ip = s F_t - v phi_e F_z; forces F_n, F_t, F_z.
+        self._mode_inertia = {(mode, d): np.array([weights[f] if row == d else 0.0 for row, f in LOAD_ROWS])
+                              for mode, weights in (("flap", flap_sums), ("edge", edge_sums)) for d in ("n", "t")}
+        self._inertia_operator[2 + 2 * b] = np.array([radius_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS])[:, None]
+        # Per-blade outputs as one product with the load sums; the parts weighted by the deflections are added from
+        # the last six rows (_make_output). Apex moments A = s F_n + r_h F_n (about -e_t), B = s F_t + r_h F_t (about
+        # e_n), C (about -e_z); root moments oop = s F_n, ip = s F_t; forces F_n, F_t, F_z; then phi F_z, phi F_t and
+        # phi F_n of each mode (flap, edge).
         selected = [(("n", 0), rh), (("n", 1), 1.0)], [(("t", 0), rh), (("t", 1), 1.0)], [], [(("n", 1), 1.0)], \
-            [(("t", 1), 1.0)], [(("n", 0), 1.0)], [(("t", 0), 1.0)], [(("z", 0), 1.0)], [(("z", 2), 1.0)], [(("t", 2), 1.0)], \
-            [(("z", 3), 1.0)], [(("n", 3), 1.0)]
+            [(("t", 1), 1.0)], [(("n", 0), 1.0)], [(("t", 0), 1.0)], [(("z", 0), 1.0)], \
+            *([((d, f), 1.0)] for d in ("z", "t", "n") for f in (2, 3))
         self._output_selector = np.zeros((len(selected), len(LOAD_ROWS)))
         for k, terms in enumerate(selected):
             for key, value in terms:
@@ -876,12 +882,19 @@ class TurbineModel:
         apex = (self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
                 self._tower_height + self._apex_z_top + x_top * u0z)
         self._apex = apex
-        # Element positions apex + s_abs e_z + flap phi e_n + edge phi_e e_t.
+        # The modes turn with the blade's pitch theta (ElastoDyn's): the flap mode along d_f = cos theta e_n +
+        # sin theta e_t, the edgewise mode along d_e = cos theta e_t - sin theta e_n (the chord's direction: at
+        # feather the flap mode is in the rotor plane). Element positions apex + s_abs e_z + w phi_f d_f + v phi_e d_e.
+        cos_pitch, sin_pitch = np.cos(self._pitch), np.sin(self._pitch)
+        self._pitch_trig = cos_pitch, sin_pitch
+        flap_n, flap_t = self._flap * cos_pitch, self._flap * sin_pitch
+        edge_n, edge_t = -self._edge * sin_pitch, self._edge * cos_pitch
+        self._deflection_parts = flap_n, flap_t, edge_n, edge_t
         placement = self._placement
         placement[:, :, 0].T[...] = apex
         placement[:, :, 1] = features[6:9]
-        np.multiply(features[0:3], self._flap, out=placement[:, :, 2])
-        np.multiply(features[3:6], self._edge, out=placement[:, :, 3])
+        placement[:, :, 2] = features[0:3] * flap_n + features[3:6] * flap_t
+        placement[:, :, 3] = features[0:3] * edge_n + features[3:6] * edge_t
         points = np.dot(placement.reshape(3 * b, 4), self._point_basis).reshape(3, b, n + 1)
         drag = self._tower_drag
         if drag is None:
@@ -912,8 +925,11 @@ class TurbineModel:
         motion = self._inflow_motion
         tower_parts = np.dot(self._tower_rate, features[self._inflow_motion_rows].reshape(2, 4 * b))
         motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(0, 2, 1)
-        np.negative(self._flap_rate, out=motion[0, :, 2])
-        motion[1, :, 3] = self._edge_rate
+        # vx takes minus the speed along e_n, vy the speed along e_t.
+        motion[0, :, 2] = -self._flap_rate * cos_pitch
+        motion[0, :, 3] = self._edge_rate * sin_pitch
+        motion[1, :, 2] = self._flap_rate * sin_pitch
+        motion[1, :, 3] = self._edge_rate * cos_pitch
         motion[1, :, 1] += self._rotor_speed * self._cos_cone
         operator = self._inflow_operator
         operator.put(self._inflow_axes_index, features[self._rows["inflow_axes"]])
@@ -942,8 +958,10 @@ class TurbineModel:
         self._shaft_torque = shaft
         omega2 = self._rotor_speed * self._rotor_speed
         # Per-blade load sums without the inertia of the accelerations (unknown yet).
+        _, flap_t, _, edge_t = self._deflection_parts
         self._blade_basis[3] = omega2
-        np.multiply(self._edge, omega2, out=self._blade_basis[4])
+        np.multiply(flap_t, omega2, out=self._blade_basis[4])
+        np.multiply(edge_t, omega2, out=self._blade_basis[5])
         loads = np.dot(self._load_operator, self._blade_basis)
         aero_loads = loads[0:8].reshape(2, 4, b)  # a view: the e_n and e_t rows
         aero_loads += aero.transpose(0, 2, 1)
@@ -953,10 +971,15 @@ class TurbineModel:
         q_fa = tower_fa + self._fa_gravity_force + self._tower_drag_loads.fa_force
         q_ss = tower_ss + self._tower_drag_loads.ss_force - self._slope_ss * self._cos_tilt * shaft * (
             1.0 - 1.0 / self._gearbox_ratio)
+        # Each mode's generalized force: its phi-weighted loads along its direction (rows (n, 2), (t, 2), (n, 3),
+        # (t, 3) of LOAD_ROWS).
+        cos_pitch, sin_pitch = self._pitch_trig
         self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
-        self._flap_residual = loads[2] - self._flap_damping * self._flap_rate - self._flap_stiffness_now * self._flap
+        self._flap_residual = cos_pitch * loads[2] + sin_pitch * loads[6] - self._flap_damping * self._flap_rate \
+            - self._flap_stiffness_now * self._flap
         self._edge_stiffness_now = self._edge_stiffness + self._edge_centrifugal * omega2
-        self._edge_residual = loads[7] - self._edge_damping * self._edge_rate - self._edge_stiffness_now * self._edge
+        self._edge_residual = cos_pitch * loads[7] - sin_pitch * loads[3] - self._edge_damping * self._edge_rate \
+            - self._edge_stiffness_now * self._edge
         (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
         (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
         self._residual_fa = q_fa - damping_fa * rate_fa - stiffness_fa * x_top
@@ -964,7 +987,9 @@ class TurbineModel:
         self._rotor_residual = self._aero_torque + self._gravity_torque - shaft
         # The mass matrix over [tower fa, tower ss, flap 1..B, edge 1..B, rotor] reduced to the tower coordinates
         # and the rotor (Schur complement of the diagonal blade blocks, module notes).
-        coupling, edge_coupling = features[rows["coupling"]], features[rows["edge_coupling"]]
+        coupling = cos_pitch * features[rows["flap_coupling_n"]] + sin_pitch * features[rows["flap_coupling_t"]]
+        edge_coupling = cos_pitch * features[rows["edge_coupling_t"]] - sin_pitch * features[rows["edge_coupling_n"]]
+        self._rotor_couplings = self._flap_rotor_arm * sin_pitch, self._edge_rotor_arm * cos_pitch
         fa_mass = features[rows["fa_mass"]]
         linear, quadratic = self._fa_mass_azimuthal
         mass_fa = (self._fa_mass_constant + linear * sum(fa_mass[0].tolist())
@@ -973,29 +998,29 @@ class TurbineModel:
         reduced = [mass_fa, 0.0, self._ss_mass, self._residual_fa, self._residual_ss, 0.0, 0.0, self._rotor_inertia,
                    self._rotor_residual]
         if self._operating:  # otherwise the blades are held rigid at their deflection (module notes)
-            self._reduce(reduced, coupling, self._flap_residual, self._flap_mass, 0.0)
+            self._reduce(reduced, coupling, self._flap_residual, self._flap_mass, self._rotor_couplings[0])
         if self._flexible_edge:
-            self._reduce(reduced, edge_coupling, self._edge_residual, self._edge_mass, self._edge_rotor_coupling)
+            self._reduce(reduced, edge_coupling, self._edge_residual, self._edge_mass, self._rotor_couplings[1])
         self._schur = reduced
 
     @staticmethod
-    def _reduce(reduced: list, coupling: np.ndarray, residual: np.ndarray, mass: float, rotor_coupling: float) -> None:
-        """Eliminate one mode of every blade (generalized mass ``mass``, inertial coupling ``coupling`` (2, B) with the
-        tower and ``rotor_coupling`` with the rotor, generalized force ``residual`` (B,)) from the reduced system
+    def _reduce(reduced: list, coupling: np.ndarray, residual: np.ndarray, mass: float,
+                rotor_coupling: np.ndarray) -> None:
+        """Eliminate one mode of every blade (generalized mass ``mass``, inertial couplings ``coupling`` (2, B) with the
+        tower and ``rotor_coupling`` (B,) with the rotor, generalized forces ``residual`` (B,)) from the reduced system
         ``reduced`` = [m_fa, m_fa_ss, m_ss, r_fa, r_ss, m_fa_rotor, m_ss_rotor, m_rotor, r_rotor], in place."""
         (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
         projected_fa, projected_ss = np.dot(coupling, residual).tolist()
-        total_fa, total_ss = np.add.reduce(coupling, axis=1).tolist()
-        c = rotor_coupling / mass
+        rotor_fa, rotor_ss = np.dot(coupling, rotor_coupling).tolist()
         reduced[0] -= p00 / mass
         reduced[1] -= p01 / mass
         reduced[2] -= p11 / mass
         reduced[3] -= projected_fa / mass
         reduced[4] -= projected_ss / mass
-        reduced[5] -= c * total_fa
-        reduced[6] -= c * total_ss
-        reduced[7] -= c * rotor_coupling * len(residual)
-        reduced[8] -= c * sum(residual.tolist())
+        reduced[5] -= rotor_fa / mass
+        reduced[6] -= rotor_ss / mass
+        reduced[7] -= float(np.dot(rotor_coupling, rotor_coupling)) / mass
+        reduced[8] -= float(np.dot(rotor_coupling, residual)) / mass
 
     def _skew(self) -> tuple[bool, float, np.ndarray]:
         """Pitt & Peters's skewed wake for the wind at the rotor apex: whether it is skewed, its angle χ_0 to the
@@ -1029,11 +1054,13 @@ class TurbineModel:
         b = self._b
         out = np.zeros(3 + 2 * b)
         out[0], out[1], out[-1] = x_acc, y_acc, rotor_acc
+        flap_rotor, edge_rotor = self._rotor_couplings
         if self._operating:
-            out[2:2 + b] = (self._flap_residual - np.dot(out[:2], self._coupling)) / self._flap_mass
+            out[2:2 + b] = (self._flap_residual - np.dot(out[:2], self._coupling)
+                            - flap_rotor * rotor_acc) / self._flap_mass
         if self._flexible_edge:
             out[2 + b:2 + 2 * b] = (self._edge_residual - np.dot(out[:2], self._edge_coupling)
-                                    - self._edge_rotor_coupling * rotor_acc) / self._edge_mass
+                                    - edge_rotor * rotor_acc) / self._edge_mass
         return out
 
     # ------------------------------------------------------------------ outputs
@@ -1045,15 +1072,25 @@ class TurbineModel:
         inertia = self._inertia_operator
         rows = len(LOAD_ROWS)
         inertia[0:2] = features[self._inertia_rows].reshape(2, rows, b)
+        cos_pitch, sin_pitch = self._pitch_trig
+        every, modal = np.arange(b), self._mode_inertia
+        inertia[2 + every, :, every] = np.outer(cos_pitch, modal["flap", "n"]) + np.outer(sin_pitch, modal["flap", "t"])
+        inertia[2 + b + every, :, every] = np.outer(cos_pitch, modal["edge", "t"]) \
+            - np.outer(sin_pitch, modal["edge", "n"])
         loads = self._loads - np.dot(acc, inertia.reshape(3 + 2 * b, rows * b)).reshape(rows, b)
         per_blade = np.dot(self._output_selector, loads)
-        flapped = self._flap * per_blade[8:10]
-        edged = self._edge * per_blade[10:12]
-        per_blade[0] -= flapped[0]
-        per_blade[1] -= edged[0]
-        per_blade[2] = flapped[1] - edged[1]
-        oop = per_blade[3] - flapped[0]
-        ip = per_blade[4] - edged[0]
+        # The deflections' moment arms: along e_n (flap_n, edge_n) against the axial force about -e_t and the
+        # in-plane force about -e_z; along e_t against the axial force about e_n and the out-of-plane force.
+        flap_n, flap_t, edge_n, edge_t = self._deflection_parts
+        (flap_z, edge_z), (flap_tangential, edge_tangential), (flap_normal, edge_normal) = \
+            per_blade[8:10], per_blade[10:12], per_blade[12:14]
+        along_n = flap_n * flap_z + edge_n * edge_z
+        along_t = flap_t * flap_z + edge_t * edge_z
+        per_blade[0] -= along_n
+        per_blade[1] -= along_t
+        per_blade[2] = flap_n * flap_tangential + edge_n * edge_tangential - flap_t * flap_normal - edge_t * edge_normal
+        oop = per_blade[3] - along_n
+        ip = per_blade[4] - along_t
         # Moments about the apex per blade: A about -e_t, B about e_n, C about -e_z; summed
         # against cos, sin and 1 of the blade azimuths.
         (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = np.dot(self._trig, per_blade[0:3].T).tolist()

@@ -12,9 +12,10 @@ the plant's modal model (:mod:`hawt_plant.modal`), each on its own:
   tower with the blades); over a flexible base, the tower's beam includes its substructure
   (:class:`hawt_plant.turbine.Tower`), and the summary says what the tower stands on;
 - drivetrain: the free-free torsion of the rotor and the generator on the shaft spring K,
-  sqrt(K (1 / J_rotor + 1 / (N^2 J_generator))), J_rotor the hub's and the coned blades' inertia about the shaft;
-- blade edgewise: the plant has no such mode; :func:`hawt_plant.modal.blade_edgewise_frequency` estimates it from
-  the edge stiffness (standing still).
+  sqrt(K (1 / J_rotor + 1 / (N^2 J_generator))), J_rotor the hub's and the coned blades' inertia about the shaft
+  (the blades rigid edgewise: in the plant their edgewise modes lower it);
+- blade edgewise: sqrt(k / m) of the first edgewise mode standing still; for a blade without one (rigid edgewise in
+  the plant) :func:`hawt_plant.modal.blade_edgewise_frequency`'s estimate from the edge stiffness.
 
 It also lists the definition's aerodynamic options (what the plant runs unless its parameters say otherwise), each
 with its source, and the levels of its protection system (:class:`hawt_plant.turbine.ProtectionLimits`).
@@ -28,7 +29,8 @@ import numpy as np
 from scipy.optimize import brentq, minimize
 
 from hawt_plant.bem import BemBlade, rotor_performance
-from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties, rotor_inertia, tower_modal_properties
+from hawt_plant.modal import (blade_edge_mode, blade_edgewise_frequency, blade_modal_properties, rotor_inertia,
+                              tower_modal_properties)
 from hawt_plant.operating_point import schedule_rotor_speed
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, ProtectionLimits, Turbine
 
@@ -82,7 +84,9 @@ class TurbineSummary:
     drivetrain_frequency : float
         Free-free shaft torsion [Hz].
     blade_edge_frequency : float
-        First edgewise mode standing still, estimated (module notes) [Hz].
+        First edgewise mode standing still (module notes) [Hz].
+    blade_edge_modelled : bool
+        Whether the plant has the edgewise mode (else the frequency is an estimate and the blades rigid edgewise).
     aerodynamics : AerodynamicOptions
         The definition's aerodynamic options, with their sources.
     """
@@ -111,6 +115,7 @@ class TurbineSummary:
     tower_ss_frequency: float
     drivetrain_frequency: float
     blade_edge_frequency: float
+    blade_edge_modelled: bool
     aerodynamics: AerodynamicOptions
     protection: ProtectionLimits
 
@@ -167,6 +172,7 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
     cp, tsr, pitch = peak_power_coefficient(turbine, bem)
     rotor, schedule = turbine.rotor, turbine.schedule
     blade = blade_modal_properties(turbine)
+    edge = blade_edge_mode(turbine)
     omega = schedule.rated_rotor_speed
     top = rotor.hub_mass + turbine.nacelle.mass + rotor.number_of_blades * blade.mass
     tower = {direction: tower_modal_properties(turbine, direction, top) for direction in ("fa", "ss")}
@@ -192,7 +198,8 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         tower_fa_frequency=hertz(tower["fa"].stiffness, tower["fa"].modal_mass + top),
         tower_ss_frequency=hertz(tower["ss"].stiffness, tower["ss"].modal_mass + top),
         drivetrain_frequency=hertz(drivetrain.torsional_stiffness, torsion_inertia),
-        blade_edge_frequency=blade_edgewise_frequency(turbine),
+        blade_edge_frequency=edge.natural_frequency / (2.0 * math.pi) if edge else blade_edgewise_frequency(turbine),
+        blade_edge_modelled=edge is not None,
         aerodynamics=turbine.aerodynamics, protection=turbine.protection,
     )
 
@@ -223,9 +230,10 @@ def format_summary(summary: TurbineSummary) -> str:
         f"{math.degrees(s.optimal_pitch):.2f} deg (the plant's steady BEM; the schedule's tip-speed ratio "
         f"{s.schedule_tip_speed_ratio:g})",
         f"first modes: blade flap {s.blade_flap_frequency:.3f} Hz standing, {s.blade_flap_frequency_rated:.3f} Hz at "
-        f"rated speed, blade edgewise {s.blade_edge_frequency:.3f} Hz standing (estimated); tower fore-aft "
-        f"{s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; drivetrain torsion "
-        f"{s.drivetrain_frequency:.3f} Hz",
+        f"rated speed, blade edgewise {s.blade_edge_frequency:.3f} Hz standing"
+        f"{'' if s.blade_edge_modelled else ' (estimated; the plant holds the blades rigid edgewise)'}; tower "
+        f"fore-aft {s.tower_fa_frequency:.3f} Hz, side-side {s.tower_ss_frequency:.3f} Hz; drivetrain torsion "
+        f"{s.drivetrain_frequency:.3f} Hz (blades rigid edgewise)",
         f"the tower stands on {_tower_base(s)}",
         "aerodynamics (what the plant runs; its parameter of the same name, true or false, overrides one):",
         *(f"  {s.aerodynamics.state(name)}: {s.aerodynamics.sources[name]}" for name in AERODYNAMIC_OPTIONS),

@@ -21,7 +21,8 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
   that one), with its UA coefficients alpha0, C_nalpha, Cd0 for the plant's unsteady airfoil option when it has
   them;
 - blade structure: ED blade file BlFract, StrcTwst, BMassDen with AdjBlMs, FlpStff x AdjFlSt x FlStTunr(1),
-  EdgStff x AdjEdSt, BldFl1Sh, BldFlDmp(1);
+  EdgStff x AdjEdSt, BldFl1Sh, BldFlDmp(1), and BldEdgSh, BldEdDmp(1) if ED EdgeDOF (else the blade is rigid
+  edgewise);
 - tower: ED TowerHt, tower file HtFract, TMassDen x AdjTwMa, TwFAStif x AdjFASt x FAStTunr(1), TwSSStif x AdjSSSt
   x SSStTunr(1), TwFAM1Sh, TwSSM1Sh, TwrFADmp(1), TwrSSDmp(1); AD TwrElev, TwrDiam, TwrCd (their mean, if the
   nodes differ) for the tower shadow and drag. A tower on a substructure (ED TowerBsHt > 0) keeps its heights
@@ -316,7 +317,7 @@ def import_deck(fst: str | os.PathLike) -> ImportedTurbine:
     torsion = _torsion_frequency(ed, blade, files)
     base = _number(ed, "TowerBsHt", files["ed"])
     substructure = _monopile(deck, main, base, files) if base else "on the ground"
-    structure = _blade_structure(blade, length, files["blade"])
+    structure = _blade_structure(blade, length, files["blade"], ed["EdgeDOF"])
     nacelle = _nacelle(ed, files["ed"])
     top_mass = (_number(ed, "HubMass", files["ed"]) + nacelle["mass"].value
                 + ed["NumBl"] * structure["reference_mass"].value)
@@ -542,7 +543,8 @@ def _airfoil(deck: _Deck, ad: Mapping[str, Any], index: int, ad_file: str) -> Im
                            unsteady=(math.radians(unsteady[0]), unsteady[1], unsteady[2]) if usable else None)
 
 
-def _blade_structure(blade: Mapping[str, Any], length: float, file: str) -> Dict[str, Sourced]:
+def _blade_structure(blade: Mapping[str, Any], length: float, file: str, edgewise: bool) -> Dict[str, Sourced]:
+    """The blade's structure; its edgewise mode where the deck's ElastoDyn has it (``edgewise``, EdgeDOF)."""
     fraction = _array(blade, "BlFract", file)
     factor = _number(blade, "AdjBlMs", file)
     density = _array(blade, "BMassDen", file)
@@ -555,6 +557,9 @@ def _blade_structure(blade: Mapping[str, Any], length: float, file: str) -> Dict
         "mass_density_factor": Sourced(factor, f"{file} AdjBlMs"),
         "flap_damping_ratio": Sourced(_number(blade, "BldFlDmp1", file) / 100.0, f"{file} BldFlDmp(1) [%]"),
         "flap_mode_shape": Sourced(_array(blade, "BldFl1Sh", file), f"{file} BldFl1Sh(2..6), x^2..x^6"),
+        **({"edge_damping_ratio": Sourced(_number(blade, "BldEdDmp1", file) / 100.0, f"{file} BldEdDmp(1) [%]"),
+            "edge_mode_shape": Sourced(_array(blade, "BldEdgSh", file), f"{file} BldEdgSh(2..6), x^2..x^6")}
+           if edgewise else {}),
         "span_fraction": Sourced(fraction, f"{file} BlFract"),
         "structural_twist": Sourced(np.radians(_array(blade, "StrcTwst", file)), f"{file} StrcTwst [deg]"),
         "mass_density": Sourced(density, f"{file} BMassDen"),
@@ -954,13 +959,14 @@ def _approximations(ed: Mapping[str, Any], torsion: float, ad: Mapping[str, Any]
 
 def _not_modelled(main: Mapping[str, Any], ed: Mapping[str, Any], ad: Mapping[str, Any], ad_blade: Mapping[str, Any],
                   sd: Mapping[str, Any], substructure: _Monopile | str, files: Mapping[str, str]) -> List[str]:
-    """What of the deck the plant does not model (one flap mode per blade, first tower modes, drivetrain torsion,
-    second-order pitch actuators, quasi-steady or Øye BEM; ``substructure``: the tower's base, :func:`_tower`)."""
+    """What of the deck the plant does not model (it has the first flap and edgewise modes per blade, first tower modes,
+    drivetrain torsion, second-order pitch actuators, quasi-steady or Øye BEM; ``substructure``: the tower's base,
+    :func:`_tower`)."""
     ed_file, blade_file, tower_file, ad_file = files["ed"], files["blade"], files["tower"], files["ad"]
     out = []
-    if ed["FlapDOF2"] or ed["EdgeDOF"]:
-        out.append(f"blade second flap and first edgewise modes ({ed_file} FlapDOF2 = {ed['FlapDOF2']}, EdgeDOF = "
-                   f"{ed['EdgeDOF']}; {blade_file} BldFl2Sh, BldEdgSh, BldEdDmp(1)): one flap mode per blade")
+    if ed["FlapDOF2"]:
+        out.append(f"blade second flap mode ({ed_file} FlapDOF2 = True; {blade_file} BldFl2Sh, BldFlDmp(2)): the first "
+                   "flap and edgewise modes per blade")
     if ed["TwFADOF2"] or ed["TwSSDOF2"]:
         out.append(f"tower second fore-aft and side-side modes ({ed_file} TwFADOF2 = {ed['TwFADOF2']}, TwSSDOF2 = "
                    f"{ed['TwSSDOF2']}; {tower_file} TwFAM2Sh, TwSSM2Sh)")

@@ -1,11 +1,12 @@
 """turbine_summary: rated values, the BEM's peak power coefficient and the first modes of a definition."""
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from hawt_plant.bem import rotor_performance
-from hawt_plant.modal import blade_edgewise_frequency, blade_modal_properties
+from hawt_plant.modal import blade_edge_mode, blade_edgewise_frequency, blade_modal_properties
 from hawt_plant.turbine import nrel_5mw
 from hawt_plant.turbine_summary import format_summary, peak_power_coefficient, turbine_summary
 
@@ -41,10 +42,12 @@ def test_the_bem_rated_wind_speed_gives_rated_power_on_the_schedule(summary):
 
 def test_the_modes_are_the_modal_models_one_at_a_time(summary):
     """The flap mode is sqrt(k/m), stiffened by the rotation at rated speed; the drivetrain's is the two-inertia
-    torsion of the rotor inertia the summary gives; the edgewise mode is modal.py's estimate; the tower modes are
+    torsion of the rotor inertia the summary gives; the edgewise mode is the blade's mode sqrt(k/m), modal.py's estimate
+    for a blade rigid edgewise; the tower modes are
     near Jonkman's FAST values (0.324 and 0.312 Hz), a little above them without the rotor's and nacelle's rotary
     inertia."""
     turbine = nrel_5mw()
+    rigid = replace(turbine, blade_structure=replace(turbine.blade_structure, edge_mode_shape=None))
     blade = blade_modal_properties(turbine)
     assert summary.blade_flap_frequency == pytest.approx(blade.natural_frequency / (2 * math.pi))
     omega = turbine.schedule.rated_rotor_speed
@@ -54,7 +57,9 @@ def test_the_modes_are_the_modal_models_one_at_a_time(summary):
     rotor = turbine.rotor.hub_inertia + 3 * math.cos(turbine.rotor.cone_angle) ** 2 * (
         blade.second_moment + 2 * 1.5 * blade.first_moment + 1.5**2 * blade.mass)
     assert summary.rotor_inertia == pytest.approx(rotor)
-    assert summary.blade_edge_frequency == blade_edgewise_frequency(turbine)
+    assert summary.blade_edge_frequency == pytest.approx(blade_edge_mode(turbine).natural_frequency / (2 * math.pi))
+    assert summary.blade_edge_modelled
+    assert turbine_summary(rigid).blade_edge_frequency == blade_edgewise_frequency(rigid)
     generator = turbine.drivetrain.generator_inertia * 97.0**2
     assert summary.drivetrain_frequency == pytest.approx(
         math.sqrt(turbine.drivetrain.torsional_stiffness * (1 / rotor + 1 / generator)) / (2 * math.pi))

@@ -68,6 +68,8 @@ MATCHES = {
     "blade_structure.edge_stiffness": (0.0, 0.0, "EdgStff; AdjEdSt is 1"),
     "blade_structure.flap_mode_shape": EXACT,
     "blade_structure.flap_damping_ratio": (1e-12, 0.0, "BldFlDmp(1) / 100"),
+    "blade_structure.edge_mode_shape": EXACT,
+    "blade_structure.edge_damping_ratio": (1e-12, 0.0, "BldEdDmp(1) / 100"),
     "tower.height": EXACT,
     "tower.height_fraction": EXACT,
     "tower.mass_density": EXACT,
@@ -432,7 +434,7 @@ def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(h
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "8 airfoil polars" in result.stdout and "not modelled:" in result.stdout
-    assert "BldFl2Sh, BldEdgSh" in result.stdout
+    assert "BldFl2Sh, BldFlDmp(2)" in result.stdout and "BldEdgSh" not in result.stdout
     assert sorted(path.stem for path in (tmp_path / "n5" / "airfoils").iterdir()) == sorted(nrel_5mw().airfoils)
     show = subprocess.run([*hawt_cli, "turbine", "show", str(tmp_path / "n5")], capture_output=True, text=True,
                           timeout=120)
