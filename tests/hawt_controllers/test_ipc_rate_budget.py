@@ -22,18 +22,19 @@ def test_the_budget_is_the_pitch_that_cancels_the_steady_shear_moment_at_its_har
     assert 1.0 < math.degrees(budget.amplitude) < 2.5  # the 1P of shear 0.2 over dM/dθ of −54 MN·m/rad
     assert 0.2 < budget.share < 0.35
     uniform = rate_budget(turbine, response, shear=0.0)
-    assert uniform.amplitude < 0.2 * budget.amplitude  # without shear only tilt and gravity are left
+    assert uniform.amplitude < 0.25 * budget.amplitude  # without shear only tilt and gravity are left (22 %)
 
 
-def test_on_the_iea_15mw_1p_alone_takes_most_of_the_2_deg_per_second_and_is_the_only_harmonic_left_active(
+def test_on_the_iea_15mw_1p_takes_most_of_the_2_deg_per_second_and_2p_just_fits_beside_it(
         imported_deck):
-    """The imported IEA 15 MW (on its monopile): 1P takes more than half of its 2 °/s, and with 2P it would pass the
-    budget (1P+2P tripped its overspeed protection in turbulence), so the design leaves 1P alone active."""
+    """The imported IEA 15 MW (on its monopile): 1P takes more than half of its 2 °/s (62 %), 1P+2P 74 %, just within
+    the budget. (With its blades rigid edgewise 1P took 67 % and 1P+2P 80 %, which tripped the overspeed protection in
+    turbulence.)"""
     turbine = turbine_from(str(imported_deck(IEA_15MW)))
     budgets = [rate_budget(turbine, measure_harmonic_response(turbine, 18.0, n)) for n in (1, 2)]
     assert math.degrees(budgets[0].max_rate) == pytest.approx(2.0, rel=1e-3)
     assert budgets[0].share > 0.5
-    assert within_budget(budgets) == [1]
+    assert within_budget(budgets) == [1, 2]
 
 
 def _budget(harmonic: int, share: float) -> RateBudget:
@@ -57,15 +58,15 @@ def _design(turbine: Turbine) -> dict:
 
 
 def test_on_the_nrel_5mw_1p_2p_and_3p_fit_the_budget_and_the_design_leaves_them_active(capsys):
-    """The NREL 5 MW's 8 °/s: 1P, 2P and 3P take 37 % together."""
+    """The NREL 5 MW's 8 °/s: 1P, 2P and 3P take 36 % together."""
     nodes = _design(nrel_5mw())
     assert all("active" not in node["ros__parameters"] for node in nodes.values())
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1, h2, h3 take 37 % together, within 75 % of the actuator's 8.0 deg/s: all active")
+        "rate budget: h1, h2, h3 take 36 % together, within 75 % of the actuator's 8.0 deg/s: all active")
 
 
 def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_inactive(capsys):
-    """The NREL 5 MW with a 3 °/s actuator: 1P takes 71 %, 1P+2P would take 85 %; 2P and 3P keep their design but are
+    """The NREL 5 MW with a 3 °/s actuator: 1P takes 67 %, 1P+2P would take 82 %; 2P and 3P keep their design but are
     written inactive, and the design says how to start one anyway."""
     turbine = nrel_5mw()
     slow = replace(turbine, pitch_actuator=replace(turbine.pitch_actuator, max_rate=math.radians(3.0)))
@@ -73,6 +74,6 @@ def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_in
     assert [nodes[f"/**/ipc_h{n}"]["ros__parameters"].get("active", True) for n in (1, 2, 3)] == [True, False, False]
     assert nodes["/**/ipc_h3"]["ros__parameters"]["integral_gain"] > 0.0
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1 takes 71 %, within 75 % of the actuator's 3.0 deg/s; h2 would bring it to 85 %: h2, h3 "
+        "rate budget: h1 takes 67 %, within 75 % of the actuator's 3.0 deg/s; h2 would bring it to 82 %: h2, h3 "
         "written inactive (active: false, which the graphs' ipc_hN arguments do not override; -p "
         "ipc_h2.active:=true starts one active, hawt switch --activate ipc_h2 brings one in)")

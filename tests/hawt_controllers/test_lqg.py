@@ -40,16 +40,16 @@ def shipped():
     return {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}
 
 
-@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.40, 21.1), (18.0, 3.14, 38.2),
-                                                              (24.0, 3.50, 57.5)])
+@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.37, 21.2), (18.0, 2.98, 37.9),
+                                                              (24.0, 3.27, 57.3)])
 def test_check_12_the_baseline_collective_loop_has_selvam_s_gain_margin_and_his_phase_margin_only_at_24_m_s(
         shipped, speed, gain_margin, phase_margin):
     """Check 12 asks GM >= 2 and PM >= 45 deg of the collective PI. This project's is Jonkman's baseline (PI on the
     0.25 Hz low-passed generator speed, gain-scheduled at the operating pitch), here on the model's collective pitch
     command -> generator speed (pitch actuator, drivetrain, blades' edgewise modes and tower included) with the torque
-    held: GM 2.40, 3.14, 3.50 and PM 21.1, 38.2, 57.5 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
+    held: GM 2.37, 2.98, 3.27 and PM 21.2, 37.9, 57.3 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
     only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (With the blades rigid edgewise: GM
-    2.41, 3.19, 3.51, PM 21.2, 38.3, 57.5 deg. On the plant before it took AeroDyn 15's nodes: GM 2.45,
+    2.41, 3.19, 3.51, PM 21.2, 38.3, 57.5 deg; with edgewise modes not turning with the pitch, GM 2.40, 3.14, 3.50. On the plant before it took AeroDyn 15's nodes: GM 2.45,
     3.18, 3.49 with phase crossovers at 0.17, 0.23, 0.26 Hz, PM 21.6, 38.4, 57.5 deg with gain crossovers at 0.09,
     0.11, 0.11 Hz; closing the region-3 torque law T = P/ω_f as well gave GM 2.33, 3.11, 3.44 and PM 15.3, 32.9,
     52.0 deg.)"""
@@ -73,22 +73,23 @@ def test_the_stability_margins_of_a_loop_with_known_crossovers():
 @pytest.mark.parametrize("speed", SPEEDS)
 def test_check_15_the_integrator_ipc_removes_a_constant_tilt_yaw_load_and_does_not_reduce_from_1p_on(shipped, speed):
     """Check 15, the conventional IPC: a constant cos/sin wind leaves no steady-state cos/sin moment (0.85-0.91 MN m
-    per m/s without IPC); from 1P to the Nyquist frequency |u -> M| is at most 32 % above no IPC (at 1.5P; 25 % at
-    13 m/s, 28 % at 18 m/s), nowhere more than 1.2 % below it (0.988 at 24 m/s), except near the blades' forward
-    edgewise whirl (1.28-1.52 Hz, 6.4-7.5P): by 1.0, 2.3 and 4.2 % at 13, 18 and 24 m/s, where the loop shifts that
-    lightly damped resonance: Selvam's "no
-    reduction, and even a slight increase" (check 19 asks >= no IPC at 1P, 2P and 3P). (With the blades rigid
-    edgewise the ratio stayed above 0.99 everywhere.)"""
+    per m/s without IPC); from 1P to the Nyquist frequency |u -> M| is at most 32 % above no IPC (at 1.5P; 24 % at
+    13 m/s, 27 % at 18 m/s) and nowhere more than 1 % below it, except at the blades' edgewise whirl modes (backward
+    0.91 Hz, forward 1.30-1.32 Hz in the Coleman frame, 0.5-1 % damped), where the loop shifts those resonances: there
+    it is down to 0.977, 0.952 and 0.636 times no IPC at 13, 18 and 24 m/s (the last at the backward whirl, yaw axis):
+    Selvam's "no reduction, and even a slight increase" (check 19 asks >= no IPC at 1P, 2P and 3P) holds away from
+    them. (With the blades rigid edgewise the ratio stayed above 0.99 everywhere.)"""
     design = design_lqg(shipped[speed].model, DT)
     assert np.abs(closed_loop_response(design, [0.0], "integrator", *IPC_H1)).max() < 1e-12
     assert np.abs(closed_loop_response(design, [0.0], "none")).max() > 0.8
     omega = np.geomspace(shipped[speed].rotor_speed, math.pi / DT, 400)
     ratio = np.abs(closed_loop_response(design, omega, "integrator", *IPC_H1)) \
         / np.abs(closed_loop_response(design, omega, "none"))
-    whirl = (omega > 2 * math.pi * 1.2) & (omega < 2 * math.pi * 1.6)
+    hertz = omega / (2 * math.pi)
+    whirl = ((hertz > 0.85) & (hertz < 0.97)) | ((hertz > 1.2) & (hertz < 1.6))
     for axis in (0, 1):
-        assert 0.985 <= ratio[~whirl, axis, axis].min() and ratio[:, axis, axis].max() <= 1.35
-        assert 0.95 <= ratio[whirl, axis, axis].min()
+        assert 0.99 <= ratio[~whirl, axis, axis].min() and ratio[:, axis, axis].max() <= 1.35
+        assert 0.6 <= ratio[whirl, axis, axis].min()
 
 
 def test_check_16_the_augmented_model_is_observable_and_the_plant_controllable(design):
@@ -172,10 +173,10 @@ def test_check_20_fb_ff_pitches_more_than_the_integrator_ipc_from_3p_on_with_sel
     assert ratio.min() > 3.5 and ratio[-1] > 1000
 
 
-@pytest.mark.parametrize("speed, at_3p", [(13.0, 1.31), (18.0, 1.13), (24.0, 1.02)])
+@pytest.mark.parametrize("speed, at_3p", [(13.0, 1.32), (18.0, 1.13), (24.0, 1.04)])
 def test_check_20_with_the_default_weights_fb_ff_pitches_about_as_the_integrator_ipc_at_3p(shipped, speed, at_3p):
     """The defaults (tuned for the actuator's rate limit) give up Selvam's high-frequency pitch: at 3P FB-FF's cyclic
-    pitch per unit wind is 1.31, 1.13, 1.02 times the integrator IPC's at 13, 18, 24 m/s; it exceeds it by more only above about 8P (30 times at the Nyquist frequency, at
+    pitch per unit wind is 1.32, 1.13, 1.04 times the integrator IPC's at 13, 18, 24 m/s; it exceeds it by more only above about 8P (30 times at the Nyquist frequency, at
     0.003 deg per m/s: 1/300 of Table II's)."""
     design = design_lqg(shipped[speed].model, DT)
     omega = np.array([3 * shipped[speed].rotor_speed, math.pi / DT])

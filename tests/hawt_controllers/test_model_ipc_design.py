@@ -55,10 +55,10 @@ def test_on_first_order_blades_the_np_plant_is_disario_s_eq_2_19_with_n_times_th
     assert np.max(np.abs(found - expected)) < 1e-9 * abs(gain)
 
 
-TOLERANCE = {1: (1.0, 0.015, 0.015), 2: (1.0, 0.015, 0.01), 3: (1.2, 0.015, 0.04)}
+TOLERANCE = {1: (1.0, 0.015, 0.015), 2: (1.0, 0.015, 0.01), 3: (2.0, 0.015, 0.04)}
 """Per harmonic: phase offset [deg], integral gain and schedule factors (relative) of the model route against the
-shipped file. Measured: 1P -0.22 deg, -0.4 %, factors within 1.1 % (at 24 m/s); 2P -0.23 deg, -0.5 %, 0.6 %; 3P
-+1.09 deg, -0.7 %, 3.2 % (at 13 m/s the model's 3P phase is furthest from the measured response's). The linear models have
+shipped file. Measured: 1P -0.12 deg, -0.5 %, factors within 1.4 % (at 24 m/s); 2P -0.06 deg, -0.5 %, 0.6 %; 3P
++1.75 deg, -0.04 %, 3.6 % (at 13 m/s the model's 3P phase is furthest from the measured response's). The linear models have
 the NREL 5 MW's skewed wake, the measured route (the shipped file) has not."""
 
 
@@ -90,8 +90,8 @@ def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(
     assert written["phase_offset"] == model_harmonic_response(models[18.0], 1).phase
     printed = capsys.readouterr().out
     assert "h1 (linear model)" in printed
-    # +0.22 deg with the skewed wake in the linear models (the measured route has none).
-    assert "cross-check, the measured static response against the model's: 18 m/s phase +0.22 deg" in printed
+    # +0.12 deg with the skewed wake in the linear models (the measured route has none).
+    assert "cross-check, the measured static response against the model's: 18 m/s phase +0.12 deg" in printed
     assert "crossover on the model 0.100 Hz" in printed
     assert cli.main(["design", "ipc", "--harmonics", "1", "--wind-speeds", "18", "--measured"] + files) == 0
     written = yaml.safe_load((tmp_path / "ipc.yaml").read_text())["/**/ipc_h1"]["ros__parameters"]
@@ -107,27 +107,27 @@ def test_on_the_model_the_shipped_1p_loop_crosses_over_at_0_1_hz_with_50_deg_of_
     designed = shipped["/**/ipc_h1"]["ros__parameters"]
     crossover, margin = loop_crossover(models[18.0], 1, designed["integral_gain"], designed["phase_offset"], 0.01)
     assert crossover / (2 * math.pi) == pytest.approx(0.1, abs=0.001)
-    assert math.degrees(margin) == pytest.approx(50.5, abs=0.5)
+    assert math.degrees(margin) == pytest.approx(50.0, abs=0.5)
 
 
 def test_with_disario_s_offset_tilt_and_yaw_decouple_at_crossover_and_the_sensitivity_peak_halves(models, shipped):
-    """The shipped 1P loop at 18 m/s on the linear model, with its offset (24.1 deg) and without it (the integral
-    gain divided by cos 24.1 deg, Disario's compensation: the same crossover, 0.63 rad/s). With the offset RGA11 at
-    the crossover goes from 0.828 to 1.001 (Disario: 0.9052 -> 0.9997); the sensitivity's largest singular value
-    peaks at 2.10 at 1.09 rad/s instead of 4.20 at 0.87 rad/s, and its -3 dB points close from 0.359-0.564 to
-    0.408-0.423 rad/s (Disario: [0.38, 0.65] -> 0.47 rad/s). At 1P (1.267 rad/s) both amplify by 1.9."""
+    """The shipped 1P loop at 18 m/s on the linear model, with its offset (24.6 deg) and without it (the integral
+    gain divided by cos 24.6 deg, Disario's compensation: the same crossover, 0.63 rad/s). With the offset RGA11 at
+    the crossover goes from 0.820 to 1.000 (Disario: 0.9052 -> 0.9997); the sensitivity's largest singular value
+    peaks at 2.09 at 1.08 rad/s instead of 4.30 at 0.86 rad/s, and its -3 dB points close from 0.358-0.569 to
+    0.407-0.423 rad/s (Disario: [0.38, 0.65] -> 0.47 rad/s). At 1P (1.267 rad/s) both amplify by 1.85-1.92."""
     designed = shipped["/**/ipc_h1"]["ros__parameters"]
     gain, offset = designed["integral_gain"], designed["phase_offset"]
     without = loop_analysis(models[18.0], 1, gain / math.cos(offset), 0.0, 0.01)
     with_offset = loop_analysis(models[18.0], 1, gain, offset, 0.01)
     assert with_offset.crossover == pytest.approx(without.crossover, rel=0.005)
     assert abs(with_offset.rga - 1.0) < abs(without.rga - 1.0)
-    assert (without.rga, with_offset.rga) == pytest.approx((0.828, 1.001), abs=0.002)
-    assert (without.peak, without.peak_frequency) == pytest.approx((4.20, 0.87), abs=0.01)
-    assert (with_offset.peak, with_offset.peak_frequency) == pytest.approx((2.10, 1.09), abs=0.01)
-    assert without.bandwidth == pytest.approx((0.359, 0.564), abs=0.002)
-    assert with_offset.bandwidth == pytest.approx((0.408, 0.423), abs=0.002)
-    assert (without.at_1p, with_offset.at_1p) == pytest.approx((1.89, 1.94), abs=0.01)
+    assert (without.rga, with_offset.rga) == pytest.approx((0.820, 1.000), abs=0.002)
+    assert (without.peak, without.peak_frequency) == pytest.approx((4.30, 0.86), abs=0.01)
+    assert (with_offset.peak, with_offset.peak_frequency) == pytest.approx((2.09, 1.08), abs=0.01)
+    assert without.bandwidth == pytest.approx((0.358, 0.569), abs=0.002)
+    assert with_offset.bandwidth == pytest.approx((0.407, 0.423), abs=0.002)
+    assert (without.at_1p, with_offset.at_1p) == pytest.approx((1.85, 1.92), abs=0.01)
 
 
 def _exit_code(words: list) -> int:
