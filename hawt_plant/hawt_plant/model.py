@@ -248,7 +248,6 @@ class TurbineModel:
         self._parked = self._config.rotor == "parked"
         self._grid_connected = self._operating
         self._setup_constants()
-        self._flexible_edge = self._operating and self._has_edge
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
         self._unsteady = UnsteadyAirfoil(self._bem.polars, turbine.airfoils, turbine.blade_aerodynamics.airfoil,
                                          turbine.blade_aerodynamics.chord, self._b) \
@@ -401,9 +400,8 @@ class TurbineModel:
                 self._pitch[:] = min(max(float(self._pitch[0]) + correction, actuator.min_angle), actuator.max_angle)
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
-            self._flap += self._flap_residual / self._flap_stiffness_now
-            if self._has_edge:
-                self._edge += self._edge_residual / self._edge_stiffness_now
+            modes = slice(0, (2 if self._has_edge else 1) * b)  # the edge coordinates of a rigid blade stay 0
+            self._displacement[2:][modes] += self._mode_residual[modes] / self._mode_stiffness_now[modes]
         self._flap += flap_offset
         self._edge += edge_offset
         self._tower += tower_offset
@@ -692,20 +690,25 @@ class TurbineModel:
         flap_sums, edge_sums = functions @ (mass * flap_shape), functions @ (mass * edge_shape)
         self._mass_radius = float(radius_sums[0])
         self._mass_moments = hub_centre_moments(t, blade)
-        self._flap_mass = blade.modal_mass
-        self._flap_stiffness = blade.stiffness
-        self._flap_centrifugal = blade.centrifugal_stiffness
-        self._flap_damping = 2.0 * blade.damping_ratio * math.sqrt(blade.stiffness * blade.modal_mass)
         flap_arms = (blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment)
         edge = edge_mode or BladeMode(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # rigid: no coupling, never advanced
         edge_arms = (edge.modal_first_moment, edge.modal_moment_arm + rh * edge.modal_first_moment)
-        self._edge_mass = edge.modal_mass
-        self._edge_stiffness = edge.stiffness
-        self._edge_centrifugal = edge.centrifugal_stiffness
-        self._edge_damping = 2.0 * edge.damping_ratio * math.sqrt(edge.stiffness * edge.modal_mass)
+        # The blades' modes as one array [flap 1..B, edge 1..B]: generalized mass, stiffness, centrifugal stiffening,
+        # damping; a mode that does not move (the blades of a shut-down rotor, a blade rigid edgewise) has 0 as its
+        # 1/sqrt(mass), which takes it out of the mass matrix and gives it no acceleration.
+        def per_mode(flap_value: float, edge_value: float) -> np.ndarray:
+            return np.repeat((flap_value, edge_value), b)
+
+        self._mode_stiffness = per_mode(blade.stiffness, edge.stiffness)
+        self._mode_centrifugal = per_mode(blade.centrifugal_stiffness, edge.centrifugal_stiffness)
+        self._mode_damping = per_mode(*(2.0 * m.damping_ratio * math.sqrt(m.stiffness * m.modal_mass)
+                                        for m in (blade, edge)))
+        self._mode_scale = per_mode(1.0 / math.sqrt(blade.modal_mass) if self._operating else 0.0,
+                                    1.0 / math.sqrt(edge.modal_mass) if self._operating and self._has_edge else 0.0)
         # The rotor's rotation moves the blade's mass along e_t, as a mode does by its part along e_t: their
         # coupling is that part of int mu phi r ds (r = s_abs cos cone) in the kinetic energy.
-        self._flap_rotor_arm, self._edge_rotor_arm = cb * flap_arms[1], cb * edge_arms[1]
+        self._rotor_arms = per_mode(cb * flap_arms[1], cb * edge_arms[1])
+        self._modal_matrix = np.empty((3, 2 * b))  # the modes' scaled couplings with the tower and the rotor
         # Drivetrain.
         drivetrain = t.drivetrain
         self._gearbox_ratio = drivetrain.gearbox_ratio
@@ -777,9 +780,11 @@ class TurbineModel:
             "fa": np.array([c0[d] + rh * c1[d] if f == 0 else c1[d] if f == 1 else 0 * c1[d] for d, f in LOAD_ROWS]),
             "ss": np.array([y_part[d] if f == 0 else 0 * y_part[d] for d, f in LOAD_ROWS]),
             # Each mode's inertial coupling with the tower coordinates, int mu phi (U . e) ds, for a mode along e_n
-            # and along e_t (combined with the mode's direction each step).
+            # and along e_t (combined with the mode's direction each step): first the parts along cos theta of the
+            # flap (e_n) and edgewise (e_t) modes, then those along sin theta (e_t, e_n).
             **{f"{mode}_coupling_{d}": np.array([c0[d] * arms[0] + c1[d] * arms[1], y_part[d] * arms[0]])
-               for mode, arms in (("flap", flap_arms), ("edge", edge_arms)) for d in ("n", "t")},
+               for mode, arms, d in (("flap", flap_arms, "n"), ("edge", edge_arms, "t"), ("flap", flap_arms, "t"),
+                                     ("edge", edge_arms, "n"))},
             "inertia_fa": np.array([c0[d] * w + c1[d] * wn for d, w, wn, _ in by_row]),
             "inertia_ss": np.array([y_part[d] * w for d, w, _, _ in by_row]),
             "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
@@ -813,6 +818,8 @@ class TurbineModel:
             [flap_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS],
             [edge_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS]))
         self._placement = np.empty((3, b, 4))  # per coordinate and blade: apex, e_z, flap and edge directions
+        self._mode_directions = np.empty((4, b))  # flap along e_n and e_t, edge along e_n and e_t, per blade
+        self._deflection_parts, self._mode_rates, self._mode_accelerations = (np.empty((4, b)) for _ in range(3))
         # The wind is sampled at the elements and, after each blade's last element, at the
         # rotor apex (s_abs = 0 without deflection), whose wind is the hub wind.
         self._point_basis = np.column_stack((self._element_basis, (1.0, 0.0, 0.0, 0.0)))
@@ -830,10 +837,12 @@ class TurbineModel:
         # Inertial load sums of the accelerations [fa, ss, flap 1..B, edge 1..B, rotor] as one product: the tower
         # rows follow the azimuth, a blade's modes its pitch (both set each step): a mode's acceleration acts on its
         # own blade's e_n and e_t rows by its direction; the rotor's on every blade's e_t rows.
-        self._inertia_operator = np.zeros((3 + 2 * b, len(LOAD_ROWS), b))
-        self._mode_inertia = {(mode, d): np.array([weights[f] if row == d else 0.0 for row, f in LOAD_ROWS])
-                              for mode, weights in (("flap", flap_sums), ("edge", edge_sums)) for d in ("n", "t")}
-        self._inertia_operator[2 + 2 * b] = np.array([radius_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS])[:, None]
+        self._inertia_operator = np.zeros((3, len(LOAD_ROWS), b))  # [fa, ss, rotor]
+        self._inertia_operator[2] = np.array([radius_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS])[:, None]
+        # The modes': columns flap along e_n, flap along e_t, edge along e_n, edge along e_t, against the modes'
+        # accelerations times their directions' parts (_mode_directions).
+        self._mode_inertia = np.column_stack([[weights[f] if row == d else 0.0 for row, f in LOAD_ROWS]
+                                              for weights in (flap_sums, edge_sums) for d in ("n", "t")])
         # Per-blade outputs as one product with the load sums; the parts weighted by the deflections are added from
         # the last six rows (_make_output). Apex moments A = s F_n + r_h F_n (about -e_t), B = s F_t + r_h F_t (about
         # e_n), C (about -e_z); root moments oop = s F_n, ip = s F_t; forces F_n, F_t, F_z; then phi F_z, phi F_t and
@@ -885,11 +894,13 @@ class TurbineModel:
         # The modes turn with the blade's pitch theta (ElastoDyn's): the flap mode along d_f = cos theta e_n +
         # sin theta e_t, the edgewise mode along d_e = cos theta e_t - sin theta e_n (the chord's direction: at
         # feather the flap mode is in the rotor plane). Element positions apex + s_abs e_z + w phi_f d_f + v phi_e d_e.
-        cos_pitch, sin_pitch = np.cos(self._pitch), np.sin(self._pitch)
-        self._pitch_trig = cos_pitch, sin_pitch
-        flap_n, flap_t = self._flap * cos_pitch, self._flap * sin_pitch
-        edge_n, edge_t = -self._edge * sin_pitch, self._edge * cos_pitch
-        self._deflection_parts = flap_n, flap_t, edge_n, edge_t
+        directions = self._mode_directions  # rows: flap along e_n and e_t, edge along e_n and e_t
+        np.cos(self._pitch, out=directions[0])
+        np.sin(self._pitch, out=directions[1])
+        np.negative(directions[1], out=directions[2])
+        directions[3] = directions[0]
+        parts = self._along_directions(self._displacement[2:], self._deflection_parts)
+        flap_n, flap_t, edge_n, edge_t = parts
         placement = self._placement
         placement[:, :, 0].T[...] = apex
         placement[:, :, 1] = features[6:9]
@@ -926,10 +937,9 @@ class TurbineModel:
         tower_parts = np.dot(self._tower_rate, features[self._inflow_motion_rows].reshape(2, 4 * b))
         motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(0, 2, 1)
         # vx takes minus the speed along e_n, vy the speed along e_t.
-        motion[0, :, 2] = -self._flap_rate * cos_pitch
-        motion[0, :, 3] = self._edge_rate * sin_pitch
-        motion[1, :, 2] = self._flap_rate * sin_pitch
-        motion[1, :, 3] = self._edge_rate * cos_pitch
+        rates = self._along_directions(self._velocity[2:], self._mode_rates)
+        np.negative(rates[0::2], out=motion[0, :, 2:].T)
+        motion[1, :, 2:].T[...] = rates[1::2]
         motion[1, :, 1] += self._rotor_speed * self._cos_cone
         operator = self._inflow_operator
         operator.put(self._inflow_axes_index, features[self._rows["inflow_axes"]])
@@ -958,10 +968,8 @@ class TurbineModel:
         self._shaft_torque = shaft
         omega2 = self._rotor_speed * self._rotor_speed
         # Per-blade load sums without the inertia of the accelerations (unknown yet).
-        _, flap_t, _, edge_t = self._deflection_parts
         self._blade_basis[3] = omega2
-        np.multiply(flap_t, omega2, out=self._blade_basis[4])
-        np.multiply(edge_t, omega2, out=self._blade_basis[5])
+        np.multiply(self._deflection_parts[1::2], omega2, out=self._blade_basis[4:6])
         loads = np.dot(self._load_operator, self._blade_basis)
         aero_loads = loads[0:8].reshape(2, 4, b)  # a view: the e_n and e_t rows
         aero_loads += aero.transpose(0, 2, 1)
@@ -971,56 +979,45 @@ class TurbineModel:
         q_fa = tower_fa + self._fa_gravity_force + self._tower_drag_loads.fa_force
         q_ss = tower_ss + self._tower_drag_loads.ss_force - self._slope_ss * self._cos_tilt * shaft * (
             1.0 - 1.0 / self._gearbox_ratio)
-        # Each mode's generalized force: its phi-weighted loads along its direction (rows (n, 2), (t, 2), (n, 3),
-        # (t, 3) of LOAD_ROWS).
-        cos_pitch, sin_pitch = self._pitch_trig
-        self._flap_stiffness_now = self._flap_stiffness + self._flap_centrifugal * omega2
-        self._flap_residual = cos_pitch * loads[2] + sin_pitch * loads[6] - self._flap_damping * self._flap_rate \
-            - self._flap_stiffness_now * self._flap
-        self._edge_stiffness_now = self._edge_stiffness + self._edge_centrifugal * omega2
-        self._edge_residual = cos_pitch * loads[7] - sin_pitch * loads[3] - self._edge_damping * self._edge_rate \
-            - self._edge_stiffness_now * self._edge
+        # Each mode's generalized force: its phi-weighted loads along its direction (the flap's rows (n, 2) and
+        # (t, 2) of LOAD_ROWS, the edgewise mode's (t, 3) and (n, 3)), minus its damping and stiffness.
+        directions = self._mode_directions
+        self._mode_stiffness_now = self._mode_stiffness + self._mode_centrifugal * omega2
+        self._mode_residual = (directions[0::3] * loads[[2, 7]] + directions[1:3] * loads[[6, 3]]).ravel() \
+            - self._mode_damping * self._velocity[2:] - self._mode_stiffness_now * self._displacement[2:]
         (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
         (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
         self._residual_fa = q_fa - damping_fa * rate_fa - stiffness_fa * x_top
         self._residual_ss = q_ss - damping_ss * rate_ss - stiffness_ss * y_top
         self._rotor_residual = self._aero_torque + self._gravity_torque - shaft
-        # The mass matrix over [tower fa, tower ss, flap 1..B, edge 1..B, rotor] reduced to the tower coordinates
-        # and the rotor (Schur complement of the diagonal blade blocks, module notes).
-        coupling = cos_pitch * features[rows["flap_coupling_n"]] + sin_pitch * features[rows["flap_coupling_t"]]
-        edge_coupling = cos_pitch * features[rows["edge_coupling_t"]] - sin_pitch * features[rows["edge_coupling_n"]]
-        self._rotor_couplings = self._flap_rotor_arm * sin_pitch, self._edge_rotor_arm * cos_pitch
+        # The mass matrix over [tower fa, tower ss, modes, rotor] reduced to the tower coordinates and the rotor: the
+        # Schur complement of the modes' diagonal block, M M^T with M their couplings with the tower and the rotor
+        # scaled by 1/sqrt(mass) (_mode_scale, module notes).
+        coupling = features[rows["flap_coupling_n"].start:rows["edge_coupling_n"].stop].reshape(2, 2, 2, b)
+        scaled = self._modal_matrix
+        scale = self._mode_scale
+        towers = (directions[[0, 3]] * coupling[0].transpose(1, 0, 2) + directions[[1, 2]] * coupling[1].transpose(
+            1, 0, 2)).reshape(2, 2 * b)
+        np.multiply(towers, scale, out=scaled[0:2])
+        np.multiply(self._rotor_arms * directions[[1, 0]].ravel(), scale, out=scaled[2])
+        self._scaled_residual = self._mode_residual * scale
+        schur = np.dot(scaled, scaled.T).ravel().tolist()
+        projected_fa, projected_ss, projected_rotor = np.dot(scaled, self._scaled_residual).tolist()
         fa_mass = features[rows["fa_mass"]]
         linear, quadratic = self._fa_mass_azimuthal
         mass_fa = (self._fa_mass_constant + linear * sum(fa_mass[0].tolist())
                    + quadratic * float(np.dot(fa_mass[1], fa_mass[1])))
-        self._coupling, self._edge_coupling = coupling, edge_coupling
-        reduced = [mass_fa, 0.0, self._ss_mass, self._residual_fa, self._residual_ss, 0.0, 0.0, self._rotor_inertia,
-                   self._rotor_residual]
-        if self._operating:  # otherwise the blades are held rigid at their deflection (module notes)
-            self._reduce(reduced, coupling, self._flap_residual, self._flap_mass, self._rotor_couplings[0])
-        if self._flexible_edge:
-            self._reduce(reduced, edge_coupling, self._edge_residual, self._edge_mass, self._rotor_couplings[1])
-        self._schur = reduced
+        self._schur = (mass_fa - schur[0], -schur[1], self._ss_mass - schur[4], self._residual_fa - projected_fa,
+                       self._residual_ss - projected_ss, -schur[2], -schur[5], self._rotor_inertia - schur[8],
+                       self._rotor_residual - projected_rotor)
 
-    @staticmethod
-    def _reduce(reduced: list, coupling: np.ndarray, residual: np.ndarray, mass: float,
-                rotor_coupling: np.ndarray) -> None:
-        """Eliminate one mode of every blade (generalized mass ``mass``, inertial couplings ``coupling`` (2, B) with the
-        tower and ``rotor_coupling`` (B,) with the rotor, generalized forces ``residual`` (B,)) from the reduced system
-        ``reduced`` = [m_fa, m_fa_ss, m_ss, r_fa, r_ss, m_fa_rotor, m_ss_rotor, m_rotor, r_rotor], in place."""
-        (p00, p01), (_, p11) = np.dot(coupling, coupling.T).tolist()
-        projected_fa, projected_ss = np.dot(coupling, residual).tolist()
-        rotor_fa, rotor_ss = np.dot(coupling, rotor_coupling).tolist()
-        reduced[0] -= p00 / mass
-        reduced[1] -= p01 / mass
-        reduced[2] -= p11 / mass
-        reduced[3] -= projected_fa / mass
-        reduced[4] -= projected_ss / mass
-        reduced[5] -= rotor_fa / mass
-        reduced[6] -= rotor_ss / mass
-        reduced[7] -= float(np.dot(rotor_coupling, rotor_coupling)) / mass
-        reduced[8] -= float(np.dot(rotor_coupling, residual)) / mass
+    def _along_directions(self, modes: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """The modal coordinates ``modes`` [flap 1..B, edge 1..B] (or their rates) along the modes' directions, rows
+        as :attr:`_mode_directions`, into ``out`` (4, B)."""
+        b = self._b
+        np.multiply(self._mode_directions[0:2], modes[:b], out=out[0:2])
+        np.multiply(self._mode_directions[2:4], modes[b:], out=out[2:4])
+        return out
 
     def _skew(self) -> tuple[bool, float, np.ndarray]:
         """Pitt & Peters's skewed wake for the wind at the rotor apex: whether it is skewed, its angle χ_0 to the
@@ -1051,16 +1048,10 @@ class TurbineModel:
         x_acc = (a22 * b1 - a12 * b2) / det
         y_acc = (a11 * b2 - a12 * b1) / det
         rotor_acc = (r3 - m13 * x_acc - m23 * y_acc) / m33
-        b = self._b
-        out = np.zeros(3 + 2 * b)
+        out = np.empty(3 + 2 * self._b)
         out[0], out[1], out[-1] = x_acc, y_acc, rotor_acc
-        flap_rotor, edge_rotor = self._rotor_couplings
-        if self._operating:
-            out[2:2 + b] = (self._flap_residual - np.dot(out[:2], self._coupling)
-                            - flap_rotor * rotor_acc) / self._flap_mass
-        if self._flexible_edge:
-            out[2 + b:2 + 2 * b] = (self._edge_residual - np.dot(out[:2], self._edge_coupling)
-                                    - edge_rotor * rotor_acc) / self._edge_mass
+        np.multiply(self._scaled_residual - np.dot((x_acc, y_acc, rotor_acc), self._modal_matrix), self._mode_scale,
+                    out=out[2:-1])
         return out
 
     # ------------------------------------------------------------------ outputs
@@ -1072,12 +1063,9 @@ class TurbineModel:
         inertia = self._inertia_operator
         rows = len(LOAD_ROWS)
         inertia[0:2] = features[self._inertia_rows].reshape(2, rows, b)
-        cos_pitch, sin_pitch = self._pitch_trig
-        every, modal = np.arange(b), self._mode_inertia
-        inertia[2 + every, :, every] = np.outer(cos_pitch, modal["flap", "n"]) + np.outer(sin_pitch, modal["flap", "t"])
-        inertia[2 + b + every, :, every] = np.outer(cos_pitch, modal["edge", "t"]) \
-            - np.outer(sin_pitch, modal["edge", "n"])
-        loads = self._loads - np.dot(acc, inertia.reshape(3 + 2 * b, rows * b)).reshape(rows, b)
+        modes = self._along_directions(acc[2:-1], self._mode_accelerations)
+        loads = self._loads - np.dot((x_acc, y_acc, acc[-1]), inertia.reshape(3, rows * b)).reshape(rows, b) \
+            - np.dot(self._mode_inertia, modes)
         per_blade = np.dot(self._output_selector, loads)
         # The deflections' moment arms: along e_n (flap_n, edge_n) against the axial force about -e_t and the
         # in-plane force about -e_z; along e_t against the axial force about e_n and the out-of-plane force.
