@@ -422,7 +422,8 @@ def stiffened(turbine: Turbine, factor: float = 100.0) -> Turbine:
     """``turbine`` with blades and tower ``factor`` times as stiff (their modes sqrt(factor) times higher): a
     quasi-rigid structure, to compare with a rigid-rotor code."""
     blade, tower = turbine.blade_structure, turbine.tower
-    return replace(turbine, blade_structure=replace(blade, flap_stiffness=factor * blade.flap_stiffness),
+    return replace(turbine, blade_structure=replace(blade, flap_stiffness=factor * blade.flap_stiffness,
+                                                    edge_stiffness=factor * blade.edge_stiffness),
                    tower=replace(tower, fa_stiffness=factor * tower.fa_stiffness,
                                  ss_stiffness=factor * tower.ss_stiffness))
 
