@@ -371,12 +371,11 @@ class TurbineModel:
         self._generator_speed = 0.0 if self._parked else self._rotor_speed
         self._torsion = 0.0
         self._pitch_rate = np.zeros(b)
-        # Structural coordinates [tower fa, tower ss, flap 1..B, edge 1..B] and their rates; the tower, flap and
-        # edge arrays are views into them (a blade rigid edgewise keeps its edge coordinates at 0).
+        # Structural coordinates [tower fa, tower ss, flap 1..B, edge 1..B] and their rates; the tower arrays are
+        # views into them (a blade rigid edgewise keeps its edge coordinates at 0).
         self._displacement = np.zeros(2 + 2 * b)
         self._velocity = np.zeros(2 + 2 * b)
-        self._tower, self._flap, self._edge = np.split(self._displacement, (2, 2 + b))
-        self._tower_rate, self._flap_rate, self._edge_rate = np.split(self._velocity, (2, 2 + b))
+        self._tower, self._tower_rate = self._displacement[:2], self._velocity[:2]
         self._generator_torque = 0.0
         self._induction = np.zeros((2, b, n))  # axial and tangential induction factors a, a'
         self._inflow_filter = np.zeros((3, b, n))
@@ -402,8 +401,7 @@ class TurbineModel:
             self._evaluate_loads(update_induction=False)
             modes = slice(0, (2 if self._has_edge else 1) * b)  # the edge coordinates of a rigid blade stay 0
             self._displacement[2:][modes] += self._mode_residual[modes] / self._mode_stiffness_now[modes]
-        self._flap += flap_offset
-        self._edge += edge_offset
+        self._displacement[2:] += np.concatenate((flap_offset, edge_offset))
         self._tower += tower_offset
         self._sample_inflow()
         self._evaluate_loads(update_induction=False)
@@ -989,7 +987,6 @@ class TurbineModel:
         (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
         self._residual_fa = q_fa - damping_fa * rate_fa - stiffness_fa * x_top
         self._residual_ss = q_ss - damping_ss * rate_ss - stiffness_ss * y_top
-        self._rotor_residual = self._aero_torque + self._gravity_torque - shaft
         # The mass matrix over [tower fa, tower ss, modes, rotor] reduced to the tower coordinates and the rotor: the
         # Schur complement of the modes' diagonal block, M M^T with M their couplings with the tower and the rotor
         # scaled by 1/sqrt(mass) (_mode_scale, module notes).
@@ -1009,7 +1006,7 @@ class TurbineModel:
                    + quadratic * float(np.dot(fa_mass[1], fa_mass[1])))
         self._schur = (mass_fa - schur[0], -schur[1], self._ss_mass - schur[4], self._residual_fa - projected_fa,
                        self._residual_ss - projected_ss, -schur[2], -schur[5], self._rotor_inertia - schur[8],
-                       self._rotor_residual - projected_rotor)
+                       self._aero_torque + self._gravity_torque - shaft - projected_rotor)
 
     def _along_directions(self, modes: np.ndarray, out: np.ndarray) -> np.ndarray:
         """The modal coordinates ``modes`` [flap 1..B, edge 1..B] (or their rates) along the modes' directions, rows
