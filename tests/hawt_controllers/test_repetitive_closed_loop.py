@@ -84,4 +84,6 @@ def test_the_refusal_of_a_learning_gain_predicts_whether_the_learnt_mean_settles
     rpm = run_rows({**REPETITIVE_PD, "repetitive_ipc": "false", "wind_type": "step", "step_speed": "15.0",
                     "step_time": "20.0", "shear_exponent": "0.0"}, 110.0,
                    {"/wt1/repetitive_cpc": [("learning_gain", gain)]})[:, 2]
-    assert (np.ptp(rpm[-3000:]) < 0.05) == settles, np.ptp(rpm[-3000:])
+    # Settling: 0.063 rpm peak-to-peak over the last 30 s on the plant with the blades' edgewise modes (the drivetrain
+    # rings with them; below 0.05 with rigid-edgewise blades); a refused gain diverges.
+    assert (np.ptp(rpm[-3000:]) < 0.1) == settles, np.ptp(rpm[-3000:])
