@@ -399,7 +399,7 @@ class TurbineModel:
                 self._pitch[:] = min(max(float(self._pitch[0]) + correction, actuator.min_angle), actuator.max_angle)
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
-            modes = slice(0, (2 if self._has_edge else 1) * b)  # the edge coordinates of a rigid blade stay 0
+            modes = self._modes  # the edge coordinates of a blade rigid edgewise stay 0
             self._displacement[2:][modes] += self._mode_residual[modes] / self._mode_stiffness_now[modes]
         self._displacement[2:] += np.concatenate((flap_offset, edge_offset))
         self._tower += tower_offset
@@ -549,8 +549,9 @@ class TurbineModel:
 
     @property
     def _structural_states(self) -> slice:
-        """The structural coordinates that are states: all, or without the edge ones of a blade rigid edgewise."""
-        return slice(None) if self._has_edge else slice(0, 2 + self._b)
+        """The structural coordinates that are states: the tower's and the modes' (a blade rigid edgewise has no edge
+        ones)."""
+        return slice(0, 2 + self._modes.stop)
 
     def continuous_dynamics(self, state: np.ndarray, azimuth: float, pitch_command: np.ndarray,
                             generator_torque: float, wind_change=0.0) -> tuple[np.ndarray, TurbineOutput]:
@@ -668,6 +669,7 @@ class TurbineModel:
         blade = blade_modal_properties(t)
         edge_mode = blade_edge_mode(t)
         self._has_edge = edge_mode is not None
+        self._modes = slice(0, (2 if self._has_edge else 1) * b)  # the modal coordinates that are states
         length = t.blade_length
         fine = np.linspace(0.0, 1.0, 4001) * length
         density = np.interp(fine, t.blade_structure.span_fraction * length, t.blade_structure.mass_density)
@@ -832,13 +834,17 @@ class TurbineModel:
         self._inflow_operands = np.empty((3 * b + 4, n))
         self._inflow_operands[3 * b:] = self._element_basis
         self._inflow = np.empty((2, b, n))
-        # Inertial load sums of the accelerations [fa, ss, flap 1..B, edge 1..B, rotor] as one product: the tower
-        # rows follow the azimuth, a blade's modes its pitch (both set each step): a mode's acceleration acts on its
-        # own blade's e_n and e_t rows by its direction; the rotor's on every blade's e_t rows.
+        # Inertial load sums of the accelerations of the tower and the rotor as one product: the tower rows follow
+        # the azimuth (set each step); the rotor's acceleration acts on every blade's e_t rows.
         self._inertia_operator = np.zeros((3, len(LOAD_ROWS), b))  # [fa, ss, rotor]
         self._inertia_operator[2] = np.array([radius_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS])[:, None]
-        # The modes': columns flap along e_n, flap along e_t, edge along e_n, edge along e_t, against the modes'
-        # accelerations times their directions' parts (_mode_directions).
+        # The modes': a mode's acceleration acts on its own blade's e_n and e_t rows by its direction. Columns flap
+        # along e_n, flap along e_t, edge along e_n, edge along e_t, against the modes' accelerations times their
+        # directions' parts (_mode_directions).
+        # Each mode's generalized force takes its phi-weighted rows: along cos theta (flap (n, 2), edge (t, 3)) and
+        # along the sin theta parts of its direction (flap (t, 2), edge (n, 3)).
+        self._mode_force_rows = ([LOAD_ROWS.index(("n", 2)), LOAD_ROWS.index(("t", 3))],
+                                 [LOAD_ROWS.index(("t", 2)), LOAD_ROWS.index(("n", 3))])
         self._mode_inertia = np.column_stack([[weights[f] if row == d else 0.0 for row, f in LOAD_ROWS]
                                               for weights in (flap_sums, edge_sums) for d in ("n", "t")])
         # Per-blade outputs as one product with the load sums; the parts weighted by the deflections are added from
@@ -973,15 +979,15 @@ class TurbineModel:
         aero_loads += aero.transpose(0, 2, 1)
         self._loads = loads
         # Generalized forces: the modes from their own rows, the tower from projections.
-        tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, 11 * b), loads.reshape(11 * b)).tolist()
+        tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, loads.size), loads.reshape(-1)).tolist()
         q_fa = tower_fa + self._fa_gravity_force + self._tower_drag_loads.fa_force
         q_ss = tower_ss + self._tower_drag_loads.ss_force - self._slope_ss * self._cos_tilt * shaft * (
             1.0 - 1.0 / self._gearbox_ratio)
-        # Each mode's generalized force: its phi-weighted loads along its direction (the flap's rows (n, 2) and
-        # (t, 2) of LOAD_ROWS, the edgewise mode's (t, 3) and (n, 3)), minus its damping and stiffness.
+        # Each mode's generalized force: its phi-weighted loads along its direction, minus its damping and stiffness.
         directions = self._mode_directions
+        along_cos, along_sin = self._mode_force_rows
         self._mode_stiffness_now = self._mode_stiffness + self._mode_centrifugal * omega2
-        self._mode_residual = (directions[0::3] * loads[[2, 7]] + directions[1:3] * loads[[6, 3]]).ravel() \
+        self._mode_residual = (directions[0::3] * loads[along_cos] + directions[1:3] * loads[along_sin]).ravel() \
             - self._mode_damping * self._velocity[2:] - self._mode_stiffness_now * self._displacement[2:]
         (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
         (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
@@ -993,10 +999,10 @@ class TurbineModel:
         coupling = features[rows["flap_coupling_n"].start:rows["edge_coupling_n"].stop].reshape(2, 2, 2, b)
         scaled = self._modal_matrix
         scale = self._mode_scale
-        towers = (directions[[0, 3]] * coupling[0].transpose(1, 0, 2) + directions[[1, 2]] * coupling[1].transpose(
+        towers = (directions[0::3] * coupling[0].transpose(1, 0, 2) + directions[1:3] * coupling[1].transpose(
             1, 0, 2)).reshape(2, 2 * b)
         np.multiply(towers, scale, out=scaled[0:2])
-        np.multiply(self._rotor_arms * directions[[1, 0]].ravel(), scale, out=scaled[2])
+        np.multiply(self._rotor_arms * directions[1::-1].ravel(), scale, out=scaled[2])
         self._scaled_residual = self._mode_residual * scale
         schur = np.dot(scaled, scaled.T).ravel().tolist()
         projected_fa, projected_ss, projected_rotor = np.dot(scaled, self._scaled_residual).tolist()

@@ -198,7 +198,7 @@ def turbine_summary(turbine: Turbine) -> TurbineSummary:
         tower_fa_frequency=hertz(tower["fa"].stiffness, tower["fa"].modal_mass + top),
         tower_ss_frequency=hertz(tower["ss"].stiffness, tower["ss"].modal_mass + top),
         drivetrain_frequency=hertz(drivetrain.torsional_stiffness, torsion_inertia),
-        blade_edge_frequency=edge.natural_frequency / (2.0 * math.pi) if edge else blade_edgewise_frequency(turbine),
+        blade_edge_frequency=hertz(edge.stiffness, edge.modal_mass) if edge else blade_edgewise_frequency(turbine),
         blade_edge_modelled=edge is not None,
         aerodynamics=turbine.aerodynamics, protection=turbine.protection,
     )
