@@ -66,10 +66,12 @@ from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_per
 from hawt_plant.blade_elements import blade_element_loads
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
+from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance_structure,
+                                   constant_array, element_inflow, generalized_forces, measured_loads, place_elements)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.tower_shadow import TowerShadow
-from hawt_plant.tower_drag import TowerDrag, TowerDragLoads
+from hawt_plant.tower_drag import TowerDrag
 from hawt_plant.turbine import Turbine
 from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
 from hawt_plant.wind_field import WindChange, WindField
@@ -82,11 +84,7 @@ the brake."""
 
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
 _PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
-LOAD_ROWS = (("n", 0), ("n", 1), ("n", 2), ("n", 3), ("t", 0), ("t", 1), ("t", 2), ("t", 3), ("z", 0), ("z", 2), ("z", 3))
-"""The per-blade load sums the model keeps, as (direction, span function): the element loads along e_n, e_t and e_z
-summed against 1, s (from the root), phi_flap and phi_edge (0..3); the e_n and e_t rows first, four each, as the
-aerodynamic sums come."""
-_ONE = np.array(1.0)  # numpy 2 combines an array with a 0-d array faster than with a Python float
+_THRUST, _AERO_TORQUE, _SHAFT_TORQUE = (FORCES.index(name) for name in ("thrust", "aero_torque", "shaft_torque"))
 _NO_UNSTEADY = (np.zeros((5, 1, 1)), np.zeros((1, 2, 5)), np.zeros((8, 1)))  # blade_element_loads's arrays, unused
 
 
@@ -200,6 +198,15 @@ class TurbineOutput:
     effective_wind_cos: float
     effective_wind_sin: float
 
+    @classmethod
+    def _filled(cls, **fields) -> "TurbineOutput":
+        """An output of every field, for the model's step: the frozen dataclass's ``__init__`` sets each of its 27
+        fields through ``object.__setattr__`` (3 us a step, a tenth of the compiled step); this fills the instance's
+        dictionary at once. The fields must be all of them (the model's own construction)."""
+        output = object.__new__(cls)
+        output.__dict__.update(fields)
+        return output
+
 
 STATE_FIELDS = (
     "generator_speed", "generator_torque", "electrical_power", "aero_torque", "rotor_thrust", "hub_wind_speed",
@@ -252,17 +259,24 @@ class TurbineModel:
         self._unsteady = UnsteadyAirfoil(self._bem.polars, turbine.airfoils, turbine.blade_aerodynamics.airfoil,
                                          turbine.blade_aerodynamics.chord, self._b) \
             if self._config.unsteady_airfoil else None
-        self._shadow = TowerShadow.from_tower(turbine.tower, turbine.rotor.downwind) if self._config.tower_shadow \
-            else None
-        self._tower_drag = TowerDrag.from_turbine(turbine) if self._config.tower_drag else None
-        self._tower_drag_loads = TowerDragLoads(0.0, 0.0, 0.0, 0.0)
-        if self._tower_drag is not None:
+        shadow = TowerShadow.from_tower(turbine.tower, turbine.rotor.downwind) if self._config.tower_shadow else None
+        # model_step.element_inflow's shadow arguments: on, downwind, drag coefficient, the outline.
+        self._shadow = (True, bool(shadow.downwind), float(shadow.drag_coefficient), *shadow.outline) if shadow \
+            is not None else (False, False, 0.0, np.zeros(1), np.zeros(1))
+        drag = TowerDrag.from_turbine(turbine) if self._config.tower_drag else None
+        b, n = self._b, self._n
+        if drag is None:
+            self._drag_constants = np.zeros((4, 0))
+            self._samples = np.zeros((3, b, n + 1))  # the elements and the apex, a row per blade
+        else:
+            self._drag_constants = np.vstack((drag.coefficient, drag.fa_shape, drag.ss_shape, drag.lever))
             # The wind is sampled at once at the blade points, a row per blade, and the tower nodes, a last row
             # (padded by repeating its top node; WindChange's per-blade change leaves that row alone).
-            nodes = len(self._tower_drag.elevation)
-            self._samples = np.zeros((3, self._b + 1, max(self._n + 1, nodes)))
-            self._samples[2, self._b, :nodes] = self._tower_drag.elevation
-            self._samples[2, self._b, nodes:] = self._tower_drag.elevation[-1]
+            nodes = len(drag.elevation)
+            self._samples = np.zeros((3, b + 1, max(n + 1, nodes)))
+            self._samples[2, b, :nodes] = drag.elevation
+            self._samples[2, b, nodes:] = drag.elevation[-1]
+        self._drag_shapes = self._drag_constants[1:3]
         self._output: TurbineOutput
         self.reset_to_operating_point(azimuth)
 
@@ -443,12 +457,12 @@ class TurbineModel:
             self._azimuth = start + 2.0 * math.pi * k / (_PASSAGE_SAMPLES * self._b)
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
-            torque = self._aero_torque + self._gravity_torque
+            aero_torque, gravity_torque, shaft_torque, residual_fa, residual_ss = self._forces[1:].tolist()
+            torque = aero_torque + gravity_torque
             shaft += torque
             # Side-side: the drivetrain's roll reaction in equilibrium is the whole rotor torque.
             roll = self._slope_ss * self._cos_tilt
-            tower += (self._residual_fa,
-                      self._residual_ss + roll * (self._shaft_torque * (1.0 - 1.0 / self._gearbox_ratio) - torque))
+            tower += (residual_fa, residual_ss + roll * (shaft_torque * (1.0 - 1.0 / self._gearbox_ratio) - torque))
         return shaft / _PASSAGE_SAMPLES, tower / _PASSAGE_SAMPLES
 
     def _idling_speed(self) -> float:
@@ -512,8 +526,7 @@ class TurbineModel:
             self._generator_torque = 0.0
         acting = self._acting_torque()
         acceleration = self._accelerations(acting)
-        self._velocity += dt * acceleration[:-1]
-        self._displacement += dt * self._velocity
+        advance_structure(acceleration, dt, self._velocity, self._displacement)
         self._rotor_speed += dt * acceleration[-1]
         if not self._parked:
             self._generator_speed += dt * self._generator_acceleration(acting)
@@ -647,24 +660,23 @@ class TurbineModel:
         self._rotor_bem = self._bem.tiled(b)  # every element of every blade at once, (B, N) arrays
         self._tip_ratio = self._rotor_bem.radius / self._bem.tip_radius
         half_rho = 0.5 * t.environment.air_density
-        self._g = g = t.environment.gravity
+        g = t.environment.gravity
         self._blade_offsets = 2.0 * math.pi * np.arange(b) / b
         # A downwind rotor's cone, tilt and overhang point away from the tower (turbine module notes).
         side = -1.0 if rotor.downwind else 1.0
         cone, tilt = side * rotor.cone_angle, side * rotor.shaft_tilt
         cb, sb, ct, st = math.cos(cone), math.sin(cone), math.cos(tilt), math.sin(tilt)
-        self._cos_cone, self._sin_cone, self._cos_tilt, self._sin_tilt = cb, sb, ct, st
+        self._cos_tilt, self._sin_tilt = ct, st
         span = aero.span
-        self._hub_radius = rh = rotor.hub_radius
+        rh = rotor.hub_radius
         s_abs = rh + span
         radius = s_abs * cb  # distance from the shaft axis (deflection neglected)
         # Blade-effective wind: the elements' wind interpolated to 3/4 of the tip radius along the blade.
         self._effective_weights = np.array([np.interp(0.75 * rotor.tip_radius, s_abs, e) for e in np.eye(n)])
         # Dynamic pressure to element load: 1/2 rho c dr, per blade element.
         self._pressure_to_load = np.tile(half_rho * aero.chord * aero.width, (b, 1))
-        self._apex_x = xa = -side * rotor.overhang * ct  # rotor apex relative to the tower top
-        self._apex_z_top = za = t.nacelle.shaft_above_tower_top + side * rotor.overhang * st
-        self._tower_height = t.tower.height
+        xa = -side * rotor.overhang * ct  # rotor apex relative to the tower top
+        za = t.nacelle.shaft_above_tower_top + side * rotor.overhang * st
         # Blade: lumped element masses for the loads, continuous integrals for the modes.
         blade = blade_modal_properties(t)
         edge_mode = blade_edge_mode(t)
@@ -688,8 +700,8 @@ class TurbineModel:
         # Mass sums of each span function f: sum m f, sum m f s_abs, sum m f r and against each mode shape.
         sums, nod, radius_sums = functions @ mass, functions @ (mass * s_abs), functions @ (mass * radius)
         flap_sums, edge_sums = functions @ (mass * flap_shape), functions @ (mass * edge_shape)
-        self._mass_radius = float(radius_sums[0])
-        self._mass_moments = hub_centre_moments(t, blade)
+        mass_radius = float(radius_sums[0])
+        mass_moments = hub_centre_moments(t, blade)
         flap_arms = (blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment)
         edge = edge_mode or BladeMode(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # rigid: no coupling, never advanced
         edge_arms = (edge.modal_first_moment, edge.modal_moment_arm + rh * edge.modal_first_moment)
@@ -699,24 +711,24 @@ class TurbineModel:
         def per_mode(flap_value: float, edge_value: float) -> np.ndarray:
             return np.repeat((flap_value, edge_value), b)
 
-        self._mode_stiffness = per_mode(blade.stiffness, edge.stiffness)
-        self._mode_centrifugal = per_mode(blade.centrifugal_stiffness, edge.centrifugal_stiffness)
-        self._mode_damping = per_mode(*(2.0 * m.damping_ratio * math.sqrt(m.stiffness * m.modal_mass)
-                                        for m in (blade, edge)))
-        self._mode_scale = per_mode(1.0 / math.sqrt(blade.modal_mass) if self._operating else 0.0,
-                                    1.0 / math.sqrt(edge.modal_mass) if self._operating and self._has_edge else 0.0)
         # The rotor's rotation moves the blade's mass along e_t, as a mode does by its part along e_t: their
-        # coupling is that part of int mu phi r ds (r = s_abs cos cone) in the kinetic energy.
-        self._rotor_arms = per_mode(cb * flap_arms[1], cb * edge_arms[1])
-        self._modal_matrix = np.empty((3, 2 * b))  # the modes' scaled couplings with the tower and the rotor
+        # coupling (the last row) is that part of int mu phi r ds (r = s_abs cos cone) in the kinetic energy.
+        self._mode_constants = np.vstack((
+            per_mode(blade.stiffness, edge.stiffness),
+            per_mode(blade.centrifugal_stiffness, edge.centrifugal_stiffness),
+            per_mode(*(2.0 * m.damping_ratio * math.sqrt(m.stiffness * m.modal_mass) for m in (blade, edge))),
+            per_mode(1.0 / math.sqrt(blade.modal_mass) if self._operating else 0.0,
+                     1.0 / math.sqrt(edge.modal_mass) if self._operating and self._has_edge else 0.0),
+            per_mode(cb * flap_arms[1], cb * edge_arms[1])))
+        self._mode_scale = self._mode_constants[3]
         # Drivetrain.
         drivetrain = t.drivetrain
         self._gearbox_ratio = drivetrain.gearbox_ratio
         self._torsional_stiffness = drivetrain.torsional_stiffness
-        self._torsional_damping = drivetrain.torsional_damping
-        self._rotor_inertia = rotor_inertia(t, blade)
+        torsional_damping = drivetrain.torsional_damping
+        rotor_spin_inertia = rotor_inertia(t, blade)
         self._generator_inertia = drivetrain.generator_inertia  # high-speed shaft
-        self._hub_inertia = rotor.hub_inertia
+        hub_inertia = rotor.hub_inertia
         # Tower: generalized masses include the rigid nacelle and hub moving with the tower
         # top (translation and, fore-aft, rotation phi'(H)); the blades enter through the
         # azimuth-dependent terms below.
@@ -724,35 +736,29 @@ class TurbineModel:
         rna_mass = rotor.hub_mass + nacelle.mass + b * blade.mass
         fa = tower_modal_properties(t, "fa", rna_mass)
         ss = tower_modal_properties(t, "ss", rna_mass)
-        self._fa, self._ss = fa, ss
-        self._base_height = t.tower.base_height
         sfa, sss = fa.top_slope, ss.top_slope
-        self._slope_fa, self._slope_ss = sfa, sss
+        self._slope_ss = sss
         xn, zn = nacelle.cm_downwind, nacelle.cm_above_tower_top
-        self._nacelle_position = (xn, zn)
         gain = 1.0 + sss * za  # side-side motion of the apex per metre of tower-top motion
-        self._ss_apex_gain = gain
         u0x, u0z = 1.0 + sfa * za, -sfa * xa  # fore-aft motion of the apex per metre (x, z)
-        self._apex_fa_motion = (u0x, u0z)
-        self._fa_mass_constant = (
+        fa_mass_constant = (
             fa.modal_mass
             + nacelle.mass * ((1.0 + sfa * zn) ** 2 + (sfa * xn) ** 2) + nacelle.yaw_inertia * sfa**2
             + rotor.hub_mass * (u0x**2 + u0z**2) + 0.5 * rotor.hub_inertia * sfa**2
-            + b * (u0x**2 + u0z**2) * self._mass_moments[0]
-            + b * sfa**2 * self._mass_moments[2]
+            + b * (u0x**2 + u0z**2) * mass_moments[0]
+            + b * sfa**2 * mass_moments[2]
         )
-        self._fa_mass_azimuthal = (2.0 * sfa * self._mass_moments[1], -(sfa**2) * self._mass_moments[2])
-        self._ss_mass = (
+        fa_mass_azimuthal = (2.0 * sfa * mass_moments[1], -(sfa**2) * mass_moments[2])
+        ss_mass = (
             ss.modal_mass + nacelle.mass * (1.0 + sss * zn) ** 2 + nacelle.yaw_inertia * sss**2
             + (rotor.hub_mass + b * blade.mass) * gain**2
         )
-        self._fa_gravity_force = g * sfa * (nacelle.mass * xn + rotor.hub_mass * xa)
-        self._nacelle_mass, self._hub_mass = nacelle.mass, rotor.hub_mass
-        fa_mass_estimate = self._fa_mass_constant - b * sfa**2 * self._mass_moments[2] / 2.0
+        fa_gravity_force = g * sfa * (nacelle.mass * xn + rotor.hub_mass * xa)
+        fa_mass_estimate = fa_mass_constant - b * sfa**2 * mass_moments[2] / 2.0
         self._tower_stiffness = np.array([fa.stiffness, ss.stiffness])
-        self._tower_damping = np.array([
+        tower_damping = np.array([
             2.0 * fa.damping_ratio * math.sqrt(fa.stiffness * fa_mass_estimate),
-            2.0 * ss.damping_ratio * math.sqrt(ss.stiffness * self._ss_mass),
+            2.0 * ss.damping_ratio * math.sqrt(ss.stiffness * ss_mass),
         ])
         # Per-blade features, each a linear function of (cos psi_i, sin psi_i, 1): rows of
         # `features @ [cos; sin; 1]`, starting with e_n, e_t, e_z (x, y, z each). Blade unit
@@ -777,14 +783,15 @@ class TurbineModel:
             "basis": unit,
             # Generalized tower forces per load row: the element's load along the motion U0 + s_abs U1 of its
             # point per metre of tower-top motion (arms from the root shifted to the apex).
-            "fa": np.array([c0[d] + rh * c1[d] if f == 0 else c1[d] if f == 1 else 0 * c1[d] for d, f in LOAD_ROWS]),
-            "ss": np.array([y_part[d] if f == 0 else 0 * y_part[d] for d, f in LOAD_ROWS]),
+            "tower_fa": np.array([c0[d] + rh * c1[d] if f == 0 else c1[d] if f == 1 else 0 * c1[d]
+                                  for d, f in LOAD_ROWS]),
+            "tower_ss": np.array([y_part[d] if f == 0 else 0 * y_part[d] for d, f in LOAD_ROWS]),
             # Each mode's inertial coupling with the tower coordinates, int mu phi (U . e) ds, for a mode along e_n
             # and along e_t (combined with the mode's direction each step): first the parts along cos theta of the
             # flap (e_n) and edgewise (e_t) modes, then those along sin theta (e_t, e_n).
-            **{f"{mode}_coupling_{d}": np.array([c0[d] * arms[0] + c1[d] * arms[1], y_part[d] * arms[0]])
-               for mode, arms, d in (("flap", flap_arms, "n"), ("edge", edge_arms, "t"), ("flap", flap_arms, "t"),
-                                     ("edge", edge_arms, "n"))},
+            "coupling": np.array([row for mode_arms, d in ((flap_arms, "n"), (edge_arms, "t"), (flap_arms, "t"),
+                                                           (edge_arms, "n"))
+                                  for row in (c0[d] * mode_arms[0] + c1[d] * mode_arms[1], y_part[d] * mode_arms[0])]),
             "inertia_fa": np.array([c0[d] * w + c1[d] * wn for d, w, wn, _ in by_row]),
             "inertia_ss": np.array([y_part[d] * w for d, w, _, _ in by_row]),
             "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
@@ -793,71 +800,33 @@ class TurbineModel:
             # side-side (whose rate enters with the apex gain).
             "inflow_motion_fa": np.array([-c0["n"], -c1["n"], c0["t"], c1["t"]]),
             "inflow_motion_ss": gain * np.array([-y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"]]),
-            # Wind velocity to inflow (vx, vy): e_n and -e_t, by inertial component.
-            "inflow_axes": np.concatenate((e_n, -e_t)),
-            # e_n, e_t, e_z again, ordered by inertial component (x of each, y of each, z of each).
-            "axes_by_component": unit.reshape(3, 3, 3).transpose(1, 0, 2).reshape(9, 3),
         }
-        rows, start = {}, 0
-        for name, block in blocks.items():
-            rows[name] = slice(start, start + len(block))
-            start += len(block)
-        self._features = np.vstack(list(blocks.values()))
-        self._rows = rows
-        self._tower_force_rows = slice(rows["fa"].start, rows["ss"].stop)
-        self._inertia_rows = slice(rows["inertia_fa"].start, rows["inertia_ss"].stop)
-        self._inflow_motion_rows = slice(rows["inflow_motion_fa"].start, rows["inflow_motion_ss"].stop)
-        # Per blade: cos psi, sin psi, 1, the rotor's omega^2 and omega^2 times each mode's deflection along e_t.
-        # Load sums without the inertia of the accelerations: gravity, centrifugal loads (radial, along
-        # e_r = cb e_z + sb e_n, and along e_t where a deflection moves the mass off the radius), linear in these.
-        self._blade_basis = np.ones((6, b))
-        self._trig = self._blade_basis[:3]
+        self._feature_matrix = np.vstack([blocks[name] for name, _ in FEATURE_BLOCKS])
+        self._features = np.empty((len(self._feature_matrix), b))  # the feature rows at the blades' azimuths
+        self._trig = np.ones((3, b))  # per blade: cos psi, sin psi, 1
+        # Load sums without the inertia of the accelerations: gravity, centrifugal loads (radial, along e_r = cb e_z +
+        # sb e_n, and along e_t where a deflection moves the mass off the radius), linear in cos psi, sin psi, 1,
+        # omega^2 and omega^2 times each mode's deflection along e_t.
         self._load_operator = np.column_stack((
             [gravity_part[d] * w for d, w, _, _ in by_row],
             [sb * r if d == "n" else cb * r if d == "z" else 0.0 for d, _, _, r in by_row],
             [flap_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS],
             [edge_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS]))
-        self._placement = np.empty((3, b, 4))  # per coordinate and blade: apex, e_z, flap and edge directions
         self._mode_directions = np.empty((4, b))  # flap along e_n and e_t, edge along e_n and e_t, per blade
-        self._deflection_parts, self._mode_rates, self._mode_accelerations = (np.empty((4, b)) for _ in range(3))
+        self._deflection_parts = np.empty((4, b))  # the deflections along those
+        self._apex = np.empty(3)
         # The wind is sampled at the elements and, after each blade's last element, at the
         # rotor apex (s_abs = 0 without deflection), whose wind is the hub wind.
         self._point_basis = np.column_stack((self._element_basis, (1.0, 0.0, 0.0, 0.0)))
-        # The inflow of every element as one product: rows vx of blades 1..B, then vy; columns
-        # wind u, v, w of blades 1..B (e_n and -e_t on the block diagonals), then the element
-        # motion along 1, s_abs, phi_flap and phi_edge (a view per blade, `_inflow_motion`).
-        self._inflow_operator = np.zeros((2 * b, 3 * b + 4))
-        self._inflow_motion = self._inflow_operator[:, 3 * b:].reshape(2, b, 4)
-        row, component, blade_index = np.meshgrid(np.arange(2), np.arange(3), np.arange(b), indexing="ij")
-        self._inflow_axes_index = np.ravel_multi_index(
-            (row * b + blade_index, component * b + blade_index), self._inflow_operator.shape).ravel()
-        self._inflow_operands = np.empty((3 * b + 4, n))
-        self._inflow_operands[3 * b:] = self._element_basis
+        self._element_wind = np.empty((3, b, n))
         self._inflow = np.empty((2, b, n))
-        # Inertial load sums of the accelerations of the tower and the rotor as one product: the tower rows follow
-        # the azimuth (set each step); the rotor's acceleration acts on every blade's e_t rows.
-        self._inertia_operator = np.zeros((3, len(LOAD_ROWS), b))  # [fa, ss, rotor]
-        self._inertia_operator[2] = np.array([radius_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS])[:, None]
+        # Inertial load sums of the rotor's acceleration: on every blade's e_t rows.
+        self._rotor_inertia_rows = np.array([radius_sums[f] if d == "t" else 0.0 for d, f in LOAD_ROWS])
         # The modes': a mode's acceleration acts on its own blade's e_n and e_t rows by its direction. Columns flap
         # along e_n, flap along e_t, edge along e_n, edge along e_t, against the modes' accelerations times their
-        # directions' parts (_mode_directions).
-        # Each mode's generalized force takes its phi-weighted rows: along cos theta (flap (n, 2), edge (t, 3)) and
-        # along the sin theta parts of its direction (flap (t, 2), edge (n, 3)).
-        self._mode_force_rows = ([LOAD_ROWS.index(("n", 2)), LOAD_ROWS.index(("t", 3))],
-                                 [LOAD_ROWS.index(("t", 2)), LOAD_ROWS.index(("n", 3))])
+        # directions' parts.
         self._mode_inertia = np.column_stack([[weights[f] if row == d else 0.0 for row, f in LOAD_ROWS]
                                               for weights in (flap_sums, edge_sums) for d in ("n", "t")])
-        # Per-blade outputs as one product with the load sums; the parts weighted by the deflections are added from
-        # the last six rows (_make_output). Apex moments A = s F_n + r_h F_n (about -e_t), B = s F_t + r_h F_t (about
-        # e_n), C (about -e_z); root moments oop = s F_n, ip = s F_t; forces F_n, F_t, F_z; then phi F_z, phi F_t and
-        # phi F_n of each mode (flap, edge).
-        selected = [(("n", 0), rh), (("n", 1), 1.0)], [(("t", 0), rh), (("t", 1), 1.0)], [], [(("n", 1), 1.0)], \
-            [(("t", 1), 1.0)], [(("n", 0), 1.0)], [(("t", 0), 1.0)], [(("z", 0), 1.0)], \
-            *([((d, f), 1.0)] for d in ("z", "t", "n") for f in (2, 3))
-        self._output_selector = np.zeros((len(selected), len(LOAD_ROWS)))
-        for k, terms in enumerate(selected):
-            for key, value in terms:
-                self._output_selector[k, LOAD_ROWS.index(key)] = value
         self._induction_bounds = np.empty((2, 2, b, n))  # lower, upper bounds of a, a'
         self._induction_bounds[0] = -1.0
         self._induction_bounds[1] = np.reshape((0.99, 1.0), (2, 1, 1))
@@ -873,85 +842,55 @@ class TurbineModel:
         self._blade_constants = (bem.polars.table, *bem.polars.grid_constants, bem.loss_exponents, bem.local_solidity,
                                  self._induction_bounds, self._pressure_to_load, self._span_functions)
         self._aero_sums = np.empty((2, b, len(self._element_basis)))
+        # What the other kernels write (model_step).
+        self._loads = np.empty((len(LOAD_ROWS), b))
+        self._mode_stiffness_now, self._mode_residual, self._scaled_residual = (np.empty(2 * b) for _ in range(3))
+        self._modal_matrix = np.empty((3, 2 * b))  # the modes' scaled couplings with the tower and the rotor
+        self._schur = np.empty(9)
+        self._forces = np.zeros(len(FORCES))
+        self._drag_loads = np.zeros(4)
+        self._root_moments = np.empty((2, b))
+        self._measured = np.empty(len(MEASURED))
+        self._constants = constant_array(
+            apex_x=xa, apex_fa_x=u0x, apex_fa_z=u0z, apex_ss_gain=gain, apex_height=t.tower.height + za,
+            tower_height=t.tower.height, cos_cone=cb, sin_cone=sb, cos_tilt=ct, sin_tilt=st, hub_radius=rh, gravity=g,
+            mass_radius=mass_radius, torsional_stiffness=self._torsional_stiffness,
+            torsional_damping=torsional_damping, gearbox_ratio=self._gearbox_ratio,
+            generator_inertia=self._generator_inertia, hub_inertia=hub_inertia,
+            rotor_inertia=rotor_spin_inertia, slope_fa=sfa, slope_ss=sss, fa_gravity_force=fa_gravity_force,
+            fa_mass_constant=fa_mass_constant, fa_mass_linear=fa_mass_azimuthal[0],
+            fa_mass_quadratic=fa_mass_azimuthal[1], ss_mass=ss_mass, fa_damping=tower_damping[0],
+            ss_damping=tower_damping[1], fa_stiffness=fa.stiffness, ss_stiffness=ss.stiffness,
+            base_height=t.tower.base_height, fa_base_shape=fa.base_shape, ss_base_shape=ss.base_shape,
+            fa_height_moment=fa.modal_height_moment, ss_height_moment=ss.modal_height_moment,
+            fa_gravity_moment=fa.modal_first_moment - fa.base_shape * fa.mass_above_base,
+            ss_gravity_moment=ss.modal_first_moment - ss.base_shape * ss.mass_above_base,
+            nacelle_mass=nacelle.mass, nacelle_x=xn, nacelle_z=zn, hub_mass=rotor.hub_mass)
 
-    # ------------------------------------------------------------------ loads
+    # ------------------------------------------------------------------ loads (model_step's kernels)
 
     def _sample_inflow(self) -> None:
-        """Geometry of the elements, the wind there and the inflow (vx, vy) without induction.
-
-        Every blade's unit vectors are rows of ``features``; positions and velocities of its
-        elements are combinations of 1, s_abs and phi along the span, so that each is one
-        matrix product for all blades.
+        """Geometry of the elements, the wind there and the inflow (vx, vy) without induction
+        (:func:`~hawt_plant.model_step.place_elements`, the wind field, :func:`~hawt_plant.model_step.element_inflow`).
         """
-        b, n = self._b, self._n
-        trig = self._trig
-        angle = self._azimuth + self._blade_offsets
-        np.cos(angle, out=trig[0])
-        np.sin(angle, out=trig[1])
-        features = np.dot(self._features, trig)
-        self._feature_values = features
-        x_top, y_top = self._tower.tolist()
-        u0x, u0z = self._apex_fa_motion
-        apex = (self._apex_x + x_top * u0x, y_top * self._ss_apex_gain,
-                self._tower_height + self._apex_z_top + x_top * u0z)
-        self._apex = apex
-        # The modes turn with the blade's pitch theta (ElastoDyn's): the flap mode along d_f = cos theta e_n +
-        # sin theta e_t, the edgewise mode along d_e = cos theta e_t - sin theta e_n (the chord's direction: at
-        # feather the flap mode is in the rotor plane). Element positions apex + s_abs e_z + w phi_f d_f + v phi_e d_e.
-        directions = self._mode_directions  # rows: flap along e_n and e_t, edge along e_n and e_t
-        np.cos(self._pitch, out=directions[0])
-        np.sin(self._pitch, out=directions[1])
-        np.negative(directions[1], out=directions[2])
-        directions[3] = directions[0]
-        parts = self._along_directions(self._displacement[2:], self._deflection_parts)
-        flap_n, flap_t, edge_n, edge_t = parts
-        placement = self._placement
-        placement[:, :, 0].T[...] = apex
-        placement[:, :, 1] = features[6:9]
-        placement[:, :, 2] = features[0:3] * flap_n + features[3:6] * flap_t
-        placement[:, :, 3] = features[0:3] * edge_n + features[3:6] * edge_t
-        points = np.dot(placement.reshape(3 * b, 4), self._point_basis).reshape(3, b, n + 1)
-        drag = self._tower_drag
-        if drag is None:
-            velocity = self._wind.velocity(self._time, points[0], points[1], points[2])
-        else:
-            samples, nodes = self._samples, len(drag.elevation)
-            samples[:, :b, :n + 1] = points
-            np.multiply(drag.fa_shape, x_top, out=samples[0, b, :nodes])
-            np.multiply(drag.ss_shape, y_top, out=samples[1, b, :nodes])
-            samples[:2, b, nodes:] = samples[:2, b, nodes - 1:nodes]
-            sampled = self._wind.velocity(self._time, samples[0], samples[1], samples[2])
-            velocity = sampled[:, :b, :n + 1]
-            self._tower_drag_loads = drag.loads(sampled[0, b, :nodes], sampled[1, b, :nodes],
-                                                *self._tower_rate.tolist())
+        constants, features, directions = self._constants, self._features, self._mode_directions
+        samples, displacement = self._samples, self._displacement
+        place_elements(self._azimuth, self._pitch, displacement, constants, self._feature_matrix, self._blade_offsets,
+                       self._point_basis, self._drag_shapes, self._trig, features, directions, self._deflection_parts,
+                       self._apex, samples)
+        velocity = np.ascontiguousarray(self._wind.velocity(self._time, samples[0], samples[1], samples[2]),
+                                        dtype=float)
+        n = self._n
         self._hub_wind_speed = float(velocity[0, 0, n])
         if self._config.skewed_wake:
             self._apex_wind = velocity[:, 0, n].tolist()
-        operands = self._inflow_operands
-        wind = operands[:3 * b].reshape(3, b, n)
-        wind[...] = velocity[:, :, :n]
-        if self._shadow is not None:
-            grid = points[:, :, :n]
-            du, dv = self._shadow.disturbance(grid[0] - x_top, grid[1] - y_top, grid[2])
-            u = wind[0]
-            wind[1] += u * dv
-            u *= _ONE + du
-        # Element velocity from the tower, flap and edgewise motion and the rotation (omega r, r = s_abs cos cone).
-        motion = self._inflow_motion
-        tower_parts = np.dot(self._tower_rate, features[self._inflow_motion_rows].reshape(2, 4 * b))
-        motion[:, :, 0:2] = tower_parts.reshape(2, 2, b).transpose(0, 2, 1)
-        # vx takes minus the speed along e_n, vy the speed along e_t.
-        rates = self._along_directions(self._velocity[2:], self._mode_rates)
-        np.negative(rates[0::2], out=motion[0, :, 2:].T)
-        motion[1, :, 2:].T[...] = rates[1::2]
-        motion[1, :, 1] += self._rotor_speed * self._cos_cone
-        operator = self._inflow_operator
-        operator.put(self._inflow_axes_index, features[self._rows["inflow_axes"]])
-        np.dot(operator, operands, out=self._inflow.reshape(2 * b, n))
+        element_inflow(velocity, samples, displacement, self._velocity, self._rotor_speed, constants, features,
+                       directions, self._point_basis, *self._shadow, self._drag_constants, self._element_wind,
+                       self._inflow, self._drag_loads)
 
     def _evaluate_loads(self, update_induction: bool) -> None:
-        """Aerodynamic and element loads, generalized forces and the reduced mass matrix."""
-        b = self._b
+        """Aerodynamic and element loads, generalized forces and the reduced mass matrix
+        (:func:`~hawt_plant.blade_elements.blade_element_loads`, :func:`~hawt_plant.model_step.generalized_forces`)."""
         config, unsteady = self._config, self._unsteady
         skewed, skew_angle, cos_azimuth = self._skew() if config.skewed_wake else (False, 0.0, self._trig[0])
         aero = self._aero_sums
@@ -961,66 +900,11 @@ class TurbineModel:
                             self._tip_ratio, skewed, skew_angle, cos_azimuth, unsteady is not None,
                             *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
                             aero)
-        normal, tangential = np.add.reduce(aero, axis=1).tolist()  # over the blades
-        cb = self._cos_cone
-        self._aero_thrust = cb * normal[0]
-        self._aero_torque = cb * (tangential[1] + self._hub_radius * tangential[0])
-        features, rows = self._feature_values, self._rows
-        self._gravity_torque = -self._g * self._mass_radius * sum(features[5].tolist())
-        shaft = self._torsional_stiffness * self._torsion + self._torsional_damping * (
-            self._rotor_speed - self._generator_speed)
-        self._shaft_torque = shaft
-        omega2 = self._rotor_speed * self._rotor_speed
-        # Per-blade load sums without the inertia of the accelerations (unknown yet).
-        self._blade_basis[3] = omega2
-        np.multiply(self._deflection_parts[1::2], omega2, out=self._blade_basis[4:6])
-        loads = np.dot(self._load_operator, self._blade_basis)
-        aero_loads = loads[0:8].reshape(2, 4, b)  # a view: the e_n and e_t rows
-        aero_loads += aero.transpose(0, 2, 1)
-        self._loads = loads
-        # Generalized forces: the modes from their own rows, the tower from projections.
-        tower_fa, tower_ss = np.dot(features[self._tower_force_rows].reshape(2, loads.size), loads.reshape(-1)).tolist()
-        q_fa = tower_fa + self._fa_gravity_force + self._tower_drag_loads.fa_force
-        q_ss = tower_ss + self._tower_drag_loads.ss_force - self._slope_ss * self._cos_tilt * shaft * (
-            1.0 - 1.0 / self._gearbox_ratio)
-        # Each mode's generalized force: its phi-weighted loads along its direction, minus its damping and stiffness.
-        directions = self._mode_directions
-        along_cos, along_sin = self._mode_force_rows
-        self._mode_stiffness_now = self._mode_stiffness + self._mode_centrifugal * omega2
-        self._mode_residual = (directions[0::3] * loads[along_cos] + directions[1:3] * loads[along_sin]).ravel() \
-            - self._mode_damping * self._velocity[2:] - self._mode_stiffness_now * self._displacement[2:]
-        (damping_fa, damping_ss), (stiffness_fa, stiffness_ss) = self._tower_damping, self._tower_stiffness
-        (rate_fa, rate_ss), (x_top, y_top) = self._tower_rate.tolist(), self._tower.tolist()
-        self._residual_fa = q_fa - damping_fa * rate_fa - stiffness_fa * x_top
-        self._residual_ss = q_ss - damping_ss * rate_ss - stiffness_ss * y_top
-        # The mass matrix over [tower fa, tower ss, modes, rotor] reduced to the tower coordinates and the rotor: the
-        # Schur complement of the modes' diagonal block, M M^T with M their couplings with the tower and the rotor
-        # scaled by 1/sqrt(mass) (_mode_scale, module notes).
-        coupling = features[rows["flap_coupling_n"].start:rows["edge_coupling_n"].stop].reshape(2, 2, 2, b)
-        scaled = self._modal_matrix
-        scale = self._mode_scale
-        towers = (directions[0::3] * coupling[0].transpose(1, 0, 2) + directions[1:3] * coupling[1].transpose(
-            1, 0, 2)).reshape(2, 2 * b)
-        np.multiply(towers, scale, out=scaled[0:2])
-        np.multiply(self._rotor_arms * directions[1::-1].ravel(), scale, out=scaled[2])
-        self._scaled_residual = self._mode_residual * scale
-        schur = np.dot(scaled, scaled.T).ravel().tolist()
-        projected_fa, projected_ss, projected_rotor = np.dot(scaled, self._scaled_residual).tolist()
-        fa_mass = features[rows["fa_mass"]]
-        linear, quadratic = self._fa_mass_azimuthal
-        mass_fa = (self._fa_mass_constant + linear * sum(fa_mass[0].tolist())
-                   + quadratic * float(np.dot(fa_mass[1], fa_mass[1])))
-        self._schur = (mass_fa - schur[0], -schur[1], self._ss_mass - schur[4], self._residual_fa - projected_fa,
-                       self._residual_ss - projected_ss, -schur[2], -schur[5], self._rotor_inertia - schur[8],
-                       self._aero_torque + self._gravity_torque - shaft - projected_rotor)
-
-    def _along_directions(self, modes: np.ndarray, out: np.ndarray) -> np.ndarray:
-        """The modal coordinates ``modes`` [flap 1..B, edge 1..B] (or their rates) along the modes' directions, rows
-        as :attr:`_mode_directions`, into ``out`` (4, B)."""
-        b = self._b
-        np.multiply(self._mode_directions[0:2], modes[:b], out=out[0:2])
-        np.multiply(self._mode_directions[2:4], modes[b:], out=out[2:4])
-        return out
+        generalized_forces(aero, self._trig, self._features, self._mode_directions, self._deflection_parts,
+                           self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,
+                           self._drag_loads, self._constants, self._load_operator, self._mode_constants, self._loads,
+                           self._mode_stiffness_now, self._mode_residual, self._modal_matrix, self._scaled_residual,
+                           self._schur, self._forces)
 
     def _skew(self) -> tuple[bool, float, np.ndarray]:
         """Pitt & Peters's skewed wake for the wind at the rotor apex: whether it is skewed, its angle χ_0 to the
@@ -1036,113 +920,49 @@ class TurbineModel:
         return (True, math.atan2(in_plane, u * ct - w * st),
                 (self._trig[0] * along_z - self._trig[1] * along_y) / in_plane)
 
+    @property
+    def _shaft_torque(self) -> float:
+        return float(self._forces[_SHAFT_TORQUE])
+
     def _generator_acceleration(self, generator_torque: float) -> float:
         ratio = self._gearbox_ratio
         return (self._shaft_torque - ratio * generator_torque) / (self._generator_inertia * ratio * ratio)
 
     def _accelerations(self, generator_torque: float) -> np.ndarray:
-        """The accelerations [tower fa, tower ss, flap 1..B, edge 1..B, rotor] with this generator torque: the
-        reduced 3 x 3 system of the tower and the rotor solved by eliminating the rotor, then each blade's modes."""
-        m11, m12, m22, r1, r2, m13, m23, m33, r3 = self._schur
-        r2 -= self._slope_ss * self._cos_tilt * generator_torque
-        a11, a12, a22 = m11 - m13 * m13 / m33, m12 - m13 * m23 / m33, m22 - m23 * m23 / m33
-        b1, b2 = r1 - m13 * r3 / m33, r2 - m23 * r3 / m33
-        det = a11 * a22 - a12 * a12
-        x_acc = (a22 * b1 - a12 * b2) / det
-        y_acc = (a11 * b2 - a12 * b1) / det
-        rotor_acc = (r3 - m13 * x_acc - m23 * y_acc) / m33
+        """The accelerations [tower fa, tower ss, flap 1..B, edge 1..B, rotor] with this generator torque
+        (:func:`~hawt_plant.model_step.accelerations`)."""
         out = np.empty(3 + 2 * self._b)
-        out[0], out[1], out[-1] = x_acc, y_acc, rotor_acc
-        np.multiply(self._scaled_residual - np.dot((x_acc, y_acc, rotor_acc), self._modal_matrix), self._mode_scale,
-                    out=out[2:-1])
+        accelerations(self._schur, float(generator_torque), self._constants, self._modal_matrix, self._scaled_residual,
+                      self._mode_scale, out)
         return out
 
     # ------------------------------------------------------------------ outputs
 
     def _make_output(self, acc: np.ndarray) -> TurbineOutput:
+        """The measurements with the accelerations ``acc`` (:func:`~hawt_plant.model_step.measured_loads`)."""
+        root, measured = self._root_moments, self._measured
+        measured_loads(acc, float(self._acting_torque()), self._trig, self._features, self._mode_directions,
+                       self._deflection_parts, self._loads, self._apex, self._displacement, self._element_wind,
+                       self._constants, self._rotor_inertia_rows, self._mode_inertia, self._effective_weights,
+                       self._forces, self._drag_loads, root, measured)
+        (tilt, yaw, bearing_tilt, bearing_yaw, base_fa, base_ss, wind_mean, wind_cos, wind_sin) = measured.tolist()
         x_acc, y_acc = acc[:2].tolist()
-        b = self._b
-        features = self._feature_values
-        inertia = self._inertia_operator
-        rows = len(LOAD_ROWS)
-        inertia[0:2] = features[self._inertia_rows].reshape(2, rows, b)
-        modes = self._along_directions(acc[2:-1], self._mode_accelerations)
-        loads = self._loads - np.dot((x_acc, y_acc, acc[-1]), inertia.reshape(3, rows * b)).reshape(rows, b) \
-            - np.dot(self._mode_inertia, modes)
-        per_blade = np.dot(self._output_selector, loads)
-        # The deflections' moment arms: along e_n (flap_n, edge_n) against the axial force about -e_t and the
-        # in-plane force about -e_z; along e_t against the axial force about e_n and the out-of-plane force.
-        flap_n, flap_t, edge_n, edge_t = self._deflection_parts
-        (flap_z, edge_z), (flap_tangential, edge_tangential), (flap_normal, edge_normal) = \
-            per_blade[8:10], per_blade[10:12], per_blade[12:14]
-        along_n = flap_n * flap_z + edge_n * edge_z
-        along_t = flap_t * flap_z + edge_t * edge_z
-        per_blade[0] -= along_n
-        per_blade[1] -= along_t
-        per_blade[2] = flap_n * flap_tangential + edge_n * edge_tangential - flap_t * flap_normal - edge_t * edge_normal
-        oop = per_blade[3] - along_n
-        ip = per_blade[4] - along_t
-        # Moments about the apex per blade: A about -e_t, B about e_n, C about -e_z; summed
-        # against cos, sin and 1 of the blade azimuths.
-        (ca, cb_, cc), (sa, sb_, sc), (_, ob, oc) = np.dot(self._trig, per_blade[0:3].T).tolist()
-        cone_c, cone_s = self._cos_cone, self._sin_cone
-        tilt = ca - cone_s * sb_ + cone_c * sc
-        yaw = sa + cone_s * cb_ - cone_c * cc
-        spin = cone_c * ob + cone_s * oc
-        # Rotor force at the apex in inertial axes: sum over blades of F_n e_n + F_t e_t + F_z e_z.
-        axes = features[self._rows["axes_by_component"]].reshape(3, 3 * b)
-        fx, fy, fz = np.dot(axes, per_blade[5:8].reshape(3 * b)).tolist()
-        ax, ay, az = self._apex
-        g = self._g
         x_top, y_top = self._tower.tolist()
-        fa, ss = self._fa, self._ss
-        # Tower-base moments about the tower's base (OpenFAST's TwrBsMyt/Mxt point): at base_height, moved by a
-        # flexible base with the mode (0 on the ground or a rigid base); loads of what stands above it.
-        zb, xb, yb = self._base_height, fa.base_shape * x_top, ss.base_shape * y_top
-        base_fa = tilt + (az - zb) * fx - (ax - xb) * fz
-        base_ss = spin * self._cos_tilt + yaw * self._sin_tilt + (ay - yb) * fz - (az - zb) * fy
-        # Yaw bearing: the same rotor loads about the tower top; its yaw axis is inertial z.
-        height = self._tower_height
-        rx, ry, rz = ax - x_top, ay - y_top, az - height
-        bearing_tilt = tilt + rz * fx - rx * fz
-        bearing_yaw = yaw * self._cos_tilt - spin * self._sin_tilt + rx * fy - ry * fx
-        # Nacelle and hub (point masses moving with the tower top), tower, spinning inertias.
-        sfa, sss = self._slope_fa, self._slope_ss
-        xn, zn = self._nacelle_position
-        for body_mass, bx, bz, hy in ((self._nacelle_mass, xn + x_top, height + zn, 1.0 + sss * zn),
-                                      (self._hub_mass, ax, az, self._ss_apex_gain)):
-            body_fx = -body_mass * x_acc * (1.0 + sfa * (bz - height))
-            body_fy = -body_mass * y_acc * hy
-            body_fz = -body_mass * (g - x_acc * sfa * (bx - x_top))
-            base_fa += (bz - zb) * body_fx - (bx - xb) * body_fz
-            base_ss += (y_top * hy - yb) * body_fz - (bz - zb) * body_fy
-            bearing_tilt += (bz - height) * body_fx - (bx - x_top) * body_fz
-            bearing_yaw += (bx - x_top) * body_fy - y_top * (hy - 1.0) * body_fx
-        base_fa += -x_acc * fa.modal_height_moment + g * x_top * (fa.modal_first_moment - fa.base_shape *
-                                                                   fa.mass_above_base)
-        base_ss += y_acc * ss.modal_height_moment - g * y_top * (ss.modal_first_moment - ss.base_shape *
-                                                                  ss.mass_above_base)
-        drag = self._tower_drag_loads
-        base_fa += drag.base_fa_moment
-        base_ss += drag.base_ss_moment
         ratio = self._gearbox_ratio
-        spin_reaction = (self._hub_inertia * acc[-1]
-                         + self._generator_inertia * ratio * self._generator_acceleration(self._acting_torque()))
-        base_ss -= spin_reaction * self._cos_tilt
-        bearing_yaw += spin_reaction * self._sin_tilt
         generator_speed = ratio * self._generator_speed
-        return TurbineOutput(
+        forces = self._forces
+        return TurbineOutput._filled(
             time=self._time,
             azimuth=self._azimuth,
             rotor_speed=self._rotor_speed,
-            root_moment_oop=oop,
-            root_moment_ip=ip,
+            root_moment_oop=root[0].copy(),
+            root_moment_ip=root[1].copy(),
             pitch=self._pitch.copy(),
             generator_speed=generator_speed,
             generator_torque=self._generator_torque,
             electrical_power=self._turbine.generator.efficiency * self._generator_torque * generator_speed,
-            aero_torque=self._aero_torque,
-            rotor_thrust=self._aero_thrust,
+            aero_torque=float(forces[_AERO_TORQUE]),
+            rotor_thrust=float(forces[_THRUST]),
             hub_wind_speed=self._hub_wind_speed,
             tower_top_fa_accel=x_acc,
             tower_top_ss_accel=y_acc,
@@ -1154,14 +974,7 @@ class TurbineModel:
             yaw_bearing_yaw_moment=bearing_yaw,
             tower_base_fa_moment=base_fa,
             tower_base_ss_moment=base_ss,
-            **self._effective_wind(),
+            effective_wind_mean=wind_mean,
+            effective_wind_cos=wind_cos,
+            effective_wind_sin=wind_sin,
         )
-
-    def _effective_wind(self) -> dict:
-        """The blade-effective wind in multi-blade coordinates of harmonic 1 (see TurbineOutput)."""
-        b = self._b
-        per_blade = np.dot(self._inflow_operands[:b], self._effective_weights)
-        cos, sin, total = np.dot(self._trig, per_blade).tolist()  # rows cos ψ_i, sin ψ_i, 1
-        return {"effective_wind_mean": total / b, "effective_wind_cos": 2.0 / b * cos,
-                "effective_wind_sin": 2.0 / b * sin}
-

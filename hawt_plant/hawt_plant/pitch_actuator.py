@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import expm
 
+from hawt_plant.compiled import njit
 from hawt_plant.turbine import PitchActuator
 
 __all__ = ["DiscretePitchActuator"]
@@ -39,11 +40,9 @@ class DiscretePitchActuator:
         # Angle and rate at the end of the step from angle, rate and command at its start.
         self._transition = expm(augmented * dt)[:2]
         self._parameters = parameters
-        # Lower and upper limits of the angle change per step, angle and rate, as 0-d arrays:
-        # numpy 2 combines an array with a 0-d array faster than with a Python float.
+        # Lower and upper limits of the angle change per step, angle and rate.
         max_step, max_rate = parameters.max_rate * dt, parameters.max_rate
-        self._limits = tuple(np.array(limit) for limit in (
-            -max_step, max_step, parameters.min_angle, parameters.max_angle, -max_rate, max_rate))
+        self._limits = np.array((-max_step, max_step, parameters.min_angle, parameters.max_angle, -max_rate, max_rate))
 
     @property
     def parameters(self) -> PitchActuator:
@@ -65,9 +64,21 @@ class DiscretePitchActuator:
         angle, rate : ndarray, shape (B,)
             At the end of the step.
         """
-        step_low, step_high, angle_low, angle_high, rate_low, rate_high = self._limits
-        new_angle, new_rate = np.dot(self._transition, np.array((angle, rate, command)))
-        moved = angle + np.minimum(np.maximum(new_angle - angle, step_low), step_high)
-        limited = np.minimum(np.maximum(moved, angle_low), angle_high)
-        new_rate = np.minimum(np.maximum(new_rate, rate_low), rate_high)
-        return limited, new_rate * (limited == moved)
+        new_angle, new_rate = np.empty(len(angle)), np.empty(len(angle))
+        _limited_step(self._transition, self._limits, np.asarray(angle, dtype=float), np.asarray(rate, dtype=float),
+                      np.asarray(command, dtype=float), new_angle, new_rate)
+        return new_angle, new_rate
+
+
+@njit
+def _limited_step(transition, limits, angle, rate, command, new_angle, new_rate):
+    """:meth:`DiscretePitchActuator.step` per blade: the exact linear step, then the limits (class notes)."""
+    step_low, step_high, angle_low, angle_high, rate_low, rate_high = (limits[0], limits[1], limits[2], limits[3],
+                                                                       limits[4], limits[5])
+    for i in range(angle.size):
+        linear_angle = transition[0, 0] * angle[i] + transition[0, 1] * rate[i] + transition[0, 2] * command[i]
+        linear_rate = transition[1, 0] * angle[i] + transition[1, 1] * rate[i] + transition[1, 2] * command[i]
+        moved = angle[i] + min(max(linear_angle - angle[i], step_low), step_high)
+        limited = min(max(moved, angle_low), angle_high)
+        new_angle[i] = limited
+        new_rate[i] = min(max(linear_rate, rate_low), rate_high) if limited == moved else 0.0

@@ -22,7 +22,7 @@ from hawt_plant.compiled import njit
 from hawt_plant.modal import polynomial_mode
 from hawt_plant.turbine import Turbine
 
-__all__ = ["TowerDrag", "TowerDragLoads"]
+__all__ = ["TowerDrag", "TowerDragLoads", "node_drag"]
 
 
 @dataclass(frozen=True)
@@ -90,12 +90,12 @@ class TowerDrag:
         u, v = np.asarray(u, dtype=float), np.asarray(v, dtype=float)
         if not u.shape == v.shape == self.elevation.shape:
             raise ValueError(f"u, v: expected {self.elevation.size} values each, found shapes {u.shape}, {v.shape}")
-        return TowerDragLoads(*_drag(u, v, float(fa_rate), float(ss_rate), self.coefficient, self.fa_shape,
+        return TowerDragLoads(*node_drag(u, v, float(fa_rate), float(ss_rate), self.coefficient, self.fa_shape,
                                      self.ss_shape, self.lever))
 
 
 @njit
-def _drag(u, v, fa_rate, ss_rate, coefficient, fa_shape, ss_shape, lever):
+def node_drag(u, v, fa_rate, ss_rate, coefficient, fa_shape, ss_shape, lever):
     """:meth:`TowerDrag.loads`: the node forces 1/2 rho Cd D w |V_rel| V_rel summed against the mode shapes and the
     arms to the base."""
     fa_force = ss_force = base_fa = base_ss = 0.0

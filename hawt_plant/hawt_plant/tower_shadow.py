@@ -154,6 +154,11 @@ class TowerShadow:
         return cls(tower.outline_elevation, tower.outline_diameter / 2.0, tower.height, downwind,
                    tower.drag_coefficient)
 
+    @property
+    def outline(self) -> tuple[np.ndarray, np.ndarray]:
+        """The heights and radii :func:`shadow` takes: the outline up to just below the top."""
+        return self._outline
+
     def disturbance(self, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Relative velocity change ``(du, dv)`` at points ``(x, y, z)`` [m] relative to the tower base.
 
@@ -162,7 +167,7 @@ class TowerShadow:
         """
         shape, (x, y, z) = flat(x, y, z)
         out = np.empty((2, x.size))
-        elevation, outline = self._outline
+        elevation, outline = self.outline
         _disturbances(x, y, z, elevation, outline, self.downwind, self.drag_coefficient, out)
         return out[0].reshape(shape), out[1].reshape(shape)
 
