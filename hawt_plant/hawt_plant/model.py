@@ -51,7 +51,9 @@ which does not pitch with the blade.
 
 Time stepping: commands for step k are held over [t_k, t_k+1); loads are evaluated once per
 step at the state, the structure and drivetrain advance by semi-implicit (symplectic) Euler
-and the pitch actuator by its exact discretization.
+and the pitch actuator by its exact discretization. The step's arithmetic is compiled
+(:mod:`hawt_plant.model_step`, :mod:`hawt_plant.blade_elements`); this class holds the constants and the state
+and calls the kernels in order.
 """
 from __future__ import annotations
 

@@ -6,10 +6,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from numba.core.registry import CPUDispatcher
 
 import hawt_plant
-from hawt_plant import airfoil_table, bem, blade_elements, turbulence, unsteady_airfoil
+from hawt_plant import (airfoil_table, bem, blade_elements, model_step, pitch_actuator, tower_drag, tower_shadow,
+                        turbulence, unsteady_airfoil)
 from hawt_plant.compiled import cache_folder, source_hash
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
@@ -21,8 +23,21 @@ PACKAGE = Path(hawt_plant.__file__).resolve().parent
 def test_the_per_step_formulas_are_compiled_functions():
     """Each formula of a step is a numba dispatcher, which the model's step calls compiled."""
     for function in (blade_elements.blade_element_loads, bem.induction, bem.loss_factor, bem.skew_factor,
-                     bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, turbulence._trilinear):
+                     bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, turbulence._trilinear,
+                     model_step.place_elements, model_step.element_inflow, model_step.generalized_forces,
+                     model_step.accelerations, model_step.advance_structure, model_step.measured_loads,
+                     tower_shadow.shadow, tower_drag.node_drag, pitch_actuator._limited_step):
         assert isinstance(function, CPUDispatcher), function
+
+
+def test_the_step_kernels_take_every_constant_by_name_and_no_other():
+    """The model's scalar constants reach the kernels as one array in the order of CONSTANTS; a missing or unknown
+    name is refused, naming it."""
+    values = {name: float(k) for k, name in enumerate(model_step.CONSTANTS)}
+    assert model_step.constant_array(**values).tolist() == list(values.values())
+    del values["hub_mass"]
+    with pytest.raises(ValueError, match="missing \\['hub_mass'\\], unknown \\['hub_masss'\\]"):
+        model_step.constant_array(**values, hub_masss=1.0)
 
 
 def test_the_cache_is_keyed_by_the_content_of_every_plant_module(tmp_path):

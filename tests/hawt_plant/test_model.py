@@ -72,6 +72,17 @@ def test_output_fields_are_the_message_fields_of_design_5(turbine):
     assert sorted(names) == sorted(["time"] + BLADE_LOADS_FIELDS + TURBINE_STATE_FIELDS)
 
 
+def test_every_step_output_has_every_field_and_stays_frozen(turbine):
+    """The step fills its output without the dataclass's __init__ (TurbineOutput._filled): every field is set, none
+    other, and the output cannot be changed."""
+    model = TurbineModel(turbine, PowerLawWind(11.4, shear_exponent=0.2))
+    out = model.step(model.output.pitch, model.output.generator_torque)
+    assert set(vars(out)) == {f.name for f in dataclasses.fields(TurbineOutput)}
+    assert dataclasses.replace(out, time=1.0).time == 1.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        out.time = 1.0
+
+
 def test_starts_at_the_rated_operating_point(turbine):
     """Above rated the model starts at 12.1 rpm and 5 MW: rated generator torque at 1173.7 rpm."""
     model = TurbineModel(turbine, PowerLawWind(13.0, shear_exponent=0.2))
