@@ -111,8 +111,8 @@ build_discon_bridge() {
 # content of hawt_plant's sources, so that no run pays for compiling and no run uses code older than its source.
 compile_plant_kernels() {
   local folder python=("env" "PYTHONPATH=$ROOT/hawt_plant:$ROOT/hawt_core" "$VENV/bin/python")
-  folder="$("${python[@]}" -c 'from hawt_plant.compiled import cache_folder; print(cache_folder())')" \
-    || fail "could not import numba for the plant's kernels (see the error above)"
+  folder="$("${python[@]}" -m hawt_plant.kernel_cache)" \
+    || fail "could not find the folder of the plant's kernels (see the error above)"
   [ -f "$folder/.hawt-complete" ] && return 0
   say "compiling the plant's kernels with numba (once per change of hawt_plant's sources, into $folder)"
   mkdir -p "$folder"

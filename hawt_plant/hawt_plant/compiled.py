@@ -13,40 +13,19 @@ folder is therefore never used for sources other than its own.
 The folder is ``$NUMBA_CACHE_DIR`` when the user sets it (numba's own setting, then the user's to keep
 in step), otherwise ``$XDG_CACHE_HOME/hawt/compiled/<hash>`` (``~/.cache`` by default). It is deliberately
 not under ``$HAWT_CACHE_DIR``: what is cached there (wind fields) depends on inputs, this only on the
-sources, and ``scripts/setup.sh`` fills it once (``python -m hawt_plant.compiled``).
+sources, and ``scripts/setup.sh`` fills it once (``python -m hawt_plant.compiled``). The folder and its key are
+:mod:`hawt_plant.kernel_cache`'s, which set-up asks without importing numba.
 """
 from __future__ import annotations
 
-import hashlib
 import os
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from hawt_plant.kernel_cache import cache_folder, source_hash
+
 __all__ = ["cache_folder", "flat", "njit", "source_hash"]
-
-_PACKAGE = Path(__file__).resolve().parent
-_CHOSEN = os.environ.get("NUMBA_CACHE_DIR")  # the user's (or a parent process's) folder, before this module sets it
-
-
-def source_hash(package: Path = _PACKAGE) -> str:
-    """A short hash of the content of every module of ``package`` (``hawt_plant``): the key of the compiled
-    cache."""
-    digest = hashlib.sha256()
-    for path in sorted(package.glob("*.py")):
-        digest.update(path.name.encode())
-        digest.update(path.read_bytes())
-    return digest.hexdigest()[:16]
-
-
-def cache_folder() -> Path:
-    """Where numba keeps the compiled functions of these sources (see the module notes)."""
-    if _CHOSEN:
-        return Path(_CHOSEN)
-    root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return root / "hawt" / "compiled" / source_hash()
-
 
 os.environ["NUMBA_CACHE_DIR"] = str(cache_folder())  # read by numba when it is first imported (just below), and
 # inherited by the processes this one starts
