@@ -21,6 +21,7 @@ graph) mixes the recorded messages with the live ones, in the graph and in any r
 of it: the player says so once per topic, naming the other publisher, as soon as its
 graph shows one (it looks every ``FOREIGN_CHECK_PERIOD`` and once at the end).
 """
+import itertools
 import threading
 import time
 from dataclasses import dataclass, field
@@ -250,9 +251,13 @@ def _timed(player: Player, reader: BagReader, topics: list[str], start: int, opt
     lateness = []
     try:
         while not control.stop:
+            # The first message is read before the clock starts: reading the bag's first chunk (on a busy machine,
+            # tens of milliseconds) would otherwise make it late and the next ones a burst catching up.
+            messages = reader.messages(topics, start=start)
+            first = next(messages, None)
             control.notify(lambda: clock.jump(start))
             next_tick = time.monotonic_ns()
-            for message in reader.messages(topics, start=start):
+            for message in itertools.chain(() if first is None else (first,), messages):
                 with control.condition:
                     while not control.stop:
                         now = time.monotonic_ns()
