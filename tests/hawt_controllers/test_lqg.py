@@ -103,14 +103,14 @@ def test_check_16_the_augmented_model_is_observable_and_the_plant_controllable(d
 
 def _simulate(design, weights_design, wind, steps):
     """The design plant driven by the cos/sin wind ``wind`` (steps x 2) in closed loop with the FB-FF law."""
-    p, law = design.plant, LqgIpc(weights_design)
+    p, law = design.plant, LqgIpc([weights_design])
     x, estimates = np.zeros(design.states), []
     theta = np.zeros(2)
     for k in range(steps):
         y = (p.c @ x + p.d_theta @ theta + p.d_u @ wind[k]) * 1e6
-        theta = np.degrees(law.step(*y))
+        theta = np.degrees(law.step(*y)[0])
         x = p.a @ x + p.b_theta @ theta + p.b_u @ wind[k]
-        estimates.append(law.wind)
+        estimates.append(law.wind[0])
     return np.array(estimates)
 
 
@@ -227,8 +227,8 @@ def test_the_law_stepped_equals_the_controller_of_the_closed_loop(design):
 
     rng = np.random.default_rng(1)
     moments = rng.normal(scale=1e5, size=(200, 2))
-    law = LqgIpc(design)
-    stepped = np.array([law.step(*m) for m in moments])
+    law = LqgIpc([design])
+    stepped = np.array([law.step(*m)[0] for m in moments])
     a, b, c, d = _lqg_controller(design)
     state, expected = np.zeros(a.shape[0]), []
     for m in moments / 1e6:

@@ -1,8 +1,9 @@
 """LQG individual pitch control with wind-estimate feedforward, per step, and its closed loop (Selvam et al. 2009).
 
-:class:`LqgIpc` runs a :class:`hawt_controllers.laws.lqg_design.LqgDesign` one step at a time (Selvam §3,
-Fig. 4): the Kalman filter predicts the turbine state x̂ and the cos/sin blade-effective wind û from
-the 1P cos/sin blade-root moments, the LQR feeds back -K x̂, and the feedforward adds -G_inv(H û).
+:class:`LqgIpc` runs the designs (:class:`hawt_controllers.laws.lqg_design.LqgDesign`) of one or more operating
+points one step at a time (Selvam §3, Fig. 4): the Kalman filter predicts the turbine state x̂ and the cos/sin
+blade-effective wind û from the 1P cos/sin blade-root moments, the LQR feeds back -K x̂, and the feedforward adds
+-G_inv(H û).
 :func:`closed_loop_response` gives the frequency responses Selvam compares (§4, Figs 6-7): from the
 cos/sin wind to the cos/sin moments, with no IPC, with the conventional integrator IPC and with FB-FF, and
 to the law's cos/sin pitch (the pitch activity of the notes' check 20); :func:`rotor_speed_response` the
@@ -11,7 +12,7 @@ wind's effect on the rotor speed with the law closed on the whole Coleman model 
 from __future__ import annotations
 
 import math
-from typing import Optional, Tuple
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -25,55 +26,85 @@ __all__ = ["LqgIpc", "closed_loop_response", "frequency_response_figure", "integ
 
 
 class LqgIpc:
-    """The FB-FF law of one design, stepped at the design's dt (estimates start at zero: the operating point)."""
+    """The FB-FF laws of one or more designs, stepped together at their dt: one per operating point of a gain
+    schedule, every estimator running, so that a change of schedule needs no restart (the designs must have the
+    same dimensions). Estimates start at zero: the operating point. Per step, as arrays over the laws: one batched
+    product per matrix of the design, whatever their number."""
 
-    def __init__(self, design: LqgDesign) -> None:
-        self.design = design
-        self.estimate = np.zeros(design.a_est.shape[0])
-        self.feedforward = np.zeros(design.ff_a.shape[0])
+    def __init__(self, designs: Sequence[LqgDesign]) -> None:
+        self.designs = designs
+        first = self.designs[0]
+        self.estimate = np.zeros((len(self.designs), first.a_est.shape[0]))
+        self.feedforward = np.zeros((len(self.designs), first.ff_a.shape[0]))
         self._measured = np.zeros(2)
         self._pitch: Optional[np.ndarray] = None
 
     @property
-    def wind(self) -> Tuple[float, float]:
-        """The estimated cos/sin blade-effective wind [m/s] (Selvam's û_23^cm)."""
-        u = self.estimate[self.design.states:]
-        return float(u[0]), float(u[1])
+    def designs(self) -> Tuple[LqgDesign, ...]:
+        """The laws' designs; set new ones (the same dimensions) at a step boundary, the estimates kept."""
+        return self._designs
+
+    @designs.setter
+    def designs(self, designs: Sequence[LqgDesign]) -> None:
+        designs = tuple(designs)
+        if not designs:
+            raise ValueError("designs: expected at least one LQG design")
+        first = designs[0]
+        names = ("a_est", "b_est", "c_est", "k_est", "k_lqr", "ff_a", "ff_b", "ff_c", "ff_d")
+        for k, design in enumerate(designs):
+            shapes = [getattr(design, name).shape for name in names]
+            if shapes != [getattr(first, name).shape for name in names] or design.actuator != first.actuator:
+                raise ValueError(f"designs: design {k} has other dimensions than design 0 ({dict(zip(names, shapes))})")
+        (self._a_est, self._b_est, self._c_est, self._k_est, self._k_lqr, self._ff_a, self._ff_b, self._ff_c,
+         self._ff_d) = (np.stack([getattr(design, name) for design in designs]) for name in names)
+        self._designs = designs
+
+    @property
+    def wind(self) -> np.ndarray:
+        """The estimated cos/sin blade-effective wind [m/s] (Selvam's û_23^cm) of each law, shape (laws, 2)."""
+        return self.estimate[:, self._designs[0].states:].copy()
 
     def track_actuator(self, pitch_cos: float, pitch_sin: float) -> None:
         """Set the estimated actuator states to this step's measured 1P cos/sin blade pitch [rad] and their rates
         to its change since the last call: the estimator runs on the pitch the blades have, whatever limited the
         command on its way (Selvam §3: the filter is fed the applied pitch, not the demanded; the observer form
         of anti-windup). Call before :meth:`demand`."""
+        design = self._designs[0]
         pitch = np.array((pitch_cos, pitch_sin))
-        angle, rate = self.design.actuator[:2], self.design.actuator[2:]
-        self.estimate[list(angle)] = pitch
+        angle, rate = list(design.actuator[:2]), list(design.actuator[2:])
+        self.estimate[:, angle] = pitch
         if self._pitch is not None:
-            self.estimate[list(rate)] = (pitch - self._pitch) / self.design.plant.dt
+            self.estimate[:, rate] = (pitch - self._pitch) / design.plant.dt
         self._pitch = pitch
 
-    def demand(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
-        """The cos/sin 1P pitch demand [rad] for this step's cos/sin root moments [N m]; then :meth:`advance`
-        with what was applied."""
-        d = self.design
+    def demand(self, moment_cos: float, moment_sin: float) -> np.ndarray:
+        """Each law's cos/sin 1P pitch demand [rad], shape (laws, 2), for this step's cos/sin root moments [N m];
+        then :meth:`advance` with what was applied."""
+        states = self._designs[0].states
         self._measured = np.array((moment_cos, moment_sin)) / _MOMENT_UNIT
-        x_hat, u_hat = self.estimate[:d.states], self.estimate[d.states:]
-        theta = -d.k_lqr @ x_hat + d.ff_c @ self.feedforward + d.ff_d @ u_hat
-        self.feedforward = d.ff_a @ self.feedforward + d.ff_b @ u_hat
-        return float(theta[0]) * _PITCH_UNIT, float(theta[1]) * _PITCH_UNIT
+        x_hat, u_hat = self.estimate[:, :states], self.estimate[:, states:]
+        theta = -_each(self._k_lqr, x_hat) + _each(self._ff_c, self.feedforward) + _each(self._ff_d, u_hat)
+        self.feedforward = _each(self._ff_a, self.feedforward) + _each(self._ff_b, u_hat)
+        return theta * _PITCH_UNIT
 
-    def advance(self, applied: Tuple[float, float]) -> None:
-        """The estimator's update with the measurement of :meth:`demand` and the cos/sin pitch ``applied`` [rad]
-        this step (Selvam: the applied, not the demanded)."""
-        d = self.design
-        theta = np.array(applied) / _PITCH_UNIT
-        self.estimate = d.a_est @ self.estimate + d.b_est @ theta + d.k_est @ (self._measured - d.c_est @ self.estimate)
+    def advance(self, applied: ArrayLike) -> None:
+        """The estimators' update with the measurement of :meth:`demand` and the cos/sin pitch ``applied`` [rad]
+        this step, one pair for every law or one per law (Selvam: the applied, not the demanded)."""
+        theta = np.broadcast_to(np.asarray(applied, dtype=float) / _PITCH_UNIT, self.estimate.shape[:1] + (2,))
+        estimate = self.estimate
+        self.estimate = (_each(self._a_est, estimate) + _each(self._b_est, theta)
+                         + _each(self._k_est, self._measured - _each(self._c_est, estimate)))
 
-    def step(self, moment_cos: float, moment_sin: float) -> Tuple[float, float]:
-        """:meth:`demand`, then :meth:`advance` with it: the law alone in the loop."""
+    def step(self, moment_cos: float, moment_sin: float) -> np.ndarray:
+        """:meth:`demand`, then :meth:`advance` with it: each law alone in its loop."""
         theta = self.demand(moment_cos, moment_sin)
         self.advance(theta)
         return theta
+
+
+def _each(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """Each law's matrix times its vector: (laws, m, n) by (laws, n) to (laws, m)."""
+    return np.matmul(matrices, vectors[:, :, None])[:, :, 0]
 
 
 def integrator_ipc(integral_gain: float, phase_offset: float, dt: float) -> Tuple[np.ndarray, ...]:

@@ -75,7 +75,7 @@ class LqgIpcController(Controller):
             self.models = load_models(path)
         except (OSError, KeyError) as error:
             raise ParameterError(f"linear_models: cannot read {path}: {error}") from None
-        self.laws = [LqgIpc(design) for design in self._designs(v)]
+        self.laws = LqgIpc(self._designs(v))  # one per linear model, stepped together
         self.pitches = [m.pitch for m in self.models]
         self.ramp = OutputRamp(plant.dt)
         self.start = (0.0, 0.0)  # what the output blends from as the ramp goes 0 -> 1
@@ -105,24 +105,20 @@ class LqgIpcController(Controller):
     def reconfigure(self, values: Mapping[str, Any]) -> None:
         """New weights at a step boundary: every law gets its new design and keeps its estimates."""
         super().reconfigure(values)
-        for law, design in zip(self.laws, self._designs(self.values)):
-            law.design = design
+        self.laws.designs = self._designs(self.values)
 
     def update(self, step: int, loads: Any, state: Any = None) -> Tuple[HarmonicContribution, ...]:
         moments = mbc_forward_sample(loads.root_moment_oop, loads.azimuth, 1)
         cyclic = mbc_forward_sample(loads.pitch, loads.azimuth, 1)
         self.active_law = min(range(len(self.pitches)), key=lambda k: abs(self.pitches[k] - cyclic.mean))
         factor = self.ramp.advance()
-        for law in self.laws:  # the pitch the blades have: what was applied, after every limit
-            law.track_actuator(cyclic.cos, cyclic.sin)
-        demands = [law.demand(moments.cos, moments.sin) for law in self.laws]
-        cos, sin = demands[self.active_law]
+        self.laws.track_actuator(cyclic.cos, cyclic.sin)  # the pitch the blades have: applied, after every limit
+        cos, sin = self.laws.demand(moments.cos, moments.sin)[self.active_law].tolist()
         self.unmeasured = (factor * cos + (1.0 - factor) * self.start[0],
                            factor * sin + (1.0 - factor) * self.start[1])
         measured = self.measured.step(True, self.plant.dt, self.ramp_time())
         applied = (measured * self.unmeasured[0], measured * self.unmeasured[1])
-        for law in self.laws:  # every estimator is told what was applied: this controller's contribution
-            law.advance(applied)
+        self.laws.advance(applied)  # every estimator is told what was applied: this controller's contribution
         return (HarmonicContribution(1, *applied, 0.0),)
 
     def without_input(self, held: Tuple[Contribution, ...]) -> Tuple[HarmonicContribution, ...]:
@@ -132,11 +128,11 @@ class LqgIpcController(Controller):
 
     def estimate(self) -> Mapping[str, Any]:
         """The wind estimate û and the turbine states of the law in use (hawt_msgs/WindEstimate)."""
-        law = self.laws[self.active_law]
-        wind_cos, wind_sin = law.wind
+        laws, active = self.laws, self.active_law
+        wind_cos, wind_sin = laws.wind[active].tolist()
         return {"wind_cos": wind_cos, "wind_sin": wind_sin,
-                "operating_wind_speed": self.models[self.active_law].wind_speed,
-                "states": law.estimate[:law.design.states].copy()}
+                "operating_wind_speed": self.models[active].wind_speed,
+                "states": laws.estimate[active, :laws.designs[active].states].copy()}
 
     def on_activate(self, ramp_time: Optional[float], initial: Sequence[Contribution], loads: Any) -> None:
         """Ramp in from zero, or, replacing another controller on harmonic/1, blend from its last output to this
