@@ -1,6 +1,7 @@
 """LQG IPC with wind-estimate feedforward (Selvam et al. 2009): the notes' acceptance checks 16-19 on this plant's
 Coleman-frame linear model at 18 m/s, and checks 12, 15, 20 and 21 on the shipped linear models
 (data/linear_nrel5mw.npz) at 13, 18 and 24 m/s."""
+import dataclasses
 import math
 
 import numpy as np
@@ -235,6 +236,21 @@ def test_the_law_stepped_equals_the_controller_of_the_closed_loop(design):
         expected.append(c @ state + d @ m)
         state = a @ state + b @ m
     assert np.allclose(stepped, np.radians(expected), rtol=1e-9, atol=1e-15)
+
+
+def test_laws_stepped_together_are_each_law_stepped_alone(design, model):
+    """A schedule's laws step as one LqgIpc (one batched product per matrix): each row is what that design's law
+    alone gives; a design of other dimensions is refused, naming it."""
+    other = design_lqg(model.model, DT, LqgWeights(input_weight=10 * design.weights.input_weight))
+    together, alone = LqgIpc([design, other]), [LqgIpc([design]), LqgIpc([other])]
+    rng = np.random.default_rng(2)
+    for moments in rng.normal(scale=1e5, size=(100, 2)):
+        stepped = together.step(*moments)
+        for row, law in zip(stepped, alone):
+            assert np.allclose(row, law.step(*moments)[0], rtol=1e-12, atol=1e-18)
+    assert np.allclose(together.wind, [law.wind[0] for law in alone], rtol=1e-12, atol=1e-15)
+    with pytest.raises(ValueError, match="design 1 has other dimensions than design 0"):
+        LqgIpc([design, dataclasses.replace(other, ff_a=np.zeros((1, 1)))])
 
 
 @pytest.mark.parametrize("field", ["measurement_noise", "wind_walk", "input_weight", "inversion_walk"])

@@ -64,23 +64,24 @@ def test_live_weights_are_designed_for_every_operating_point_and_an_absurd_set_i
     """Each weight has a range from 1e-9 to six decades above its tuning (within it every design succeeds); 1e30 is
     refused by it before any design."""
     controller = LqgIpcController({}, PLANT)
-    before = [law.design for law in controller.laws]
+    before = controller.laws.designs
+    assert len(before) == len(controller.models)
     with pytest.raises(ParameterError, match=r"inversion_walk: 1e\+30 is above its maximum 10000.0"):
         controller.check({**controller.values, "inversion_walk": 1e30})
-    assert [law.design for law in controller.laws] == before
+    assert controller.laws.designs == before
     controller.check({**controller.values, "input_weight": 10.0})
-    assert [law.design for law in controller.laws] == before  # checked, not applied
+    assert controller.laws.designs == before  # checked, not applied
 
 
 def test_new_weights_take_over_at_a_step_and_keep_the_estimates(sheared_loads):
     controller = LqgIpcController({}, PLANT)
     controller.on_activate(None, (), sheared_loads[0])
     _outputs(controller, sheared_loads[:200])
-    estimates = [law.estimate.copy() for law in controller.laws]
-    gains = [law.design.k_lqr for law in controller.laws]
+    estimates = controller.laws.estimate.copy()
+    gains = [design.k_lqr for design in controller.laws.designs]
     controller.reconfigure({**controller.values, "input_weight": 10.0})
-    assert all(np.array_equal(law.estimate, e) for law, e in zip(controller.laws, estimates))
-    assert all(not np.allclose(law.design.k_lqr, k) for law, k in zip(controller.laws, gains))
+    assert np.array_equal(controller.laws.estimate, estimates)
+    assert all(not np.allclose(design.k_lqr, k) for design, k in zip(controller.laws.designs, gains))
 
 
 def test_the_estimate_is_the_wind_and_states_of_the_law_in_use(sheared_loads):
@@ -88,10 +89,10 @@ def test_the_estimate_is_the_wind_and_states_of_the_law_in_use(sheared_loads):
     controller = LqgIpcController({}, PLANT)
     _outputs(controller, sheared_loads)
     estimate = controller.estimate()
-    law = controller.laws[controller.active_law]
-    assert (estimate["wind_cos"], estimate["wind_sin"]) == law.wind
-    assert estimate["operating_wind_speed"] == controller.models[controller.active_law].wind_speed
-    assert np.array_equal(estimate["states"], law.estimate[:law.design.states])
+    laws, active = controller.laws, controller.active_law
+    assert [estimate["wind_cos"], estimate["wind_sin"]] == laws.wind[active].tolist()
+    assert estimate["operating_wind_speed"] == controller.models[active].wind_speed
+    assert np.array_equal(estimate["states"], laws.estimate[active, :laws.designs[active].states])
     assert estimate["wind_cos"] > 0.0
 
 
