@@ -25,16 +25,14 @@ def test_the_budget_is_the_pitch_that_cancels_the_steady_shear_moment_at_its_har
     assert uniform.amplitude < 0.25 * budget.amplitude  # without shear only tilt and gravity are left (22 %)
 
 
-def test_on_the_iea_15mw_1p_takes_most_of_the_2_deg_per_second_and_2p_just_fits_beside_it(
-        imported_deck):
-    """The imported IEA 15 MW (on its monopile): 1P takes more than half of its 2 °/s (62 %), 1P+2P 74 %, just within
-    the budget. (With its blades rigid edgewise 1P took 67 % and 1P+2P 80 %, which tripped the overspeed protection in
-    turbulence.)"""
+def test_on_the_iea_15mw_1p_takes_most_of_the_2_deg_per_second_and_2p_does_not_fit_beside_it(imported_deck):
+    """The imported IEA 15 MW (on its monopile): 1P takes more than half of its 2 °/s (62 %), 1P+2P 74 %, past the
+    budget (at 74 % the ipc graph tripped the protection on three seeds of three in 18 m/s class B turbulence)."""
     turbine = turbine_from(str(imported_deck(IEA_15MW)))
     budgets = [rate_budget(turbine, measure_harmonic_response(turbine, 18.0, n)) for n in (1, 2)]
     assert math.degrees(budgets[0].max_rate) == pytest.approx(2.0, rel=1e-3)
     assert budgets[0].share > 0.5
-    assert within_budget(budgets) == [1, 2]
+    assert within_budget(budgets) == [1]
 
 
 def _budget(harmonic: int, share: float) -> RateBudget:
@@ -43,8 +41,8 @@ def _budget(harmonic: int, share: float) -> RateBudget:
 
 
 @pytest.mark.parametrize("shares, active", [
-    ((0.3, 0.3, 0.1), [1, 2, 3]),  # 70 % together: all fit
-    ((0.5, 0.2, 0.1), [1, 2]),  # 3P would bring it to 80 %
+    ((0.3, 0.3, 0.05), [1, 2, 3]),  # 65 % together: all fit
+    ((0.5, 0.15, 0.1), [1, 2]),  # 3P would bring it to 75 %
     ((0.5, 0.3, 0.01), [1]),  # 2P would bring it to 80 %; 3P is not tried past it
     ((0.8, 0.01, 0.01), []),  # 1P alone is past it
 ])
@@ -62,7 +60,7 @@ def test_on_the_nrel_5mw_1p_2p_and_3p_fit_the_budget_and_the_design_leaves_them_
     nodes = _design(nrel_5mw())
     assert all("active" not in node["ros__parameters"] for node in nodes.values())
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1, h2, h3 take 36 % together, within 75 % of the actuator's 8.0 deg/s: all active")
+        "rate budget: h1, h2, h3 take 36 % together, within 70 % of the actuator's 8.0 deg/s: all active")
 
 
 def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_inactive(capsys):
@@ -74,6 +72,6 @@ def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_in
     assert [nodes[f"/**/ipc_h{n}"]["ros__parameters"].get("active", True) for n in (1, 2, 3)] == [True, False, False]
     assert nodes["/**/ipc_h3"]["ros__parameters"]["integral_gain"] > 0.0
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1 takes 67 %, within 75 % of the actuator's 3.0 deg/s; h2 would bring it to 82 %: h2, h3 "
+        "rate budget: h1 takes 67 %, within 70 % of the actuator's 3.0 deg/s; h2 would bring it to 82 %: h2, h3 "
         "written inactive (active: false, which the graphs' ipc_hN arguments do not override; -p "
         "ipc_h2.active:=true starts one active, hawt switch --activate ipc_h2 brings one in)")
