@@ -459,12 +459,13 @@ class TurbineModel:
             self._azimuth = start + 2.0 * math.pi * k / (_PASSAGE_SAMPLES * self._b)
             self._solve_steady_induction()
             self._evaluate_loads(update_induction=False)
-            aero_torque, gravity_torque, shaft_torque, residual_fa, residual_ss = self._forces[1:].tolist()
-            torque = aero_torque + gravity_torque
+            forces = dict(zip(FORCES, self._forces.tolist()))
+            torque = forces["aero_torque"] + forces["gravity_torque"]
             shaft += torque
             # Side-side: the drivetrain's roll reaction in equilibrium is the whole rotor torque.
             roll = self._slope_ss * self._cos_tilt
-            tower += (residual_fa, residual_ss + roll * (shaft_torque * (1.0 - 1.0 / self._gearbox_ratio) - torque))
+            tower += (forces["residual_fa"], forces["residual_ss"] + roll * (
+                forces["shaft_torque"] * (1.0 - 1.0 / self._gearbox_ratio) - torque))
         return shaft / _PASSAGE_SAMPLES, tower / _PASSAGE_SAMPLES
 
     def _idling_speed(self) -> float:
