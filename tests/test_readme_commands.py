@@ -59,7 +59,7 @@ class Line:
 RUN: Dict[str, List[Line]] = {
     "the IEA 15 MW, end to end": [
         Line("./hawt turbine import …/IEA-15-240-RWT-Monopile.fst -o iea15", replace=(("…/", "{iea15_deck}/"),)),
-        Line("./hawt design cpc --turbine iea15 --natural-frequency 0.2 --damping 1.0"),
+        Line("./hawt design cpc --turbine iea15 --natural-frequency 0.25 --damping 1.0"),
         # one operating point of the five, and the design's rate budget still leaves 2P and 3P inactive
         Line("./hawt design ipc --turbine iea15 --measured", add="--wind-speeds 18"),
         Line("./hawt run ipc turbine:=iea15 wind_type:=turbulent --record iea15-ipc1.mcap",
