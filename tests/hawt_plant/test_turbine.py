@@ -257,3 +257,27 @@ def test_a_bad_protection_level_is_named_with_its_file_and_key(editable_copy, se
     """A misspelled level, a level that is not positive, a warning above its trip."""
     with pytest.raises(TurbineDefinitionError, match=rf"turbine\.yaml: {message}"):
         load_turbine(editable_copy(["protection"], section))
+
+
+def test_a_definition_read_once_is_kept_until_a_file_it_reads_changes(tmp_path, monkeypatch):
+    """The parsed definition is kept in $HAWT_CACHE_DIR/turbines, keyed by the folder's definition and polar files:
+    loaded again it is the same turbine, its options' sources included; a changed polar is read again; an unreadable
+    kept file is parsed again, not trusted."""
+    monkeypatch.setenv("HAWT_CACHE_DIR", str(tmp_path / "cache"))
+    folder = tmp_path / "nrel_5mw"
+    shutil.copytree(PACKAGED, folder)
+    first = load_turbine(folder / "turbine.yaml")
+    kept = list((tmp_path / "cache" / "turbines").glob("*.pickle"))
+    assert len(kept) == 1
+    again = load_turbine(folder / "turbine.yaml")
+    assert np.array_equal(again.blade_aerodynamics.chord, first.blade_aerodynamics.chord)
+    assert dict(again.aerodynamics.sources) == dict(first.aerodynamics.sources)
+    assert again.aerodynamics == first.aerodynamics and sorted(again.airfoils) == sorted(first.airfoils)
+    polar = sorted((folder / "airfoils").glob("*.yaml"))[-1]
+    polar.write_text(polar.read_text() + "\n# edited\n")
+    load_turbine(folder / "turbine.yaml")
+    assert len(list((tmp_path / "cache" / "turbines").glob("*.pickle"))) == 2
+    kept[0].write_bytes(b"not a pickle")
+    polar.write_text(polar.read_text().replace("\n# edited\n", ""))
+    assert np.array_equal(load_turbine(folder / "turbine.yaml").blade_aerodynamics.chord,
+                          first.blade_aerodynamics.chord)
