@@ -12,7 +12,7 @@ folder is therefore never used for sources other than its own.
 
 The folder is ``$NUMBA_CACHE_DIR`` when the user sets it (numba's own setting, then the user's to keep
 in step), otherwise ``$XDG_CACHE_HOME/hawt/compiled/<hash>`` (``~/.cache`` by default). It is deliberately
-not under ``$HAWT_CACHE_DIR``: what is cached there (wind fields) depends on inputs, this only on the
+not under ``$HAWT_CACHE_DIR`` (:mod:`hawt_plant.disk_cache`): what is kept there depends on inputs, this only on the
 sources, and ``scripts/setup.sh`` fills it once (``python -m hawt_plant.compiled``). The folder and its key are
 :mod:`hawt_plant.kernel_cache`'s, which set-up asks without importing numba.
 """

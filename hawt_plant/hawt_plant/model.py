@@ -387,11 +387,11 @@ class TurbineModel:
         self._generator_speed = 0.0 if self._parked else self._rotor_speed
         self._torsion = 0.0
         self._pitch_rate = np.zeros(b)
-        # Structural coordinates [tower fa, tower ss, flap 1..B, edge 1..B] and their rates; the tower arrays are
-        # views into them (a blade rigid edgewise keeps its edge coordinates at 0).
+        # Structural coordinates [tower fa, tower ss, flap 1..B, edge 1..B] and their rates; the tower's is a view into
+        # them (a blade rigid edgewise keeps its edge coordinates at 0).
         self._displacement = np.zeros(2 + 2 * b)
         self._velocity = np.zeros(2 + 2 * b)
-        self._tower, self._tower_rate = self._displacement[:2], self._velocity[:2]
+        self._tower = self._displacement[:2]
         self._generator_torque = 0.0
         self._induction = np.zeros((2, b, n))  # axial and tangential induction factors a, a'
         self._inflow_filter = np.zeros((3, b, n))

@@ -19,9 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
 import pickle
-import tempfile
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from types import MappingProxyType
@@ -31,6 +29,7 @@ import numpy as np
 import yaml
 
 from hawt_core.plant_description import PlantDescription
+from hawt_plant.disk_cache import cache_root, store
 from hawt_plant.kernel_cache import source_hash
 
 __all__ = [
@@ -637,7 +636,7 @@ def load_turbine(path: str | Path) -> Turbine:
     """
     path = Path(path)
     key = _definition_key(path)
-    cached = _turbine_cache() / f"{key}.pickle" if key else None
+    cached = cache_root() / "turbines" / f"{key}.pickle" if key else None
     if cached is not None and cached.exists():
         try:
             with cached.open("rb") as handle:
@@ -647,18 +646,10 @@ def load_turbine(path: str | Path) -> Turbine:
     turbine = _parsed_turbine(path)
     if cached is not None:
         try:
-            cached.parent.mkdir(parents=True, exist_ok=True)
-            with tempfile.NamedTemporaryFile(dir=cached.parent, suffix=".tmp", delete=False) as handle:
-                pickle.dump(turbine, handle, protocol=pickle.HIGHEST_PROTOCOL)
-            os.replace(handle.name, cached)
+            store(cached, lambda handle: pickle.dump(turbine, handle, protocol=pickle.HIGHEST_PROTOCOL))
         except OSError:
             pass  # a cache that cannot be written costs the next run the parse, nothing else
     return turbine
-
-
-def _turbine_cache() -> Path:
-    """Where parsed definitions are kept: ``$HAWT_CACHE_DIR/turbines`` (default ``~/.cache/hawt``)."""
-    return Path(os.environ.get("HAWT_CACHE_DIR") or Path.home() / ".cache" / "hawt") / "turbines"
 
 
 def _definition_key(path: Path) -> str | None:

@@ -14,8 +14,6 @@ import hashlib
 import importlib.metadata
 import json
 import math
-import os
-import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -26,6 +24,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from hawt_plant.compiled import njit
+from hawt_plant.disk_cache import cache_root, store
 
 __all__ = [
     "REFERENCE_TURBULENCE_INTENSITY",
@@ -577,8 +576,7 @@ def default_cache_dir() -> Path:
 
     ``HAWT_CACHE_DIR`` is the project's cache root and defaults to ``~/.cache/hawt``.
     """
-    root = os.environ.get("HAWT_CACHE_DIR") or Path.home() / ".cache" / "hawt"
-    return Path(root) / "turbulence"
+    return cache_root() / "turbulence"
 
 
 def _cache_key(spec: TurbulenceSpec) -> str:
@@ -631,8 +629,5 @@ def cached_turbulence(spec: TurbulenceSpec, cache_dir: Path | str | None = None,
     start = time.monotonic()
     wind = generate_turbulence(spec, progress)
     progress(f"turbulent wind field generated in {time.monotonic() - start:.1f} s")
-    directory.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile(dir=directory, suffix=".npy.tmp", delete=False) as handle:
-        np.save(handle, wind.velocity_grid)
-    os.replace(handle.name, path)
+    store(path, lambda handle: np.save(handle, wind.velocity_grid))
     return wind
