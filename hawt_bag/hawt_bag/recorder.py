@@ -80,7 +80,8 @@ from .record_options import RecorderOptions, add_record_arguments, options_from
 from .verification import verify_bag
 from .writer import BagWriter
 
-__all__ = ["NAME_WAIT", "Recorder", "STUCK_REPORT", "TopicDiscovery", "adapted_qos", "main", "record", "take_backlog", "visible"]
+__all__ = ["NAME_WAIT", "Recorder", "STUCK_REPORT", "TopicDiscovery", "adapted_qos", "main", "record", "take_backlog",
+           "visible"]
 
 _QUIET = 0.1
 """[s] A topic that delivers nothing for this long after the stop has delivered what was queued."""

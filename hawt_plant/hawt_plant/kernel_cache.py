@@ -13,7 +13,8 @@ from pathlib import Path
 __all__ = ["cache_folder", "source_hash"]
 
 _PACKAGE = Path(__file__).resolve().parent
-_CHOSEN = os.environ.get("NUMBA_CACHE_DIR")  # the user's (or a parent process's) folder, before hawt_plant.compiled sets it
+# the user's (or a parent process's) folder, read before hawt_plant.compiled sets it
+_CHOSEN = os.environ.get("NUMBA_CACHE_DIR")
 
 
 def source_hash(package: Path = _PACKAGE) -> str:

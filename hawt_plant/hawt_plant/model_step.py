@@ -186,9 +186,10 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
 
 
 @njit
-def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray, deflection: np.ndarray,
-                       displacement: np.ndarray, rates: np.ndarray, rotor_speed: float, generator_speed: float,
-                       torsion: float, drag_loads: np.ndarray, constants: np.ndarray, load_operator: np.ndarray,
+def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray,
+                       deflection: np.ndarray, displacement: np.ndarray, rates: np.ndarray, rotor_speed: float,
+                       generator_speed: float, torsion: float, drag_loads: np.ndarray, constants: np.ndarray,
+                       load_operator: np.ndarray,
                        mode_constants: np.ndarray, loads: np.ndarray, mode_stiffness: np.ndarray,
                        mode_residual: np.ndarray, scaled: np.ndarray, scaled_residual: np.ndarray, schur: np.ndarray,
                        forces: np.ndarray) -> None:
@@ -257,22 +258,22 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
                 sin_factor = sin_pitch if mode == 0 else directions[2, i]
                 scaled[tower, m] = (cos_pitch * cos_part + sin_factor * sin_part) * scale[m]
             scaled[2, m] = rotor_arms[m] * along_t * scale[m]
-    s = np.zeros((3, 3))
+    modal_mass = np.zeros((3, 3))  # what eliminating the modes takes off the tower's and rotor's mass: M M^T
     projected = np.zeros(3)
     for a in range(3):
         for m in range(modes):
             projected[a] += scaled[a, m] * scaled_residual[m]
             for c in range(3):
-                s[a, c] += scaled[a, m] * scaled[c, m]
+                modal_mass[a, c] += scaled[a, m] * scaled[c, m]
     linear = quadratic = 0.0
     for i in range(blades):
         linear += features[FA_MASS, i]
         quadratic += features[FA_MASS + 1, i] * features[FA_MASS + 1, i]
     mass_fa = (constants[_FA_MASS_CONSTANT] + constants[_FA_MASS_LINEAR] * linear
                + constants[_FA_MASS_QUADRATIC] * quadratic)
-    schur[0], schur[1], schur[2] = mass_fa - s[0, 0], -s[0, 1], constants[_SS_MASS] - s[1, 1]
+    schur[0], schur[1], schur[2] = mass_fa - modal_mass[0, 0], -modal_mass[0, 1], constants[_SS_MASS] - modal_mass[1, 1]
     schur[3], schur[4] = residual_fa - projected[0], residual_ss - projected[1]
-    schur[5], schur[6], schur[7] = -s[0, 2], -s[1, 2], constants[_ROTOR_INERTIA] - s[2, 2]
+    schur[5], schur[6], schur[7] = -modal_mass[0, 2], -modal_mass[1, 2], constants[_ROTOR_INERTIA] - modal_mass[2, 2]
     schur[8] = aero_torque + gravity_torque - shaft - projected[2]
 
 

@@ -498,7 +498,8 @@ class AerodynamicOptions:
     def __reduce__(self) -> tuple:
         """Pickled with its sources as a plain dict (a mappingproxy does not pickle): :func:`load_turbine` keeps what
         it read on disk."""
-        return _options_from, ({**{f.name: getattr(self, f.name) for f in fields(self)}, "sources": dict(self.sources)},)
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        return _options_from, ({**values, "sources": dict(self.sources)},)
 
     def overridden(self, values: Mapping[str, bool], source: str) -> "AerodynamicOptions":
         """These options with ``values`` (name -> bool) in place of the definition's, each with the source
