@@ -44,8 +44,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         bounds: np.ndarray, pressure_to_load: np.ndarray, span_functions: np.ndarray,
                         update: bool, iterations: int, relaxation: float, dynamic_inflow: bool, dt: float,
                         tip_radius: float, tip_ratio: np.ndarray, skewed: bool, skew_angle: float,
-                        cos_azimuth: np.ndarray, unsteady: bool, unsteady_states: np.ndarray,
-                        unsteady_table: np.ndarray, unsteady_constants: np.ndarray, sums: np.ndarray) -> None:
+                        cos_azimuth: np.ndarray, unsteady: bool, pitching_rate: np.ndarray,
+                        unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray, sums: np.ndarray) -> None:
     """One step of every blade element (module notes); updates the induction when ``update``.
 
     Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
@@ -54,9 +54,10 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     ``loss_exponents`` (2, B, N); ``bounds`` (lower, upper) x (a, a') (2, 2, B, N); ``span_functions`` (N, F);
     ``cos_azimuth`` (B,), each blade's azimuth from the most downwind position of the disk (used when
     ``skewed``); ``polar_table`` and the grid constants of :class:`~hawt_plant.airfoil_table.ElementPolars`, the
-    ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` (used when
-    ``unsteady``). Without ``update`` the static polars give the loads (the dynamic stall states are settled at
-    this state). Writes ``sums`` (2, B, F): each blade's dF_n and dF_t summed against each span function.
+    ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` and
+    ``pitching_rate`` (B,), each blade's sections' nose-up rotation rate [rad/s] (used when ``unsteady``). Without
+    ``update`` the static polars give the loads (the dynamic stall states are settled at this state). Writes
+    ``sums`` (2, B, F): each blade's dF_n and dF_t summed against each span function.
     """
     blades, elements = pitch_twist.shape
     sums[:] = 0.0
@@ -74,9 +75,9 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                     row, fraction = grid_point(alpha, scale, intervals, offsets[j])
                     cl, cd = interpolated(polar_table, row, fraction, 0), interpolated(polar_table, row, fraction, 1)
                 elif update:  # the induction follows the circulatory lift (the added mass's sheds no vorticity)
-                    cl, added_mass, cd = hgm_step(i, j, alpha, math.hypot(un, ut), dt, k == passes - 1,
-                                                  unsteady_states, unsteady_table, unsteady_constants, scale,
-                                                  intervals, offsets)
+                    cl, added_mass, cd = hgm_step(i, j, alpha, math.hypot(un, ut), pitching_rate[i], dt,
+                                                  k == passes - 1, unsteady_states, unsteady_table,
+                                                  unsteady_constants, scale, intervals, offsets)
                 else:
                     cl, cd = hgm_settle(i, j, alpha, unsteady_states, unsteady_table, unsteady_constants, scale,
                                         intervals, offsets)

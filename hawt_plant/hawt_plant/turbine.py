@@ -67,23 +67,45 @@ class TurbineDefinitionError(ValueError):
 
 @dataclass(frozen=True)
 class UnsteadyAirfoilParameters:
-    """Parameters of an airfoil's unsteady aerodynamics (:mod:`hawt_plant.unsteady_airfoil`), as the header of
-    an AeroDyn v13 polar file carries them.
+    """Parameters of an airfoil's unsteady aerodynamics (:mod:`hawt_plant.unsteady_airfoil`), as an AeroDyn polar
+    file carries them (AeroDyn 15's names in parentheses; v13 headers have the first three only).
 
     Attributes
     ----------
     alpha0 : float
-        Zero-lift angle of attack [rad] ("Zero Cn angle of attack"), in (-pi/4, pi/4]; the model takes the
-        polar's zero-lift angle nearest it.
+        Zero-lift angle of attack [rad] (alpha0, "Zero Cn angle of attack"), in (-pi/4, pi/4]; the model takes
+        the polar's zero-lift angle nearest it.
     lift_slope : float
-        Slope of the attached-flow lift [1/rad] ("Cn slope for zero lift"; Cn ~ cl near zero lift), > 0.
+        Slope of the attached-flow lift [1/rad] (C_nalpha, "Cn slope for zero lift"; Cn ~ cl near zero lift), > 0.
     cd0 : float
-        Drag coefficient at zero lift [-] ("Minimum CD value"), >= 0.
+        Drag coefficient at zero lift [-] (Cd0, "Minimum CD value"), >= 0.
+    a1, a2, b1, b2 : float
+        The shed wake's indicial response 1 - A1 exp(-b1 s) - A2 exp(-b2 s), s in half-chords travelled (A1, A2,
+        b1, b2): A1, A2 >= 0 with A1 + A2 <= 1, b1, b2 > 0. Default AeroDyn's defaults, 0.3, 0.7, 0.14, 0.53.
+    pressure_lag : float
+        Time constant of the leading-edge pressure (the lagged potential lift) in half-chord times c / (2 V) (T_p),
+        > 0; default AeroDyn's 1.7.
+    separation_lag : float
+        Time constant of the trailing-edge separation point in half-chord times (T_f0), > 0; default AeroDyn's 3.
     """
 
     alpha0: float
     lift_slope: float
     cd0: float
+    a1: float = 0.3
+    a2: float = 0.7
+    b1: float = 0.14
+    b2: float = 0.53
+    pressure_lag: float = 1.7
+    separation_lag: float = 3.0
+
+    def __post_init__(self) -> None:
+        if not (self.a1 >= 0.0 and self.a2 >= 0.0 and self.a1 + self.a2 <= 1.0):
+            raise ValueError(f"a1, a2: expected values >= 0 with a1 + a2 <= 1, found {self.a1}, {self.a2}")
+        for name in ("b1", "b2", "pressure_lag", "separation_lag"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"{name}: expected a finite value > 0, found {value}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -1055,7 +1077,18 @@ def _airfoil(path: Path) -> AirfoilPolar:
     unsteady = None
     if doc.has("unsteady"):
         s = doc.section("unsteady")
+        unknown = sorted(set(s.keys()) - {f.name for f in fields(UnsteadyAirfoilParameters)})
+        if unknown:
+            raise s.error(unknown[0], "no such parameter (expected "
+                          f"{', '.join(f.name for f in fields(UnsteadyAirfoilParameters))})")
+        defaults = UnsteadyAirfoilParameters(0.0, 1.0, 0.0)
+        lags = {name: s.number(name, low=0.0, default=getattr(defaults, name))
+                for name in ("b1", "b2", "pressure_lag", "separation_lag")}
+        weights = {name: s.number(name, low=0.0, high=1.0, strict=False, default=getattr(defaults, name))
+                   for name in ("a1", "a2")}
+        if weights["a1"] + weights["a2"] > 1.0:
+            raise s.error("a2", f"expected a1 + a2 <= 1, found {weights['a1']} + {weights['a2']}")
         unsteady = UnsteadyAirfoilParameters(alpha0=s.number("alpha0", low=-math.pi / 4, high=math.pi / 4),
                                              lift_slope=s.number("lift_slope", low=0.0),
-                                             cd0=s.number("cd0", low=0.0, strict=False))
+                                             cd0=s.number("cd0", low=0.0, strict=False), **weights, **lags)
     return AirfoilPolar(name=name, alpha=columns[0], cl=columns[1], cd=columns[2], cm=columns[3], unsteady=unsteady)

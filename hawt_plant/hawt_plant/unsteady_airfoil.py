@@ -24,16 +24,7 @@ from hawt_plant.airfoil_table import ElementPolars, grid_point, interpolated
 from hawt_plant.compiled import njit
 from hawt_plant.turbine import AirfoilPolar
 
-__all__ = ["INDICIAL", "LEADING_EDGE_LAG", "SEPARATION_LAG", "STATES", "UnsteadyAirfoil", "hgm_settle", "hgm_step",
-           "separation_function", "zero_lift_angle"]
-
-INDICIAL = (0.165, 0.335, 0.0455, 0.3)
-"""A1, A2, b1, b2 of the attached-flow indicial function 1 - A1 exp(-b1 s) - A2 exp(-b2 s) (Jones's fit of
-Wagner's function; Hansen et al. 2004), s = 2 V t / c the distance travelled in half-chords."""
-LEADING_EDGE_LAG = 1.5
-"""T_p: time constant of the lagged potential lift (leading-edge pressure) in units of T_u = c / (2 V)."""
-SEPARATION_LAG = 6.0
-"""T_f: time constant of the separation point in units of T_u = c / (2 V)."""
+__all__ = ["STATES", "UnsteadyAirfoil", "hgm_settle", "hgm_step", "separation_function", "zero_lift_angle"]
 
 _ATTACHED = 1.0 - 1e-6  # f_st above this is taken as 1 (fully attached)
 
@@ -114,36 +105,42 @@ class UnsteadyAirfoil:
 
     Notes
     -----
-    States per element (Hansen et al. 2004, state-space form; AeroDyn UA_Mod 4), with
-    T_u = c / (2 V) and V the relative speed:
+    States per element (Hansen et al. 2004, state-space form, as AeroDyn's UA_Mod 4 writes it: OpenFAST
+    ``UnsteadyAero.f90``, eqs. 8-19 of its HGM notes), with T_u = c / (2 V), V the relative speed, ω the section's
+    nose-up pitching rate (AeroDyn's ``omega``: the blade's pitch rate, the plant's blades having no torsion) and
+    α_34 = atan2(sin α + T_u ω, cos α) the angle of attack at the three-quarter chord (AeroDyn's AoA34):
 
-    - the shed-wake lags of the effective angle of attack, kept as deficits d_i = A_i α - x_i of AeroDyn's
-      x1, x2: d_i' = -(b_i / T_u) d_i + A_i α', so that α_E = α - d_1 - d_2 (eq. 12,
-      α_E = α (1 - A1 - A2) + x1 + x2);
+    - the shed-wake lags of the effective angle of attack, kept as deficits d_i = A_i α_34 - x_i of AeroDyn's
+      x1, x2: d_i' = -(b_i / T_u) d_i + A_i α_34', so that α_E = α_34 - d_1 - d_2 (eq. 12,
+      α_E = α_34 (1 - A1 - A2) + x1 + x2);
     - the lagged potential lift, kept as its angle α_F = x3 / cl_α + α0:
-      α_F' = (α_E + π T_u α' / cl_α - α_F) / (T_p T_u) (eq. 13, cl_p = cl_α (α_E - α0) + π T_u α');
-    - the separation point f'': d f'' / dt = (f_st(α_F) - f'') / (T_f T_u).
+      α_F' = (α_E + π T_u ω / cl_α - α_F) / (T_p T_u) (eq. 13, cl_p = cl_α (α_E - α0) + π T_u ω);
+    - the separation point f'': d f'' / dt = (f_st(α_F) - f'') / (T_f0 T_u).
 
-    Outputs (eqs. 22, 24, 26)::
+    A1, A2, b1, b2, T_p and T_f0 are the airfoil's (:class:`~hawt_plant.turbine.UnsteadyAirfoilParameters`,
+    AeroDyn's defaults where its file has none). Outputs (eqs. 16, 17, 19)::
 
-        cl = cl_att(α_E) f'' + cl_fs(α_E) (1 - f'') + π T_u α'
-           = cl_st(α_E) + (cl_att - cl_fs)(α_E) (f'' - f_st(α_E)) + π T_u α'
-        cd = cd_st(α_E) + (α - α_E) cl + (cd_st(α_E) - cd0) [((1 - sqrt f'')/2)^2 - ((1 - sqrt f_st(α_E))/2)^2]
+        cl = cl_att(α_E) f'' + cl_fs(α_E) (1 - f'') + π T_u ω
+           = cl_st(α_E) + (cl_att - cl_fs)(α_E) (f'' - f_st(α_E)) + π T_u ω
+        cd = cd_st(α_E) + (α_34 - α_E + T_u ω) cl_c
+             + (cd_st(α_E) - cd0) [((1 - sqrt f'')/2)^2 - ((1 - sqrt f_st(α_E))/2)^2]
 
-    where the second form of cl follows from the definition of cl_fs (:func:`separation_function`): a
-    settled element (α steady, f'' = f_st(α)) returns the static polar bit for bit. The drag adds the
-    induced drag of the lagged angle and the change of the separation drag. Static cl, cd, cl_att - cl_fs
-    and f_st are tabulated on the polars' uniform grid (:meth:`ElementPolars.tabulate`).
+    with cl_c the circulatory part (the first line without π T_u ω), where the second form of cl follows from the
+    definition of cl_fs (:func:`separation_function`): a settled element (α steady, ω = 0, f'' = f_st(α)) returns
+    the static polar bit for bit. The added-mass lift and the potential lift's lead follow the section's rotation
+    ω, not the rate of α: a change of the inflow (a gust, the tower's shadow) moves α without turning the section,
+    and AeroDyn gives it no added mass. Static cl, cd, cl_att - cl_fs and f_st are tabulated on the polars'
+    uniform grid (:meth:`ElementPolars.tabulate`).
 
     The zero-lift angle α0 is the polar's (:func:`zero_lift_angle` nearest the parameters' ``alpha0``):
     f_st(α0) = 1 needs cl_st(α0) = 0, and the NREL 5 MW files' "zero Cn angle" is up to 1.7° off their
     tables (corrected for rotational stall delay). The lift slope is the parameters' (their "Cn slope",
     Cn ~ cl near zero lift).
 
-    Time discretisation, exact for every step (stable at any reduced step 2 V dt / c): over a step α changes
-    linearly and V and f_st(α_F) are held at their end-of-step values; the shed-wake deficits are then
-    integrated exactly (d_i <- e_i d_i + A_i Δα (1 - e_i) / (λ_i dt), e_i = exp(-λ_i dt), λ_i = b_i / T_u),
-    α_F and f'' by their exact exponential decay towards the end-of-step target, and α' = Δα / dt.
+    Time discretisation, exact for every step (stable at any reduced step 2 V dt / c): over a step α_34 changes
+    linearly and V, ω and f_st(α_F) are held at their end-of-step values; the shed-wake deficits are then
+    integrated exactly (d_i <- e_i d_i + A_i Δα_34 (1 - e_i) / (λ_i dt), e_i = exp(-λ_i dt), λ_i = b_i / T_u),
+    α_F and f'' by their exact exponential decay towards the end-of-step target.
     The terms of the speed's rate in the state-space form are left out, as in AeroDyn's documented UA_Mod 4
     equations.
     The angle of attack is taken as continuous: a jump across ±180° (reversed flow) is not unwrapped.
@@ -160,31 +157,25 @@ class UnsteadyAirfoil:
         for name in set(element_airfoils):
             polar = airfoils[name]
             cl, cd = np.interp(grid, polar.alpha, polar.cl), np.interp(grid, polar.alpha, polar.cd)
-            if polar.unsteady is None:
+            if polar.unsteady is None:  # no lags, no added mass: the static polar
                 per_airfoil[name] = (np.stack((cl, cd, np.zeros_like(cl), np.ones_like(cl), cd), axis=1),
-                                     0.0, 0.0)
+                                     (0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0))
                 continue
-            parameters = polar.unsteady
-            alpha0 = zero_lift_angle(polar, parameters.alpha0)
-            f_st, attached, separated = separation_function(grid, cl, alpha0, parameters.lift_slope)
-            per_airfoil[name] = (np.stack((cl, cd, attached - separated, f_st, cd - parameters.cd0), axis=1),
-                                 1.0, parameters.lift_slope)
+            p = polar.unsteady
+            alpha0 = zero_lift_angle(polar, p.alpha0)
+            f_st, attached, separated = separation_function(grid, cl, alpha0, p.lift_slope)
+            per_airfoil[name] = (np.stack((cl, cd, attached - separated, f_st, cd - p.cd0), axis=1),
+                                 (p.a1, p.a2, p.b1, p.b2, 1.0 / p.pressure_lag, 1.0 / p.separation_lag, 1.0,
+                                  math.pi / p.lift_slope))
         self._table = polars.tabulate(np.stack([per_airfoil[name][0] for name in element_airfoils]))
-        unsteady = np.array([per_airfoil[name][1] for name in element_airfoils])
-        slope = np.array([per_airfoil[name][2] for name in element_airfoils])
-        a1, a2, b1, b2 = INDICIAL
         self._polars = polars
         self._shape = (blades, n)
-        # Per element (columns): A_1, A_2 (0 where quasi-steady); the rates λ V of the four lags per unit speed,
-        # b_1 2 / c, b_2 2 / c, 2 / (T_p c), 2 / (T_f c); the non-circulatory lift π T_u α' = (π c / 2)(Δα / V) / dt
-        # per unit Δα / (V dt), and its angle in the potential lift.
-        constants = np.empty((8, n))
-        constants[0], constants[1] = a1 * unsteady, a2 * unsteady
-        constants[2:6] = np.multiply.outer(np.array((b1, b2, 1.0 / LEADING_EDGE_LAG, 1.0 / SEPARATION_LAG)),
-                                           2.0 / chord)
-        constants[6] = math.pi * chord / 2.0 * unsteady
-        with np.errstate(divide="ignore", invalid="ignore"):
-            constants[7] = np.where(unsteady > 0.0, constants[6] / slope, 0.0)
+        # Per element (rows): A_1, A_2 (0 where quasi-steady); the rates λ V of the four lags per unit speed,
+        # b_1 2 / c, b_2 2 / c, 2 / (T_p c), 2 / (T_f0 c); the half chord c / 2 = T_u V (0 where quasi-steady: no
+        # added mass, α_34 = α); π / cl_α, the angle of the added-mass lift in the potential lift.
+        constants = np.array([per_airfoil[name][1] for name in element_airfoils]).T.copy()
+        constants[2:6] *= 2.0 / chord
+        constants[6] *= chord / 2.0
         self._constants = constants
         self._states = np.empty((STATES,) + self._shape)  # α, the deficits d_1, d_2, α_F, f''
         self.settle(np.zeros(self._shape))
@@ -223,8 +214,8 @@ class UnsteadyAirfoil:
         _settle_all(alpha, *self.kernel_arrays, *self._polars.grid_constants, out)
         return out[0], out[1]
 
-    def step(self, alpha: np.ndarray, speed: np.ndarray, dt: float,
-             advance: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def step(self, alpha: np.ndarray, speed: np.ndarray, dt: float, advance: bool = True,
+             pitching_rate: np.ndarray | float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The lift and drag coefficients at the end of a step of ``dt`` that ends at ``alpha``.
 
         Parameters
@@ -238,6 +229,8 @@ class UnsteadyAirfoil:
         advance : bool
             Keep the states at the end of the step (default); False evaluates the step and leaves the
             states as they were (the model's induction iterations before the last).
+        pitching_rate : ndarray or float, broadcast to (B, N)
+            ω, each section's nose-up rotation rate [rad/s] (class notes); default 0, a section that does not turn.
 
         Returns
         -------
@@ -247,17 +240,18 @@ class UnsteadyAirfoil:
         """
         if not dt > 0.0:
             raise ValueError(f"dt: expected > 0 s, found {dt}")
-        alpha, speed = np.broadcast_arrays(np.asarray(alpha, dtype=float), np.asarray(speed, dtype=float))
+        alpha, speed, rate = np.broadcast_arrays(np.asarray(alpha, dtype=float), np.asarray(speed, dtype=float),
+                                                 np.asarray(pitching_rate, dtype=float))
         if alpha.shape != self._shape:
             raise ValueError(f"alpha: expected shape {self._shape}, found {alpha.shape}")
         out = np.empty((3,) + self._shape)
-        _step_all(np.ascontiguousarray(alpha), np.ascontiguousarray(speed), dt, advance, *self.kernel_arrays,
-                  *self._polars.grid_constants, out)
+        _step_all(np.ascontiguousarray(alpha), np.ascontiguousarray(speed), np.ascontiguousarray(rate), dt, advance,
+                  *self.kernel_arrays, *self._polars.grid_constants, out)
         return out[0], out[1], out[2]
 
 
 STATES = 5
-"""Number of states of an element: α of the last step, the shed-wake deficits d_1 and d_2, α_F and f''."""
+"""Number of states of an element: α_34 of the last step, the shed-wake deficits d_1 and d_2, α_F and f''."""
 
 
 @njit
@@ -281,13 +275,15 @@ def hgm_settle(i: int, j: int, alpha: float, states: np.ndarray, table: np.ndarr
 
 
 @njit
-def hgm_step(i: int, j: int, alpha: float, speed: float, dt: float, advance: bool, states: np.ndarray,
-             table: np.ndarray, constants: np.ndarray, scale: float, intervals: float,
+def hgm_step(i: int, j: int, alpha: float, speed: float, pitching_rate: float, dt: float, advance: bool,
+             states: np.ndarray, table: np.ndarray, constants: np.ndarray, scale: float, intervals: float,
              offsets: np.ndarray) -> tuple[float, float, float]:
     """:meth:`UnsteadyAirfoil.step` of element ``j`` of blade ``i``: circulatory lift, added-mass lift and drag
-    (eqs. 22, 24, 26 with the exact step of the class notes)."""
+    (eqs. 12-19 with the exact step of the class notes)."""
     offset = offsets[j]
     speed = np.maximum(speed, 0.1)
+    tu_omega = constants[6, j] * pitching_rate / speed  # T_u ω
+    alpha = math.atan2(math.sin(alpha) + tu_omega, math.cos(alpha)) if tu_omega != 0.0 else alpha  # α_34
     change = alpha - states[0, i, j]
     # shed wake: d_i <- e_i d_i + A_i Δα (1 - e_i) / (λ_i dt), e_i = exp(-λ_i dt)
     exponent = speed * (-dt * constants[2, j])
@@ -296,21 +292,20 @@ def hgm_step(i: int, j: int, alpha: float, speed: float, dt: float, advance: boo
     exponent = speed * (-dt * constants[3, j])
     decay_minus_one = math.expm1(exponent)
     lag_2 = states[2, i, j] * (decay_minus_one + 1.0) + decay_minus_one / exponent * change * constants[1, j]
-    deficit = lag_1 + lag_2  # α - α_E
+    deficit = lag_1 + lag_2  # α_34 - α_E
     alpha_e = alpha - deficit
-    rate = change / speed  # Δα / V
-    potential = rate * (constants[7, j] / dt) + alpha_e
+    potential = alpha_e + constants[7, j] * tu_omega
     alpha_f = (states[3, i, j] - potential) * (math.expm1(speed * (-dt * constants[4, j])) + 1.0) + potential
     f_target = _lookup(table, scale, intervals, offset, alpha_f, 3)
     separation = (states[4, i, j] - f_target) * (math.expm1(speed * (-dt * constants[5, j])) + 1.0) + f_target
     row, fraction = grid_point(alpha_e, scale, intervals, offset)
     f_st = interpolated(table, row, fraction, 3)
     circulatory = (separation - f_st) * interpolated(table, row, fraction, 2) + interpolated(table, row, fraction, 0)
-    added_mass = rate * (constants[6, j] / dt)
+    added_mass = math.pi * tu_omega
     root_separation, root_static = math.sqrt(separation), math.sqrt(f_st)
     drag_change = (root_static - root_separation) * (2.0 - root_separation - root_static) * 0.25 \
         * interpolated(table, row, fraction, 4)
-    cd = deficit * (circulatory + added_mass) + interpolated(table, row, fraction, 1) + drag_change
+    cd = (deficit + tu_omega) * circulatory + interpolated(table, row, fraction, 1) + drag_change
     if advance:
         states[0, i, j] = alpha
         states[1, i, j] = lag_1
@@ -329,8 +324,9 @@ def _settle_all(alpha, states, table, constants, scale, intervals, offsets, out)
 
 
 @njit
-def _step_all(alpha, speed, dt, advance, states, table, constants, scale, intervals, offsets, out):
+def _step_all(alpha, speed, rate, dt, advance, states, table, constants, scale, intervals, offsets, out):
     for i in range(alpha.shape[0]):
         for j in range(alpha.shape[1]):
-            out[0, i, j], out[1, i, j], out[2, i, j] = hgm_step(i, j, alpha[i, j], speed[i, j], dt, advance, states,
-                                                                table, constants, scale, intervals, offsets)
+            out[0, i, j], out[1, i, j], out[2, i, j] = hgm_step(i, j, alpha[i, j], speed[i, j], rate[i, j], dt,
+                                                                advance, states, table, constants, scale, intervals,
+                                                                offsets)

@@ -18,8 +18,8 @@ What comes from where (ED ElastoDyn, AD AeroDyn, SD ServoDyn, DISCON the ROSCO i
   moments), NacCMxn, NacCMzn, NacYIner, Twr2Shft;
 - blade aerodynamics: AD blade file BlSpn, BlChord, BlTwist, BlAFID at its nodes (their widths:
   :func:`node_widths`) and the first table of each airfoil file AFNames(i) (AD AFTabMod = 1 reads only
-  that one), with its UA coefficients alpha0, C_nalpha, Cd0 for the plant's unsteady airfoil option when it has
-  them;
+  that one), with its UA coefficients alpha0, C_nalpha, Cd0, A1, A2, b1, b2, T_p, T_f0 ("Default": AeroDyn's) for
+  the plant's unsteady airfoil option when it has them;
 - blade structure: ED blade file BlFract, StrcTwst, BMassDen with AdjBlMs, FlpStff x AdjFlSt x FlStTunr(1),
   EdgStff x AdjEdSt, BldFl1Sh, BldFlDmp(1), and BldEdgSh, BldEdDmp(1) if ED EdgeDOF (else the blade is rigid
   edgewise);
@@ -82,7 +82,7 @@ from openfast_io.FAST_reader import InputReader_OpenFAST
 
 from hawt_controllers.discon.rosco_input import RELATIVE_PATH_SETTINGS, read_settings
 from hawt_plant.modal import beam_first_mode
-from hawt_plant.turbine import TurbineDefinitionError, load_turbine
+from hawt_plant.turbine import TurbineDefinitionError, UnsteadyAirfoilParameters, load_turbine
 
 __all__ = ["DEFAULT_ACTUATOR", "RIGID_TORSION_FREQUENCY", "AerodynamicMapping", "DeckError", "ImportedAirfoil",
            "ImportedTurbine", "Sourced", "node_widths", "aerodynamic_options", "import_deck", "turbine_text",
@@ -132,15 +132,15 @@ class AerodynamicMapping:
 @dataclass(frozen=True, eq=False)
 class ImportedAirfoil:
     """One airfoil polar: angle of attack [rad], lift, drag and moment coefficients as rows of ``table`` (K, 4),
-    and the unsteady-aerodynamics parameters of :class:`hawt_plant.turbine.UnsteadyAirfoilParameters` (zero-lift
-    angle [rad], lift slope [1/rad], drag at zero lift) if the table has them with a lift slope (None: it stays
-    quasi-steady, as the cylinders)."""
+    and its unsteady-aerodynamics parameters if the table has them with a lift slope (None: it stays
+    quasi-steady, as the cylinders), with the names of those the file left to AeroDyn's default (``defaulted``)."""
 
     name: str
     table: np.ndarray
     source: str
     description: str
-    unsteady: Tuple[float, float, float] | None
+    unsteady: UnsteadyAirfoilParameters | None
+    defaulted: Tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -539,8 +539,29 @@ def _airfoil(deck: _Deck, ad: Mapping[str, Any], index: int, ad_file: str) -> Im
     description = lines[1].strip().lstrip("!").strip() if len(lines) > 1 else ""
     unsteady = [polar.get(key) for key in ("alpha0", "C_nalpha", "Cd0")] if polar["InclUAdata"] else []
     usable = len(unsteady) == 3 and all(isinstance(value, float) for value in unsteady) and unsteady[1] > 0.0
-    return ImportedAirfoil(name=path.stem, table=table, source=file, description=description,
-                           unsteady=(math.radians(unsteady[0]), unsteady[1], unsteady[2]) if usable else None)
+    if not usable:
+        return ImportedAirfoil(name=path.stem, table=table, source=file, description=description, unsteady=None)
+    lags, defaulted = {}, []
+    for key, name in _UA_LAGS:
+        value = polar.get(key)
+        if isinstance(value, str) and value.strip('"').lower() == "default":
+            defaulted.append(name)
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            lags[name] = float(value)
+        else:
+            raise DeckError(f"{file}: {key}: expected a number or \"Default\", found {value!r}")
+    try:
+        parameters = UnsteadyAirfoilParameters(math.radians(unsteady[0]), unsteady[1], unsteady[2], **lags)
+    except ValueError as err:
+        raise DeckError(f"{file}: UA coefficients: {err}") from None
+    return ImportedAirfoil(name=path.stem, table=table, source=file, description=description, unsteady=parameters,
+                           defaulted=tuple(defaulted))
+
+
+_UA_LAGS = (("A1", "a1"), ("A2", "a2"), ("b1", "b1"), ("b2", "b2"), ("T_p", "pressure_lag"),
+            ("T_f0", "separation_lag"))
+"""AeroDyn's UA coefficient -> :class:`hawt_plant.turbine.UnsteadyAirfoilParameters` field, beyond alpha0, C_nalpha
+and Cd0."""
 
 
 def _blade_structure(blade: Mapping[str, Any], length: float, file: str, edgewise: bool) -> Dict[str, Sourced]:
@@ -1065,10 +1086,14 @@ def _airfoil_text(airfoil: ImportedAirfoil, deck: str) -> str:
     rows = "\n".join("  - [" + ", ".join(_yaml_number(float(v)) for v in row) + "]" for row in airfoil.table)
     unsteady = ""
     if airfoil.unsteady:
-        alpha0, slope, cd0 = airfoil.unsteady
+        p = airfoil.unsteady
         unsteady = ("# Unsteady aerodynamics (hawt_plant.unsteady_airfoil), from the table's UA coefficients.\n"
-                    f"unsteady:\n  alpha0: {_yaml_number(alpha0)}  # alpha0 = {math.degrees(alpha0):g} deg\n"
-                    f"  lift_slope: {_yaml_number(slope)}  # C_nalpha [1/rad]\n  cd0: {_yaml_number(cd0)}  # Cd0\n")
+                    f"unsteady:\n  alpha0: {_yaml_number(p.alpha0)}  # alpha0 = {math.degrees(p.alpha0):g} deg\n"
+                    f"  lift_slope: {_yaml_number(p.lift_slope)}  # C_nalpha [1/rad]\n"
+                    f"  cd0: {_yaml_number(p.cd0)}  # Cd0\n"
+                    + "".join(f"  {name}: {_yaml_number(getattr(p, name))}  # {key}"
+                              + (" (\"Default\": AeroDyn's)" if name in airfoil.defaulted else "") + "\n"
+                              for key, name in _UA_LAGS))
     return (f"# Airfoil polar {airfoil.name}, imported by hawt turbine import from the OpenFAST deck {deck}.\n"
             f"# Source: {airfoil.source} (relative to the deck), its first table: {airfoil.description}\n"
             "# Columns: angle of attack [rad] (source deg x pi/180), lift, drag and pitching-moment\n"

@@ -170,6 +170,35 @@ def test_nrel_5mw_unsteady_parameters_are_the_polar_file_headers(turbine):
     assert all(polar.unsteady is not None for name, polar in turbine.airfoils.items() if "Cylinder" not in name)
 
 
+def test_nrel_5mw_unsteady_lags_are_the_aerodyn_15_decks(turbine):
+    """Every NREL 5 MW airfoil with an unsteady section carries the OpenFAST deck's A1 0.3, A2 0.7, b1 0.14, b2 0.53,
+    T_p 1.7, T_f0 3 (Airfoils/*.dat; NACA64's "Default", AeroDyn's defaults, the same values)."""
+    for name, polar in turbine.airfoils.items():
+        if polar.unsteady is not None:
+            p = polar.unsteady
+            assert (p.a1, p.a2, p.b1, p.b2, p.pressure_lag, p.separation_lag) == (0.3, 0.7, 0.14, 0.53, 1.7, 3.0), name
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("  a1: 0.3  # A1\n", ""), None),
+    (("  b1: 0.14", "  b_1: 0.14"), r"unsteady\.b_1: no such parameter \(expected alpha0, lift_slope, cd0, a1, a2"),
+    (("  a1: 0.3", "  a1: 0.5"), r"unsteady\.a2: expected a1 \+ a2 <= 1, found 0\.5 \+ 0\.7"),
+    (("  separation_lag: 3.0", "  separation_lag: 0"), r"unsteady\.separation_lag: expected a value > 0"),
+], ids=["absent-is-aerodyn-default", "misspelled", "weights-over-one", "zero-lag"])
+def test_unsteady_lags_are_optional_and_checked(editable_copy, tmp_path, edit, message):
+    """A1, A2, b1, b2, T_p, T_f0 may be left out (AeroDyn's defaults); a misspelled, out-of-range or inconsistent
+    one names the file and the key."""
+    path = tmp_path / "nrel_5mw" / "airfoils" / "DU21_A17.yaml"
+    text = path.read_text()
+    assert edit[0] in text
+    path.write_text(text.replace(*edit))
+    if message is None:
+        assert load_turbine(editable_copy(["name"], "edited")).airfoils["DU21_A17"].unsteady.a1 == 0.3
+        return
+    with pytest.raises(TurbineDefinitionError, match=r"DU21_A17\.yaml: " + message):
+        load_turbine(editable_copy(["name"], "edited"))
+
+
 def test_invalid_unsteady_parameter_is_named(editable_copy, tmp_path):
     """A negative lift slope in a polar's unsteady section names the file and the key."""
     path = tmp_path / "nrel_5mw" / "airfoils" / "DU21_A17.yaml"

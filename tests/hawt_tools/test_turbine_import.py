@@ -207,6 +207,18 @@ def test_the_unsteady_parameters_are_the_decks_ua_tables(imported_5mw):
         assert (math.degrees(expected.alpha0), expected.cd0) == pytest.approx((v13_alpha0, v13_cd0))
 
 
+def test_the_unsteady_lags_are_the_decks_and_default_to_aerodyns(imported_5mw, imported_deck):
+    """A1, A2, b1, b2, T_p, T_f0 come from each UA table: the DU tables' numbers, NACA64's "Default" as AeroDyn's
+    defaults (the same values on this deck), written to the airfoil file with where each came from."""
+    for name, polar in imported_5mw.airfoils.items():
+        if polar.unsteady is not None:
+            p = polar.unsteady
+            assert (p.a1, p.a2, p.b1, p.b2, p.pressure_lag, p.separation_lag) == (0.3, 0.7, 0.14, 0.53, 1.7, 3.0), name
+    folder = imported_deck(NREL_5MW) / "airfoils"
+    assert "  b1: 0.14  # b1 (\"Default\": AeroDyn's)" in (folder / "NACA64_A17.yaml").read_text()
+    assert "  b1: 0.14  # b1\n" in (folder / "DU21_A17.yaml").read_text()
+
+
 OPTIONS = ("tower_shadow", "tower_drag", "skewed_wake", "unsteady_airfoil", "dynamic_inflow")
 
 DECK_AERODYNAMICS = {
