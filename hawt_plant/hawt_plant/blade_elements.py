@@ -45,7 +45,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         update: bool, iterations: int, relaxation: float, dynamic_inflow: bool, dt: float,
                         tip_radius: float, tip_ratio: np.ndarray, skewed: bool, skew_angle: float,
                         cos_azimuth: np.ndarray, unsteady: bool, pitching_rate: np.ndarray,
-                        unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray, sums: np.ndarray) -> None:
+                        unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray,
+                        sums: np.ndarray) -> None:
     """One step of every blade element (module notes); updates the induction when ``update``.
 
     Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
