@@ -45,7 +45,11 @@ it lasts. A held plant is not waiting on its controllers (the safety system's cl
 restarts on release). With ``recorder_required`` (``hawt launch --record``) it waits however
 long the recorder takes: a recorder that dies is respawned by the launcher, gets back the
 steps it missed from the publishers' transient-local history (hawt_node.qos), and releases
-the plant. Without it, a recorder that writes nothing for ``recorder_timeout`` is given up
+the plant. Its progress counts only once it lists every topic of the loop (blade loads, state,
+pitch command) that the recorder before it listed: until the new one has subscribed to a topic,
+that topic's history must still hold the steps the dead one had not written, so the plant may
+not run on (a topic discovered late would otherwise come back only from its last 2000 steps).
+Without it, a recorder that writes nothing for ``recorder_timeout`` is given up
 with a ``recorder`` event.
 """
 import math
@@ -120,6 +124,8 @@ class PlantNode(Node):
         self.recorder_heard_at = self.held_at = self.hold_reported_at = -math.inf
         self.held = self.finishing = self.stopped = False
         self.recorder_matched: dict[str, int] = {}
+        self.loop_topics = {self.resolve_topic_name(topic) for topic in (BLADE_LOADS, TURBINE_STATE, PITCH_COMMAND)}
+        self.recorded_loop: set[str] = set()  # the loop's topics a recorder has listed: a respawned one must again
         self._progress_subscription = self.create_subscription(RecorderProgress, RECORDER_PROGRESS,
                                                                self._on_recorder_progress, CONTROL_LOOP)
         self.done = Future()
@@ -352,6 +358,10 @@ class PlantNode(Node):
         if self.recorder_given_up or not (self.lockstep and self.values["recorder_window"] > 0) \
                 or topic not in msg.topics:
             return  # (given up: a progress message already queued when its subscription went must not hold again)
+        listed = self.loop_topics.intersection(msg.topics)
+        self.recorded_loop |= listed
+        if self.recorded_loop - listed:
+            return  # a respawned recorder not yet on every topic of the loop (module notes): the plant stays held
         stamp = msg.stamps[msg.topics.index(topic)]
         if math.isnan(stamp):
             return
