@@ -12,7 +12,8 @@ the inflow without induction (vx, vy) to each blade's load sums:
    that no transient runs away (a in [-1, 0.99], a' in [-1, 1]; a = 1, a' = 0 at a node at the tip or the hub),
    Pitt & Peters's skewed wake (:func:`hawt_plant.bem.skew_factor`), then either a relaxed fixed-point update
    a <- a + r (a_qs - a), repeated ``iterations`` times, or Øye's dynamic inflow filter (Hansen, Aerodynamics
-   of Wind Turbines, 2008, §10.2);
+   of Wind Turbines, 2008, §10.2) as AeroDyn's DBEMT_Mod = 2 runs it (``DBEMT.f90``): one time constant tau_1 for
+   the rotor from its disk-averaged induction and inflow, the skewed wake's correction after the filter;
 4. the element loads dF_n = q (c_l cos phi + c_d sin phi), dF_t = q (c_l sin phi - c_d cos phi),
    q = 1/2 rho W^2 c dr, and their sums per blade against the span functions (the model's 1, s and mode shapes).
 
@@ -31,7 +32,7 @@ from hawt_plant.bem import induction, loss_factor, skew_factor
 from hawt_plant.compiled import njit
 from hawt_plant.unsteady_airfoil import hgm_settle, hgm_step
 
-__all__ = ["MIN_INFLOW", "blade_element_loads"]
+__all__ = ["MIN_INFLOW", "blade_element_loads", "disk_weights"]
 
 MIN_INFLOW = 0.1
 """[m/s] The normal inflow used in the dynamic-inflow time constants is at least this."""
@@ -43,7 +44,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         offsets: np.ndarray, loss_exponents: np.ndarray, local_solidity: np.ndarray,
                         bounds: np.ndarray, pressure_to_load: np.ndarray, span_functions: np.ndarray,
                         update: bool, iterations: int, relaxation: float, dynamic_inflow: bool, dt: float,
-                        tip_radius: float, tip_ratio: np.ndarray, skewed: bool, skew_angle: float,
+                        tip_radius: float, tip_ratio: np.ndarray, disk_weights: np.ndarray, skewed: bool,
+                        skew_angle: float,
                         cos_azimuth: np.ndarray, unsteady: bool, pitching_rate: np.ndarray,
                         unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray,
                         sums: np.ndarray) -> None:
@@ -51,7 +53,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
 
     Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
     ``inflow_filter`` (3, B, N), Øye's intermediate and induced velocity and the last quasi-steady one;
-    ``pitch_twist``, ``local_solidity``, ``pressure_to_load`` (1/2 rho c dr), ``tip_ratio`` (r / R): (B, N);
+    ``pitch_twist``, ``local_solidity``, ``pressure_to_load`` (1/2 rho c dr), ``tip_ratio`` (r / R), ``disk_weights``
+    (:func:`disk_weights`, for the dynamic inflow's tau_1): (B, N);
     ``loss_exponents`` (2, B, N); ``bounds`` (lower, upper) x (a, a') (2, 2, B, N); ``span_functions`` (N, F);
     ``cos_azimuth`` (B,), each blade's azimuth from the most downwind position of the disk (used when
     ``skewed``); ``polar_table`` and the grid constants of :class:`~hawt_plant.airfoil_table.ElementPolars`, the
@@ -63,6 +66,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     blades, elements = pitch_twist.shape
     sums[:] = 0.0
     passes = iterations if update and not dynamic_inflow else 1
+    tau_1 = _rotor_time_constant(inflow, inflow_filter, disk_weights, tip_radius) if dynamic_inflow else 0.0
     for i in range(blades):
         for j in range(elements):
             vx, vy = inflow[0, i, j], inflow[1, i, j]
@@ -88,11 +92,14 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                     a, a_prime, _, _ = induction(phi, sin_phi, cos_phi, cl, loss, local_solidity[i, j])
                     a = np.minimum(np.maximum(a, bounds[0, 0, i, j]), bounds[1, 0, i, j])
                     a_prime = np.minimum(np.maximum(a_prime, bounds[0, 1, i, j]), bounds[1, 1, i, j])
-                    if skewed:
-                        a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
-                    if dynamic_inflow:
-                        _oye(i, j, a, vx, dt, tip_radius, tip_ratio[i, j], induction_factors, inflow_filter)
+                    if dynamic_inflow:  # as AeroDyn: the filter on BEM's induction, the skewed wake's after it
+                        a = _oye(i, j, a, vx, dt, tau_1, tip_ratio[i, j], inflow_filter)
+                        if skewed:
+                            a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
+                        induction_factors[0, i, j] = a
                     else:
+                        if skewed:
+                            a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
                         induction_factors[0, i, j] += relaxation * (a - induction_factors[0, i, j])
                         a_prime = induction_factors[1, i, j] + relaxation * (a_prime - induction_factors[1, i, j])
                     induction_factors[1, i, j] = a_prime
@@ -105,18 +112,43 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                 sums[1, i, m] += tangential * span_functions[j, m]
 
 
+def disk_weights(tip_ratio: np.ndarray) -> np.ndarray:
+    """AeroDyn's weights of the rotor's average induction for DBEMT (``BEMT.f90``, IntegrateWeight): a triweight
+    kernel (35/32)(1 - u^2)^3, u = (r/R - 0.7) / 0.1 clipped to [-1, 1], over each blade's elements (``tip_ratio``
+    (B, N), r/R), normalised per blade and divided by the number of blades (the weights sum to 1)."""
+    u = np.clip((tip_ratio / tip_ratio.max() - 0.7) / 0.1, -1.0, 1.0)
+    weights = (1.0 - u * u) ** 3
+    return weights / weights.sum(axis=1, keepdims=True) / tip_ratio.shape[0]
+
+
 @njit
-def _oye(i: int, j: int, axial: float, vx: float, dt: float, tip_radius: float, tip_ratio: float,
-         induction_factors: np.ndarray, inflow_filter: np.ndarray) -> None:
+def _rotor_time_constant(inflow: np.ndarray, inflow_filter: np.ndarray, weights: np.ndarray,
+                         tip_radius: float) -> float:
+    """tau_1 = 1.1 R / ((1 - 1.3 a_disk) U_n), at most 100 s (AeroDyn DBEMT_Mod = 2, ``ComputeTau1``): a_disk the
+    weighted quasi-steady induction (of the last step, ``inflow_filter[2]``), at most 0.5, U_n the elements' mean
+    normal inflow, at least 0.1 m/s."""
+    axial, normal = 0.0, 0.0
+    for i in range(inflow.shape[1]):
+        for j in range(inflow.shape[2]):
+            vx = inflow[0, i, j]
+            axial += weights[i, j] * inflow_filter[2, i, j] / np.maximum(vx, MIN_INFLOW)
+            normal += vx
+    normal = np.maximum(normal / (inflow.shape[1] * inflow.shape[2]), MIN_INFLOW)
+    return np.minimum(1.1 * tip_radius / ((1.0 - 1.3 * np.minimum(axial, 0.5)) * normal), 100.0)
+
+
+@njit
+def _oye(i: int, j: int, axial: float, vx: float, dt: float, tau_1: float, tip_ratio: float,
+         inflow_filter: np.ndarray) -> float:
     """Øye's dynamic inflow filter of one element (Hansen 2008 §10.2): the induced velocity a vx follows the
-    quasi-steady one through two first-order lags, tau_1 = 1.1 / (1 - 1.3 a) R / V_0 and
-    tau_2 = (0.39 - 0.26 (r/R)^2) tau_1, the first with a lead 0.6 tau_1."""
+    quasi-steady one through two first-order lags, the rotor's tau_1 (:func:`_rotor_time_constant`) and
+    tau_2 = (0.39 - 0.26 (r/R)^2) tau_1, the first with a lead 0.6 tau_1. Returns the filtered axial induction
+    factor."""
     speed = np.maximum(vx, MIN_INFLOW)
     quasi_steady = axial * speed
-    tau_1 = 1.1 / (1.0 - 1.3 * np.minimum(np.maximum(induction_factors[0, i, j], 0.0), 0.5)) * tip_radius / speed
     tau_2 = (0.39 - 0.26 * (tip_ratio * tip_ratio)) * tau_1
     forcing = quasi_steady + 0.6 * tau_1 * (quasi_steady - inflow_filter[2, i, j]) / dt
     intermediate = forcing + (inflow_filter[0, i, j] - forcing) * math.exp(-dt / tau_1)
     induced = intermediate + (inflow_filter[1, i, j] - intermediate) * math.exp(-dt / tau_2)
     inflow_filter[0, i, j], inflow_filter[1, i, j], inflow_filter[2, i, j] = intermediate, induced, quasi_steady
-    induction_factors[0, i, j] = induced / speed
+    return induced / speed

@@ -65,7 +65,7 @@ from scipy.optimize import brentq
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
-from hawt_plant.blade_elements import blade_element_loads
+from hawt_plant.blade_elements import blade_element_loads, disk_weights
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
 from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance_structure,
@@ -444,10 +444,10 @@ class TurbineModel:
         cl, _ = bem.polars.coefficients(phi - pitch - bem.twist)
         loss = prandtl_loss(np.sin(phi), bem)
         self._induction[0], self._induction[1], _, _ = induction_factors(phi, cl, loss, bem.local_solidity)
+        self._inflow_filter[:] = self._induction[0] * vx  # Øye's filter holds BEM's induction, before the skew's
         skewed, angle, cos_azimuth = self._skew() if self._config.skewed_wake else (False, 0.0, None)
         if skewed:
             self._induction[0] *= skewed_wake_factor(self._induction[0], angle, self._tip_ratio, cos_azimuth[:, None])
-        self._inflow_filter[:] = self._induction[0] * vx
 
     def _passage_mean_loads(self) -> tuple[float, np.ndarray]:
         """Shaft torque and tower residual (without the generator torque) averaged over one
@@ -662,6 +662,7 @@ class TurbineModel:
         self._standstill_pitch = np.full(b, t.pitch_actuator.max_angle)  # feather: an idling or parked rotor's
         self._rotor_bem = self._bem.tiled(b)  # every element of every blade at once, (B, N) arrays
         self._tip_ratio = self._rotor_bem.radius / self._bem.tip_radius
+        self._disk_weights = disk_weights(self._tip_ratio)
         half_rho = 0.5 * t.environment.air_density
         g = t.environment.gravity
         self._blade_offsets = 2.0 * math.pi * np.arange(b) / b
@@ -900,7 +901,7 @@ class TurbineModel:
         blade_element_loads(self._inflow, self._induction, self._inflow_filter, self._pitch[:, None] + self._twist,
                             *self._blade_constants, update_induction, config.bem_iterations,
                             config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
-                            self._tip_ratio, skewed, skew_angle, cos_azimuth, unsteady is not None,
+                            self._tip_ratio, self._disk_weights, skewed, skew_angle, cos_azimuth, unsteady is not None,
                             -self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
                             aero)
         generalized_forces(aero, self._trig, self._features, self._mode_directions, self._deflection_parts,
