@@ -118,8 +118,11 @@ class TowerModalProperties:
         mass included in m_above.
     top_slope : float
         phi'(H) [1/m]: tower-top rotation per metre of tower-top displacement.
-    damping_ratio : float
-        Structural damping ratio [-].
+    damping : float
+        Generalized structural damping [N s/m], ElastoDyn's (``ElastoDyn.f90``, CTFA/CTSS): the deck's damping
+        ratio zeta of the tower's own mode, c = 2 zeta k_b / omega_t = 2 zeta sqrt(k_b m_t) with k_b the bending
+        stiffness int EI phi''^2 dh and m_t ``modal_mass``, without the top mass or gravity. The mode with the rotor
+        and nacelle on top is slower, so it gets a smaller ratio: zeta sqrt(m_t / (m_t + m_top)).
     """
 
     modal_mass: float
@@ -127,7 +130,7 @@ class TowerModalProperties:
     modal_height_moment: float
     stiffness: float
     top_slope: float
-    damping_ratio: float
+    damping: float
     base_shape: float = 0.0
     mass_above_base: float = 0.0
 
@@ -321,13 +324,14 @@ def tower_modal_properties(turbine: Turbine, direction: str, top_mass: float) ->
     h_above = tower.clamp_height + x_above * length
     mu_above, phi_above = np.interp(x_above, tower.height_fraction, tower.mass_density), \
         polynomial_mode(coefficients, x_above)[0]
+    modal_mass = float(trapezoid(mu * phi**2, h))
     return TowerModalProperties(
-        modal_mass=float(trapezoid(mu * phi**2, h)),
+        modal_mass=modal_mass,
         modal_first_moment=float(trapezoid(mu_above * phi_above, h_above)),
         modal_height_moment=float(trapezoid(mu_above * phi_above * (h_above - base), h_above)),
         stiffness=float(bending - gravity),
         top_slope=float(d1[-1] / length),
-        damping_ratio=damping,
+        damping=float(2.0 * damping * math.sqrt(bending * modal_mass)),
         base_shape=float(phi_above[0]),
         mass_above_base=float(trapezoid(mu_above, h_above)),
     )

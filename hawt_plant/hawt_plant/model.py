@@ -758,12 +758,8 @@ class TurbineModel:
             + (rotor.hub_mass + b * blade.mass) * gain**2
         )
         fa_gravity_force = g * sfa * (nacelle.mass * xn + rotor.hub_mass * xa)
-        fa_mass_estimate = fa_mass_constant - b * sfa**2 * mass_moments[2] / 2.0
         self._tower_stiffness = np.array([fa.stiffness, ss.stiffness])
-        tower_damping = np.array([
-            2.0 * fa.damping_ratio * math.sqrt(fa.stiffness * fa_mass_estimate),
-            2.0 * ss.damping_ratio * math.sqrt(ss.stiffness * ss_mass),
-        ])
+        tower_damping = np.array([fa.damping, ss.damping])
         # Per-blade features, each a linear function of (cos psi_i, sin psi_i, 1): rows of
         # `features @ [cos; sin; 1]`, starting with e_n, e_t, e_z (x, y, z each). Blade unit
         # vectors: radial e_r = cos psi e_zs - sin psi e_ys,
