@@ -41,15 +41,17 @@ def shipped():
     return {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}
 
 
-@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.37, 21.2), (18.0, 2.98, 37.9),
-                                                              (24.0, 3.27, 57.3)])
+@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.37, 21.2), (18.0, 2.96, 37.9),
+                                                              (24.0, 3.23, 57.3)])
 def test_check_12_the_baseline_collective_loop_has_selvam_s_gain_margin_and_his_phase_margin_only_at_24_m_s(
         shipped, speed, gain_margin, phase_margin):
     """Check 12 asks GM >= 2 and PM >= 45 deg of the collective PI. This project's is Jonkman's baseline (PI on the
     0.25 Hz low-passed generator speed, gain-scheduled at the operating pitch), here on the model's collective pitch
     command -> generator speed (pitch actuator, drivetrain, blades' edgewise modes and tower included) with the torque
-    held: GM 2.37, 2.98, 3.27 and PM 21.2, 37.9, 57.3 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
-    only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (With the blades rigid edgewise: GM
+    held: GM 2.37, 2.96, 3.23 and PM 21.2, 37.9, 57.3 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
+    only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (With the tower damped at the deck's
+    ratio of the mode with the rotor on top rather than ElastoDyn's of the tower alone: GM 2.37, 2.98, 3.27. With the
+    blades rigid edgewise: GM
     2.41, 3.19, 3.51, PM 21.2, 38.3, 57.5 deg; with edgewise modes not turning with the pitch, GM 2.40, 3.14, 3.50. On the plant before it took AeroDyn 15's nodes: GM 2.45,
     3.18, 3.49 with phase crossovers at 0.17, 0.23, 0.26 Hz, PM 21.6, 38.4, 57.5 deg with gain crossovers at 0.09,
     0.11, 0.11 Hz; closing the region-3 torque law T = P/ω_f as well gave GM 2.33, 3.11, 3.44 and PM 15.3, 32.9,
@@ -198,16 +200,17 @@ def test_check_21_ipc_leaves_the_rotor_speed_s_response_to_the_wind_below_0_3_hz
 
     - The collective wind -> rotor speed changes by at most 3.4 % with the integrator IPC, 2.9 % with FB-FF and the
       default weights, 6.7 % with Table II (each largest at 0.3 Hz, the band's top).
-    - The cos/sin wind reaches the rotor speed through the shear's couplings only: at most 15 % of the collective
-      wind's response without IPC. IPC changes that by up to 2.6 times itself, but by at most 8.5 % (integrator,
-      defaults) and 19 % (Table II) of the collective wind's response at that frequency.
+    - The cos/sin wind reaches the rotor speed through the shear's couplings only: at most 16.2 % of the collective
+      wind's response without IPC (at 13 m/s; 15 % with the tower damped more, before it took ElastoDyn's damping).
+      IPC changes that by up to 2.6 times itself, but by at most 8.6 % (integrator, defaults) and 19 % (Table II) of
+      the collective wind's response at that frequency.
     """
     model = shipped[speed]
     design = design_lqg(model.model, DT, weights)
     gains = IPC_H1 if controller == "integrator" else ()
     omega = 2 * math.pi * np.geomspace(1e-3, 0.3, 200)
     none = rotor_speed_response(model.model, design, omega, "none")[:, 0, :]
-    assert np.max(np.abs(none[:, 1:]) / np.abs(none[:, :1])) < 0.16
+    assert np.max(np.abs(none[:, 1:]) / np.abs(none[:, :1])) < 0.17
     change = np.abs(rotor_speed_response(model.model, design, omega, controller, *gains)[:, 0, :] - none) \
         / np.abs(none[:, :1])
     assert change[:, 0].max() < collective
