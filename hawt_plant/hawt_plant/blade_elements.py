@@ -46,7 +46,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         update: bool, iterations: int, relaxation: float, dynamic_inflow: bool, dt: float,
                         tip_radius: float, tip_ratio: np.ndarray, disk_weights: np.ndarray, skewed: bool,
                         skew_angle: float,
-                        cos_azimuth: np.ndarray, unsteady: bool, pitching_rate: np.ndarray,
+                        cos_azimuth: np.ndarray, unsteady: bool, pitch_rate: np.ndarray,
                         unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray,
                         sums: np.ndarray) -> None:
     """One step of every blade element (module notes); updates the induction when ``update``.
@@ -59,7 +59,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     ``cos_azimuth`` (B,), each blade's azimuth from the most downwind position of the disk (used when
     ``skewed``); ``polar_table`` and the grid constants of :class:`~hawt_plant.airfoil_table.ElementPolars`, the
     ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` and
-    ``pitching_rate`` (B,), each blade's sections' nose-up rotation rate [rad/s] (used when ``unsteady``). Without
+    ``pitch_rate`` (B,), each blade's pitch rate [rad/s], its sections turning nose-up at minus it (used when
+    ``unsteady``). Without
     ``update`` the static polars give the loads (the dynamic stall states are settled at this state). Writes
     ``sums`` (2, B, F): each blade's dF_n and dF_t summed against each span function.
     """
@@ -80,7 +81,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                     row, fraction = grid_point(alpha, scale, intervals, offsets[j])
                     cl, cd = interpolated(polar_table, row, fraction, 0), interpolated(polar_table, row, fraction, 1)
                 elif update:  # the induction follows the circulatory lift (the added mass's sheds no vorticity)
-                    cl, added_mass, cd = hgm_step(i, j, alpha, math.hypot(un, ut), pitching_rate[i], dt,
+                    cl, added_mass, cd = hgm_step(i, j, alpha, math.hypot(un, ut), -pitch_rate[i], dt,
                                                   k == passes - 1, unsteady_states, unsteady_table,
                                                   unsteady_constants, scale, intervals, offsets)
                 else:
@@ -94,12 +95,11 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                     a_prime = np.minimum(np.maximum(a_prime, bounds[0, 1, i, j]), bounds[1, 1, i, j])
                     if dynamic_inflow:  # as AeroDyn: the filter on BEM's induction, the skewed wake's after it
                         a = _oye(i, j, a, vx, dt, tau_1, tip_ratio[i, j], inflow_filter)
-                        if skewed:
-                            a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
+                    if skewed:
+                        a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
+                    if dynamic_inflow:
                         induction_factors[0, i, j] = a
                     else:
-                        if skewed:
-                            a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
                         induction_factors[0, i, j] += relaxation * (a - induction_factors[0, i, j])
                         a_prime = induction_factors[1, i, j] + relaxation * (a_prime - induction_factors[1, i, j])
                     induction_factors[1, i, j] = a_prime

@@ -898,7 +898,7 @@ class TurbineModel:
                             *self._blade_constants, update_induction, config.bem_iterations,
                             config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
                             self._tip_ratio, self._disk_weights, skewed, skew_angle, cos_azimuth, unsteady is not None,
-                            -self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
+                            self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
                             aero)
         generalized_forces(aero, self._trig, self._features, self._mode_directions, self._deflection_parts,
                            self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,

@@ -1081,10 +1081,10 @@ def _airfoil(path: Path) -> AirfoilPolar:
         if unknown:
             raise s.error(unknown[0], "no such parameter (expected "
                           f"{', '.join(f.name for f in fields(UnsteadyAirfoilParameters))})")
-        defaults = UnsteadyAirfoilParameters(0.0, 1.0, 0.0)
-        lags = {name: s.number(name, low=0.0, default=getattr(defaults, name))
+        defaults = {f.name: f.default for f in fields(UnsteadyAirfoilParameters)}
+        lags = {name: s.number(name, low=0.0, default=defaults[name])
                 for name in ("b1", "b2", "pressure_lag", "separation_lag")}
-        weights = {name: s.number(name, low=0.0, high=1.0, strict=False, default=getattr(defaults, name))
+        weights = {name: s.number(name, low=0.0, high=1.0, strict=False, default=defaults[name])
                    for name in ("a1", "a2")}
         if weights["a1"] + weights["a2"] > 1.0:
             raise s.error("a2", f"expected a1 + a2 <= 1, found {weights['a1']} + {weights['a2']}")
