@@ -38,13 +38,25 @@ class ProbeNode:
     def wait_until(self, condition: Callable[[], bool], what: str, alive: Optional[subprocess.Popen] = None,
                    timeout: float = 60.0) -> None:
         """Spin until ``condition()`` holds; fails if ``alive`` (a process the condition needs) ends or ``timeout``
-        passes first."""
+        passes first. A process that ends has flushed what it sent to this node's reliable subscriptions
+        (hawt_node.node_main.wait_for_acknowledgements), so what arrived is taken before the condition is given up."""
         deadline = time.monotonic() + timeout
         while not condition():
-            if alive is not None:
-                assert alive.poll() is None, f"the process ended (exit code {alive.returncode}) before {what}"
+            if alive is not None and alive.poll() is not None:
+                self.take_what_arrived()
+                assert condition(), f"the process ended (exit code {alive.returncode}) before {what}"
+                return
             assert time.monotonic() < deadline, f"no {what} within {timeout:g} s"
             self.spin(0.01)
+
+    def take_what_arrived(self) -> None:
+        """Hand every message waiting in this node's subscriptions to its callback, without waiting for more. Once a
+        graph has ended, that is everything its nodes sent: a node flushes what it sent to its reliable readers, this
+        node among them, before it exits (hawt_node.node_main.wait_for_acknowledgements)."""
+        for subscription in self.node.subscriptions:
+            with subscription.handle:
+                while (taken := subscription.handle.take_message(subscription.msg_type, subscription.raw)) is not None:
+                    subscription.callback(taken[0])
 
     def wait_subscribed(self, topic: str, node_name: str, timeout: float = 30.0) -> None:
         """Until node ``node_name`` subscribes to ``topic``; then 0.3 s for a publisher there to match it (what

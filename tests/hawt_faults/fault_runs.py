@@ -64,9 +64,9 @@ class Probe(ProbeNode):
         followed = {"plant/blade_loads": BladeLoads, "control/collective": CollectivePitch,
                     "control/pitch_command": PitchCommand, **{f"control/ipc/h{n}": HarmonicPitch for n in harmonics}}
         self.steps: Dict[str, int] = dict.fromkeys(followed, -1)
-        self._followed = {topic: self.node.create_subscription(
-            message_type, f"/{namespace}/{topic}", lambda msg, topic=topic: self._on_step(topic, msg.step), _PROBE_QOS)
-            for topic, message_type in followed.items()}
+        for topic, message_type in followed.items():
+            self.node.create_subscription(message_type, f"/{namespace}/{topic}",
+                                          lambda msg, topic=topic: self._on_step(topic, msg.step), _PROBE_QOS)
         self.events: List[ControlEvent] = []
         self.node.create_subscription(ControlEvent, f"/{namespace}/control/events", self.events.append, _PROBE_QOS)
         self.publishers = {"control/pitch_command": self.node.create_publisher(
@@ -75,15 +75,6 @@ class Probe(ProbeNode):
 
     def _on_step(self, topic: str, step: int) -> None:
         self.steps[topic] = max(self.steps[topic], step)
-
-    def take_what_arrived(self) -> None:
-        """Take every step waiting in the followed subscriptions. Once the graph has ended, ``steps`` is then the last
-        step each topic's publisher sent: a node flushes what it sent to its reliable readers, this probe among them,
-        before it exits (hawt_node.node_main.wait_for_acknowledgements)."""
-        for topic, subscription in self._followed.items():
-            with subscription.handle:
-                while (taken := subscription.handle.take_message(subscription.msg_type, subscription.raw)) is not None:
-                    self._on_step(topic, taken[0].step)
 
     @property
     def plant_step(self) -> int:
