@@ -19,6 +19,7 @@ sources, and ``scripts/setup.sh`` fills it once (``python -m hawt_plant.compiled
 from __future__ import annotations
 
 import os
+import sys
 from typing import Callable
 
 import numpy as np
@@ -30,7 +31,12 @@ __all__ = ["cache_folder", "flat", "njit", "source_hash"]
 os.environ["NUMBA_CACHE_DIR"] = str(cache_folder())  # read by numba when it is first imported (just below), and
 # inherited by the processes this one starts
 
+_HIDDEN = "coverage" not in sys.modules
+if _HIDDEN:  # numba imports coverage (65 ms) only to report compiled lines to a coverage measurement running already
+    sys.modules["coverage"] = None  # type: ignore[assignment]  # an ImportError to numba: it then leaves coverage
 import numba  # noqa: E402  (after its cache folder is set)
+if _HIDDEN:
+    del sys.modules["coverage"]  # importable again, for whoever wants it later
 from numba.core import caching as _caching  # noqa: E402
 from numba.core import config as _numba_config  # noqa: E402
 

@@ -61,7 +61,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
@@ -76,13 +75,10 @@ from hawt_plant.tower_shadow import TowerShadow
 from hawt_plant.tower_drag import TowerDrag
 from hawt_plant.turbine import Turbine
 from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
+from hawt_plant.rotor_state import ROTOR_STATES
 from hawt_plant.wind_field import WindChange, WindField
 
-__all__ = ["ROTOR_STATES", "STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
-
-ROTOR_STATES = ("operating", "idling", "parked")
-"""What the rotor does (module notes): runs on its commands, idles at feather with the generator off, or is parked by
-the brake."""
+__all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 
 _RESET_ITERATIONS = 4  # fixed-point iterations of the initial equilibrium
 _PASSAGE_SAMPLES = 6  # azimuth samples per blade passage for the initial mean loads
@@ -476,6 +472,8 @@ class TurbineModel:
         def torque(speed: float) -> float:
             self._rotor_speed = speed
             return self._passage_mean_loads()[0]
+
+        from scipy.optimize import brentq  # an idling or parked rotor's start only (hawt_plant.disk_cache)
 
         start = self._azimuth
         highest = self._turbine.schedule.rated_rotor_speed

@@ -4,9 +4,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from scipy.optimize import brentq
-
 from hawt_plant.bem import BemBlade, RotorPerformance, rotor_performance
+from hawt_plant.disk_cache import kept
 from hawt_plant.turbine import Turbine
 
 __all__ = ["OperatingPoint", "baseline_operating_point", "schedule_rotor_speed"]
@@ -57,7 +56,14 @@ def baseline_operating_point(turbine: Turbine, wind_speed: float, blade: BemBlad
     """
     if not (math.isfinite(wind_speed) and wind_speed > 0.0):
         raise ValueError(f"wind_speed: expected a finite value > 0 m/s, found {wind_speed}")
-    blade = blade or BemBlade.from_turbine(turbine)
+    return kept("baseline_operating_point", (turbine, float(wind_speed)),
+                lambda: _solved_operating_point(turbine, wind_speed, blade or BemBlade.from_turbine(turbine)))
+
+
+def _solved_operating_point(turbine: Turbine, wind_speed: float, blade: BemBlade) -> OperatingPoint:
+    """:func:`baseline_operating_point` solved: the pitch for rated power by Brent's method."""
+    from scipy.optimize import brentq  # only when not kept (hawt_plant.disk_cache.kept)
+
     speed = schedule_rotor_speed(turbine, wind_speed)
     pitch = turbine.pitch_actuator.min_angle
     performance = rotor_performance(turbine, wind_speed, speed, pitch, blade)

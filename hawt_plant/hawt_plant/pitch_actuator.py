@@ -2,12 +2,25 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import expm
 
 from hawt_plant.compiled import njit
+from hawt_plant.disk_cache import kept
 from hawt_plant.turbine import PitchActuator
 
 __all__ = ["DiscretePitchActuator"]
+
+
+def _transition(parameters: PitchActuator, dt: float) -> np.ndarray:
+    """The zero-order-hold step of theta'' = w^2 (theta_c - theta) - 2 zeta w theta', shape (2, 3): angle and rate
+    at the end of a step from angle, rate and the command held over it, the matrix exponential of the system
+    augmented with the held command."""
+    from scipy.linalg import expm  # only when not kept (hawt_plant.disk_cache.kept)
+
+    w, zeta = parameters.natural_frequency, parameters.damping_ratio
+    augmented = np.zeros((3, 3))
+    augmented[:2, :2] = [[0.0, 1.0], [-w * w, -2.0 * zeta * w]]
+    augmented[1, 2] = w * w
+    return expm(augmented * dt)[:2]
 
 
 class DiscretePitchActuator:
@@ -32,13 +45,9 @@ class DiscretePitchActuator:
     def __init__(self, parameters: PitchActuator, dt: float) -> None:
         if not dt > 0.0:
             raise ValueError(f"dt: expected > 0 s, found {dt}")
-        w, zeta = parameters.natural_frequency, parameters.damping_ratio
-        a = np.array([[0.0, 1.0], [-w * w, -2.0 * zeta * w]])
-        augmented = np.zeros((3, 3))
-        augmented[:2, :2] = a
-        augmented[1, 2] = w * w
         # Angle and rate at the end of the step from angle, rate and command at its start.
-        self._transition = expm(augmented * dt)[:2]
+        self._transition = kept("pitch_actuator_transition", (parameters.natural_frequency, parameters.damping_ratio,
+                                                              dt), lambda: _transition(parameters, dt))
         self._parameters = parameters
         # Lower and upper limits of the angle change per step, angle and rate.
         max_step, max_rate = parameters.max_rate * dt, parameters.max_rate

@@ -12,17 +12,20 @@ dynamically typed with the choices ``turbine``, ``true``, ``false``: ``-p plant.
 works in every engine, and anything else is refused before a graph starts.
 """
 import math
-from typing import Any, Callable, Mapping, Tuple
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Tuple
 
 from hawt_core.node_role import NodeRole
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 from hawt_core.step_sync import RESEND_PERIOD
 from hawt_plant.faults import parse_faults
 from hawt_plant.inflow import PARKED_WIND_KINDS, WIND_KINDS, InflowSettings, make_wind
-from hawt_plant.model import ROTOR_STATES, ModelConfig, TurbineModel, TurbineOutput
+from hawt_plant.rotor_state import ROTOR_STATES
 from hawt_plant.safety_system import Protection, SafetySettings, SafetySystem
 from hawt_plant.turbine import AERODYNAMIC_OPTIONS, AerodynamicOptions, Turbine, nrel_5mw, turbine_from
 from hawt_plant.turbulence import REFERENCE_WIND_SPEED, TURBULENCE_MODELS
+
+if TYPE_CHECKING:
+    from hawt_plant.model import TurbineModel, TurbineOutput
 
 __all__ = ["DESCRIPTION", "DESCRIPTION_PARAMETERS", "PARAMETERS", "PLANT", "TURBINE", "aerodynamic_options", "aerodynamics_line", "check_parameters", "make_plant",
            "make_safety_system"]
@@ -189,10 +192,12 @@ def aerodynamics_line(turbine: Turbine, values: Mapping[str, Any]) -> str:
 
 
 def make_plant(values: Mapping[str, Any], progress: Callable[[str], None] = lambda _: None
-               ) -> Tuple[Turbine, TurbineModel, TurbineOutput]:
+               ) -> Tuple[Turbine, "TurbineModel", "TurbineOutput"]:
     """The turbine, its model and the output of step 0 for the plant's parameter ``values``; the aerodynamic
     options are :func:`aerodynamic_options`. ``progress`` gets the lines of a turbulent field's generation (what,
     where it is cached, how long it took)."""
+    from hawt_plant.model import ModelConfig, TurbineModel  # numba's: not for hawt launch's parameter check
+
     v = values
     turbine = turbine_from(v["turbine_file"]) if v["turbine_file"] else nrel_5mw()
     wind = make_wind(InflowSettings(

@@ -23,7 +23,6 @@ from typing import Callable
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from hawt_plant.compiled import njit
 from hawt_plant.disk_cache import cache_root, store
 
 __all__ = [
@@ -418,42 +417,12 @@ class TurbulentWind:
         x, y, z = np.asarray(x, dtype=float), np.asarray(y, dtype=float), np.asarray(z, dtype=float)
         if not x.shape == y.shape == z.shape:
             raise ValueError(f"x, y, z: expected equal shapes, found {x.shape}, {y.shape}, {z.shape}")
+        from hawt_plant.grid_sampling import trilinear  # compiled: numba's import is not part of this module's
+
         out = np.empty((3, x.size))
-        _trilinear(float(t), x.reshape(-1), y.reshape(-1), z.reshape(-1), self._planes, self._scale, self._shift,
+        trilinear(float(t), x.reshape(-1), y.reshape(-1), z.reshape(-1), self._planes, self._scale, self._shift,
                    self._inv_dt, self._t_cells, self._upper, self._strides, self._corner_offsets, out)
         return out.reshape((3,) + x.shape)
-
-
-@njit
-def _trilinear(t, x, y, z, planes, scale, shift, inv_dt, t_cells, upper, strides, corner_offsets, out):
-    """:meth:`TurbulentWindField.velocity` at flat points: the 8 nodes around each point's fractional grid index
-    (t_f, z, y), weighted by the products of their weights 1 - w_d, w_d along each axis."""
-    index = np.empty(3)
-    cell = np.empty(3, dtype=np.intp)
-    weights = np.empty((3, 2))
-    for k in range(x.size):
-        index[0] = x[k] * scale[0] + shift[0] + t * inv_dt
-        index[0] = index[0] % t_cells
-        index[1] = z[k] * scale[1] + shift[1]
-        index[2] = y[k] * scale[2] + shift[2]
-        first = 0
-        for d in range(3):
-            value = np.minimum(np.maximum(index[d], 0.0), upper[d])
-            cell[d] = int(value)  # value >= 0: truncation is floor
-            weight = value - cell[d]
-            weights[d, 0], weights[d, 1] = 1.0 - weight, weight
-            first += strides[d] * cell[d]
-        for c in range(3):
-            out[c, k] = 0.0
-        corner = 0
-        for it in range(2):
-            for iz in range(2):
-                for iy in range(2):
-                    weight = weights[0, it] * weights[1, iz] * weights[2, iy]
-                    node = first + corner_offsets[corner]
-                    for c in range(3):
-                        out[c, k] += planes[c, node] * weight
-                    corner += 1
 
 
 def _even_grid(values: np.ndarray, name: str) -> np.ndarray:

@@ -95,6 +95,29 @@ def test_reset_to_steady_state_gives_no_transient(name):
     np.testing.assert_allclose(f.filter(np.tile([3.0, -1.5], (50, 1))), np.tile([3.0, -1.5], (50, 1)), atol=1e-12)
 
 
+PROTOTYPES = {  # each design's continuous prototype b(s)/a(s), prewarped at its frequency w
+    "first_order": (lambda w: ([w], [1.0, w]), 1.5708),
+    "second_order": (lambda w: ([w * w], [1.0, 1.4 * w, w * w]), 2.0),
+    "notch": (lambda w: ([1.0, 0.0, w * w], [1.0, 0.5 * w, w * w]), 3.8),
+}
+
+
+@pytest.mark.parametrize("name", DESIGNS)
+def test_the_sections_and_their_steady_state_are_scipys_bilinear_tf2sos_and_sosfilt_zi(name):
+    """The Tustin substitution and the steady state written out give scipy.signal's coefficients and zi."""
+    signal = pytest.importorskip("scipy.signal")
+    prototype, frequency = PROTOTYPES[name]
+    warped = 2.0 / DT * math.tan(frequency * DT / 2.0)
+    expected = signal.tf2sos(*signal.bilinear(*prototype(warped), fs=1.0 / DT))
+    f = DESIGNS[name]()
+    np.testing.assert_allclose(f.sos, expected, rtol=1e-12, atol=1e-15)
+    chain = cascade(f, DESIGNS["second_order"]())
+    f.reset(1.0)
+    chain.reset(1.0)
+    np.testing.assert_allclose(f.state, signal.sosfilt_zi(f.sos), rtol=1e-10, atol=1e-15)
+    np.testing.assert_allclose(chain.state, signal.sosfilt_zi(chain.sos), rtol=1e-10, atol=1e-15)
+
+
 def test_cascade_multiplies_the_responses():
     """A series connection has the product of the frequency responses."""
     a, b = first_order_lowpass(1.0, DT), notch(3.8, 0.0, 0.25, DT)

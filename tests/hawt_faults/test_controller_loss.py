@@ -16,7 +16,9 @@ FEATHER_DURATION = 40.0
 """Simulated run [s]: the cpc dies after about 3 s, the watchdog trips 3 s later (command_timeout) and feathering
 from 15 deg at 8 deg/s takes 9.4 s. The cpc dies only once the test has seen the recorder subscribe and the loop
 answer, which a busy machine delays: in one fresh-clone run an 18 s realtime run ended before the watchdog could trip,
-and in a busy suite an 18 s lockstep run did (the plant ran on while the test process waited for a core)."""
+and in a busy suite an 18 s lockstep run did (the plant ran on while the test process waited for a core); a 40 s one
+did too, the probe not yet matched: the plant now starts only once the probe is, its fourth subscriber on
+plant/blade_loads beside the recorder, cpc and mbc."""
 
 
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
@@ -26,7 +28,8 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     namespace = f"cpc_lost_{mode}"
     watcher = probe(namespace)
     run = launch(str(graph_outliving(tmp_path, "baseline", "cpc")), namespace, f"mode:={mode}",
-                 f"duration:={FEATHER_DURATION:g}", "-p", "plant.command_sources:=['mbc', '/fault_probe']")
+                 f"duration:={FEATHER_DURATION:g}", "-p", "plant.command_sources:=['mbc', '/fault_probe']",
+                 "-p", "plant.wait_for_subscribers:=4")
     watcher.wait_until_recorded(run.launcher)
     run.kill("cpc")
     watcher.wait_for_event("watchdog", run.launcher)

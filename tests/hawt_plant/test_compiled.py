@@ -10,8 +10,8 @@ import pytest
 from numba.core.registry import CPUDispatcher
 
 import hawt_plant
-from hawt_plant import (airfoil_table, bem, blade_elements, model_step, pitch_actuator, tower_drag, tower_shadow,
-                        turbulence, unsteady_airfoil)
+from hawt_plant import (airfoil_table, bem, blade_elements, grid_sampling, model_step, pitch_actuator, tower_drag,
+                        tower_shadow, unsteady_airfoil)
 from hawt_plant.compiled import cache_folder, source_hash
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
@@ -23,7 +23,7 @@ PACKAGE = Path(hawt_plant.__file__).resolve().parent
 def test_the_per_step_formulas_are_compiled_functions():
     """Each formula of a step is a numba dispatcher, which the model's step calls compiled."""
     for function in (blade_elements.blade_element_loads, bem.induction, bem.loss_factor, bem.skew_factor,
-                     bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, turbulence._trilinear,
+                     bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, grid_sampling.trilinear,
                      model_step.place_elements, model_step.element_inflow, model_step.generalized_forces,
                      model_step.accelerations, model_step.advance_structure, model_step.measured_loads,
                      tower_shadow.shadow, tower_drag.node_drag, pitch_actuator._limited_step):

@@ -11,10 +11,12 @@ They are discretised with the bilinear (Tustin) transform like ROSCO, but with
 frequency prewarping at ω, so the discrete filter has exactly the prototype's
 gain at ω (−3 dB at the corner of the first-order filter, depth β_num/β_den at
 the notch). ROSCO does not prewarp; the difference is of relative order
-(ω·dt)²/12. Coefficients come from :mod:`scipy.signal` and run as second-order
-sections (``sosfilt``), with the state carried explicitly like ``zi``/``zf``. :mod:`scipy.signal` is imported where
-a designed filter is built or run, not with this module: its import (0.2 s, with the scipy.stats it loads) is then
-not part of the start of a run whose controllers need none, such as the baseline's.
+(ω·dt)²/12. The filters run as second-order sections in scipy's layout (``sosfilt``), with the state carried
+explicitly like ``zi``/``zf``. The Tustin substitution of a first- or second-order prototype, and the steady state of
+a constant input, are written out (:func:`_bilinear`, :meth:`DiscreteFilter.reset`) rather than taken from
+:mod:`scipy.signal` (``bilinear``, ``tf2sos``, ``sosfilt_zi``; the tests check them against it): importing
+scipy.signal, with the scipy.stats and scipy.optimize it loads, took 0.55 s of every controller process that builds
+a filter. :mod:`scipy.signal` still filters blocks and computes frequency responses, imported there.
 
 :class:`ExponentialLowPass` is the recursive single-pole filter of the NREL 5 MW
 baseline controller (Jonkman et al. 2009, ch. 7), which takes the time step per
@@ -93,9 +95,7 @@ class DiscreteFilter:
         self.sos = sos
         self.dt = require_positive("dt", dt)
         self.channels = tuple(int(c) for c in channels)
-        from scipy import signal  # where a designed filter is built (module notes)
-
-        self._zi_unit = signal.sosfilt_zi(sos)
+        self._zi_unit = _unit_steady_state(sos)
         self._sections = [tuple(row) for row in sos.tolist()]
         self._size = math.prod(self.channels)
         self.state = np.zeros((sos.shape[0], 2) + self.channels)
@@ -191,11 +191,42 @@ def _check_design(name: str, frequency: float, dt: float) -> tuple[float, float]
     return frequency, dt
 
 
-def _bilinear(b: list[float], a: list[float], dt: float, channels: tuple[int, ...]) -> DiscreteFilter:
-    from scipy import signal
+def _unit_steady_state(sos: np.ndarray) -> np.ndarray:
+    """The sections' delay states once a constant input 1 has run forever (``scipy.signal.sosfilt_zi``).
 
-    bz, az = signal.bilinear(b, a, fs=1.0 / dt)
-    return DiscreteFilter(signal.tf2sos(bz, az), dt, channels)
+    Each section's input is the DC gain of those before it, u; its output y = u H_k(1), and the transposed direct
+    form II recursion at rest gives z0 = y − b0 u and z1 = b2 u − a2 y.
+    """
+    states, level = np.zeros((sos.shape[0], 2)), 1.0
+    for k, (b0, b1, b2, _, a1, a2) in enumerate(sos):
+        output = level * (b0 + b1 + b2) / (1.0 + a1 + a2)
+        states[k] = output - b0 * level, b2 * level - a2 * output
+        level = output
+    return states
+
+
+def _bilinear(b: list[float], a: list[float], dt: float, channels: tuple[int, ...]) -> DiscreteFilter:
+    """The prototype b(s)/a(s) of order 1 or 2 (coefficients from the highest power) as one section, by the Tustin
+    substitution s = K (1 − z⁻¹)/(1 + z⁻¹), K = 2/dt (``scipy.signal.bilinear`` then ``tf2sos``)::
+
+        order 1:  p1 s + p0           -> (p1 K + p0) + (p0 − p1 K) z⁻¹
+        order 2:  p2 s² + p1 s + p0   -> (p2 K² + p1 K + p0) + 2 (p0 − p2 K²) z⁻¹ + (p2 K² − p1 K + p0) z⁻²
+
+    each multiplied through by (1 + z⁻¹)^order; the section is normalised by the denominator's first coefficient.
+    """
+    gain = 2.0 / dt
+    order = len(a) - 1
+
+    def substituted(p: list[float]) -> list[float]:
+        p = [0.0] * (order + 1 - len(p)) + list(p)
+        if order == 1:
+            return [p[0] * gain + p[1], p[1] - p[0] * gain, 0.0]
+        k2 = p[0] * gain * gain
+        return [k2 + p[1] * gain + p[2], 2.0 * (p[2] - k2), k2 - p[1] * gain + p[2]]
+
+    numerator, denominator = substituted(b), substituted(a)
+    lead = denominator[0]
+    return DiscreteFilter([[x / lead for x in numerator] + [x / lead for x in denominator]], dt, channels)
 
 
 def first_order_lowpass(corner_frequency: float, dt: float, channels: tuple[int, ...] = ()) -> DiscreteFilter:
