@@ -666,13 +666,15 @@ def load_turbine(path: str | Path) -> Turbine:
                 return pickle.load(handle)
         except (OSError, pickle.UnpicklingError, EOFError, AttributeError, TypeError):
             pass  # unreadable (a format of other sources cannot be: the key names them): read the definition again
-    turbine = _parsed_turbine(path)
+    kept = pickle.dumps(_parsed_turbine(path), protocol=pickle.HIGHEST_PROTOCOL)
     if cached is not None:
         try:
-            store(cached, lambda handle: pickle.dump(turbine, handle, protocol=pickle.HIGHEST_PROTOCOL))
+            store(cached, lambda handle: handle.write(kept))
         except OSError:
             pass  # a cache that cannot be written costs the next run the parse, nothing else
-    return turbine
+    # What the cache gives later, so that this run's turbine is the same object structure as a later run's (what is
+    # kept for a turbine is keyed by its pickle, hawt_plant.disk_cache.kept)
+    return pickle.loads(kept)
 
 
 def _definition_key(path: Path) -> str | None:
