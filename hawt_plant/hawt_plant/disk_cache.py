@@ -12,13 +12,12 @@ import hashlib
 import os
 import pickle
 import tempfile
-from functools import lru_cache
 from pathlib import Path
 from typing import IO, Any, Callable, TypeVar
 
-from hawt_plant.kernel_cache import source_hash
+from hawt_plant.kernel_cache import sources_key
 
-__all__ = ["cache_root", "kept", "store"]
+__all__ = ["cache_root", "kept", "kept_at", "store"]
 
 Result = TypeVar("Result")
 
@@ -38,31 +37,36 @@ def store(path: Path, write: Callable[[IO[bytes]], None]) -> None:
     os.replace(handle.name, path)
 
 
-@lru_cache(maxsize=None)
-def _sources() -> bytes:
-    return source_hash().encode()
+def kept_at(path: Path, compute: Callable[[], Result]) -> Result:
+    """The result pickled at ``path``, or ``compute()``'s, pickled there for the next call.
 
-
-def kept(name: str, inputs: Any, compute: Callable[[], Result]) -> Result:
-    """``compute()``, kept on disk under ``name`` for ``inputs`` (anything picklable: a turbine, numbers) and
-    hawt_plant's sources: a later call with equal inputs and sources loads the result instead.
-
-    For what a plant computes at its start from its turbine with scipy (root finding, a matrix exponential): a
-    result kept loads in well under a millisecond, where importing scipy.optimize and scipy.linalg takes 0.27 s of
-    every process that starts a plant. The result loaded is the one computed, to the bit, so a run is the same with
-    or without the cache. A cache that cannot be read or written costs the computation, nothing else.
+    Either way the result is returned through its pickle, so a run gets the same object (and the same structure of
+    shared references, which :func:`kept`'s keys pickle) whether it computed it or loaded it. A file that cannot be
+    read or written costs the computation, nothing else (a file of other sources cannot be read: the callers' keys
+    name the sources).
     """
-    digest = hashlib.sha256(_sources())
-    digest.update(name.encode())
-    digest.update(pickle.dumps(inputs, protocol=pickle.HIGHEST_PROTOCOL))
-    path = cache_root() / "kept" / name / f"{digest.hexdigest()[:32]}.pickle"
     try:
         return pickle.loads(path.read_bytes())
     except (OSError, pickle.UnpicklingError, EOFError, AttributeError, TypeError):
         pass
-    result = compute()
+    pickled = pickle.dumps(compute(), protocol=pickle.HIGHEST_PROTOCOL)
     try:
-        store(path, lambda handle: pickle.dump(result, handle, protocol=pickle.HIGHEST_PROTOCOL))
+        store(path, lambda handle: handle.write(pickled))
     except OSError:
         pass
-    return result
+    return pickle.loads(pickled)
+
+
+def kept(name: str, inputs: Any, compute: Callable[[], Result]) -> Result:
+    """``compute()``, kept on disk under ``name`` for ``inputs`` (anything picklable: a turbine, numbers) and
+    hawt_plant's sources (:func:`kept_at`): a later call with equal inputs and sources loads the result instead.
+
+    For what a plant computes at its start from its turbine with scipy (root finding, a matrix exponential): a
+    result kept loads in well under a millisecond, where importing scipy.optimize and scipy.linalg takes 0.27 s of
+    every process that starts a plant. The result loaded is the one computed, to the bit, so a run is the same with
+    or without the cache.
+    """
+    digest = hashlib.sha256(sources_key().encode())
+    digest.update(name.encode())
+    digest.update(pickle.dumps(inputs, protocol=pickle.HIGHEST_PROTOCOL))
+    return kept_at(cache_root() / "kept" / name / f"{digest.hexdigest()[:32]}.pickle", compute)

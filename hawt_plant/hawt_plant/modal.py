@@ -262,7 +262,7 @@ def blade_edgewise_frequency(turbine: Turbine) -> float:
     shapes = [polynomial_mode(row, x) for row in basis]
     stiffness = np.array([[np.trapezoid(ei * a[2] * b[2], s) for b in shapes] for a in shapes]) / length**4
     mass = np.array([[np.trapezoid(mu * a[0] * b[0], s) for b in shapes] for a in shapes])
-    from scipy.linalg import eigh  # not on a plant's start (hawt_plant.disk_cache)
+    from scipy.linalg import eigh  # here: not imported by a plant's start
 
     return float(np.sqrt(eigh(stiffness, mass, eigvals_only=True)[0]) / (2.0 * np.pi))
 
@@ -379,7 +379,7 @@ def beam_first_mode(fraction: np.ndarray, mass_density: np.ndarray, stiffness: n
     k = np.array([[np.trapezoid(ei * a[2] * b[2], s) / length**4
                    - gravity * np.trapezoid(mass_above * a[1] * b[1], s) / length**2 for b in shapes] for a in shapes])
     m = np.array([[np.trapezoid(mu * a[0] * b[0], s) for b in shapes] for a in shapes]) + top_mass
-    from scipy.linalg import eigh  # not on a plant's start (hawt_plant.disk_cache)
+    from scipy.linalg import eigh  # here: not imported by a plant's start
 
     values, vectors = eigh(k, m)
     return vectors[:, 0] / vectors[:, 0].sum(), float(np.sqrt(values[0]) / (2.0 * np.pi))

@@ -71,11 +71,11 @@ from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, 
                                    constant_array, element_inflow, generalized_forces, measured_loads, place_elements)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
+from hawt_plant.rotor_state import ROTOR_STATES
 from hawt_plant.tower_shadow import TowerShadow
 from hawt_plant.tower_drag import TowerDrag
 from hawt_plant.turbine import Turbine
 from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
-from hawt_plant.rotor_state import ROTOR_STATES
 from hawt_plant.wind_field import WindChange, WindField
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
@@ -473,7 +473,7 @@ class TurbineModel:
             self._rotor_speed = speed
             return self._passage_mean_loads()[0]
 
-        from scipy.optimize import brentq  # an idling or parked rotor's start only (hawt_plant.disk_cache)
+        from scipy.optimize import brentq  # here: an idling or parked rotor's start only
 
         start = self._azimuth
         highest = self._turbine.schedule.rated_rotor_speed

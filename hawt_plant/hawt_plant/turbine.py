@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import pickle
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from types import MappingProxyType
@@ -29,8 +28,8 @@ import numpy as np
 import yaml
 
 from hawt_core.plant_description import PlantDescription
-from hawt_plant.disk_cache import cache_root, store
-from hawt_plant.kernel_cache import source_hash
+from hawt_plant.disk_cache import cache_root, kept_at
+from hawt_plant.kernel_cache import sources_key
 
 __all__ = [
     "AERODYNAMIC_OPTIONS",
@@ -659,29 +658,16 @@ def load_turbine(path: str | Path) -> Turbine:
     """
     path = Path(path)
     key = _definition_key(path)
-    cached = cache_root() / "turbines" / f"{key}.pickle" if key else None
-    if cached is not None and cached.exists():
-        try:
-            with cached.open("rb") as handle:
-                return pickle.load(handle)
-        except (OSError, pickle.UnpicklingError, EOFError, AttributeError, TypeError):
-            pass  # unreadable (a format of other sources cannot be: the key names them): read the definition again
-    kept = pickle.dumps(_parsed_turbine(path), protocol=pickle.HIGHEST_PROTOCOL)
-    if cached is not None:
-        try:
-            store(cached, lambda handle: handle.write(kept))
-        except OSError:
-            pass  # a cache that cannot be written costs the next run the parse, nothing else
-    # What the cache gives later, so that this run's turbine is the same object structure as a later run's (what is
-    # kept for a turbine is keyed by its pickle, hawt_plant.disk_cache.kept)
-    return pickle.loads(kept)
+    if key is None:
+        return _parsed_turbine(path)  # a file it cannot read: the parse names it
+    return kept_at(cache_root() / "turbines" / f"{key}.pickle", lambda: _parsed_turbine(path))
 
 
 def _definition_key(path: Path) -> str | None:
     """A hash of everything a parse of ``path`` can read (the definition files in its folder, the polars in its
     ``airfoils`` folder) and of the parser (every hawt_plant module): a parsed definition is used only for the same
     files and sources. None when a file cannot be read (the parse then says which)."""
-    digest = hashlib.sha256(source_hash().encode())
+    digest = hashlib.sha256(sources_key().encode())
     try:
         for file in sorted([*path.parent.glob("*.yaml"), *(path.parent / "airfoils").glob("*.yaml")]):
             digest.update(str(file.relative_to(path.parent)).encode())

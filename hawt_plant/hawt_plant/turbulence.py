@@ -352,6 +352,9 @@ class TurbulentWind:
         corners = np.array([(it, iz, iy) for it in (0, 1) for iz in (0, 1) for iy in (0, 1)])
         neighbour_strides = self._strides * (upper > 0)  # no neighbour on a 1-node axis
         self._corner_offsets = corners @ neighbour_strides  # (8,)
+        from hawt_plant.grid_sampling import trilinear  # compiled: numba's import is not part of this module's
+
+        self._trilinear = trilinear
 
     @property
     def mean_speed(self) -> float:
@@ -417,10 +420,8 @@ class TurbulentWind:
         x, y, z = np.asarray(x, dtype=float), np.asarray(y, dtype=float), np.asarray(z, dtype=float)
         if not x.shape == y.shape == z.shape:
             raise ValueError(f"x, y, z: expected equal shapes, found {x.shape}, {y.shape}, {z.shape}")
-        from hawt_plant.grid_sampling import trilinear  # compiled: numba's import is not part of this module's
-
         out = np.empty((3, x.size))
-        trilinear(float(t), x.reshape(-1), y.reshape(-1), z.reshape(-1), self._planes, self._scale, self._shift,
+        self._trilinear(float(t), x.reshape(-1), y.reshape(-1), z.reshape(-1), self._planes, self._scale, self._shift,
                    self._inv_dt, self._t_cells, self._upper, self._strides, self._corner_offsets, out)
         return out.reshape((3,) + x.shape)
 
