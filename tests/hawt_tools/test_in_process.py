@@ -12,10 +12,10 @@ from hawt_bag.step_comparison import rows_by_step, step_differences
 from hawt_tools.graph_file import NodeSpec, ParameterFile, ParameterValues
 from hawt_tools.node_parameters import node_parameters
 
-SCHEDULE = "schedule:=['500 +ipc_h1', '1500 +ipc_h4 +blade_sine', '2500 +ipc_h1_retuned -ipc_h1', " \
-           "'4000 -blade_sine -ipc_h4']"
+SCHEDULE = "schedule:=['200 +ipc_h1', '500 +ipc_h4 +blade_sine', '800 +ipc_h1_retuned -ipc_h1', " \
+           "'1200 -blade_sine -ipc_h4']"
 PACKAGED_NREL_5MW = Path(__file__).resolve().parents[2] / "hawt_plant" / "hawt_plant" / "turbines" / "nrel_5mw"
-ROSCO_SCHEDULE = "schedule:=['800 +cpc +ipc_h1 +ipc_h2 -rosco', '1400 +rosco -cpc -ipc_h1 -ipc_h2']"
+ROSCO_SCHEDULE = "schedule:=['400 +cpc +ipc_h1 +ipc_h2 -rosco', '800 +rosco -cpc -ipc_h1 -ipc_h2']"
 
 
 def test_node_parameters_follow_rcl_order_files_then_node_overrides(tmp_path):
@@ -56,8 +56,8 @@ def test_node_parameters_agree_with_rcl_for_any_order_of_wildcard_and_named_file
 
 
 @pytest.mark.ros
-@pytest.mark.parametrize("graph, arguments, seconds", [("ipc", [], 30), ("switching", [SCHEDULE], 45), ("lqg", [], 20),
-                                                      ("rosco_ipc", [ROSCO_SCHEDULE], 20), ("two_bladed", [], 20)],
+@pytest.mark.parametrize("graph, arguments, seconds", [("ipc", [], 12), ("switching", [SCHEDULE], 15), ("lqg", [], 10),
+                                                      ("rosco_ipc", [ROSCO_SCHEDULE], 12), ("two_bladed", [], 10)],
                          ids=["ipc", "switching", "lqg", "rosco_ipc", "two_bladed"])
 def test_hawt_run_equals_the_lockstep_graph_in_every_field_at_every_step(hawt_cli, tmp_path, graph, arguments,
                                                                           seconds):
@@ -79,7 +79,7 @@ def test_hawt_run_equals_the_lockstep_graph_in_every_field_at_every_step(hawt_cl
     assert step_differences(launched, ran, topics) == [], "\n".join(warnings[:20])
     if graph == "switching":  # the schedule switched something: IPC, 4P and the blade sine moved the blades
         individual = rows_by_step(ran, topics[2:])[topics[2]]["individual"]
-        assert np.abs(individual[:500]).max() == 0.0 and np.abs(individual[2000:4000]).max() > 0.01
+        assert np.abs(individual[:200]).max() == 0.0 and np.abs(individual[700:1200]).max() > 0.01
 
 
 def test_hawt_run_refuses_a_graph_without_a_duration_in_one_line(hawt_cli):
