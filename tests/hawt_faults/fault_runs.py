@@ -9,7 +9,7 @@ import signal
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterable, List, Optional
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional
 
 import numpy as np
 import psutil
@@ -113,23 +113,25 @@ class Probe(ProbeNode):
         """True once an event of ``kind`` whose detail contains ``part_of_detail`` has arrived."""
         return any(event.kind == kind and part_of_detail in event.detail for event in self.events)
 
-    def publish_until(self, command: Callable[[int], Any], condition: Callable[[], bool],
-                      launcher: subprocess.Popen, what: str, topic: str = "control/pitch_command") -> None:
-        """Publish ``command(plant step)`` on ``topic`` (of this namespace) every 10 ms until ``condition()`` holds.
+    def publish_until(self, commands: Mapping[str, Callable[[int], Any]], condition: Callable[[], bool],
+                      launcher: subprocess.Popen, what: str) -> None:
+        """Publish ``command(plant step)`` on each ``topic: command`` (topics of this namespace) every 10 ms until
+        ``condition()`` holds; ``published`` counts the messages.
 
         The plant reads control/pitch_command keeping the latest sample only, so one
         injected message can be overwritten by the next command before it is taken.
         """
-        if topic not in self.publishers:
-            self.publishers[topic] = self.node.create_publisher(type(command(0)), f"/{self.namespace}/{topic}",
-                                                                _PROBE_QOS)
-        publisher = self.publishers[topic]
+        for topic, command in commands.items():
+            if topic not in self.publishers:
+                self.publishers[topic] = self.node.create_publisher(type(command(0)), f"/{self.namespace}/{topic}",
+                                                                    _PROBE_QOS)
 
         def published_and_holds() -> bool:
             if condition():
                 return True
-            publisher.publish(command(self.plant_step))
-            self.published += 1
+            for topic, command in commands.items():
+                self.publishers[topic].publish(command(self.plant_step))
+                self.published += 1
             return False
         self.wait_while_launched(published_and_holds, launcher, what)
 

@@ -29,7 +29,8 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
                              "expected 3 values"),
                             (lambda k: PitchCommand(step=k + 10_000, pitch=FEATHERED, generator_torque=4e4),
                              "step ahead of the plant")):
-        injector.publish_until(command, lambda: injector.reported("invalid_input", reason), run.launcher, reason)
+        injector.publish_until({"control/pitch_command": command}, lambda: injector.reported("invalid_input", reason),
+                               run.launcher, reason)
     for burst in (1, 2):
         burst_end = injector.plant_step + 100
         while injector.plant_step < burst_end:

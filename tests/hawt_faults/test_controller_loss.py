@@ -33,7 +33,8 @@ def test_a_killed_cpc_trips_the_plant_to_feather_at_the_rate_limit_latched_and_t
     watcher.wait_until_recorded(run.launcher)
     run.kill("cpc")
     watcher.wait_for_event("watchdog", run.launcher)
-    watcher.publish_until(lambda step: PitchCommand(step=step, pitch=[0.0] * 3, generator_torque=4e4),
+    watcher.publish_until({"control/pitch_command": lambda step: PitchCommand(step=step, pitch=[0.0] * 3,
+                                                                              generator_torque=4e4)},
                           lambda: watcher.reported("command_returned"), run.launcher, "command_returned")
     run.finish()
 

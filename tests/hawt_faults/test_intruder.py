@@ -22,7 +22,8 @@ def _intrude(intruder, run, until_step: int, commands: int = 0) -> None:
     only after its first commands (a fresh-clone run's lockstep plant had run past step 400 before, and no intruder
     event came), and a lockstep plant may run the steps faster than a busy intruder sends (a fresh-clone CI
     run's plant refused only 8)."""
-    intruder.publish_until(lambda step: PitchCommand(step=step, pitch=FEATHERED, generator_torque=0.0),
+    intruder.publish_until({"control/pitch_command": lambda step: PitchCommand(step=step, pitch=FEATHERED,
+                                                                               generator_torque=0.0)},
                            lambda: (intruder.plant_step >= until_step and intruder.reported("intruder")
                                     and intruder.published >= commands), run.launcher,
                            f"plant step {until_step}, the plant's intruder event and {commands} commands sent")
@@ -96,25 +97,23 @@ def test_an_intruder_in_realtime_is_refused_named_and_never_applied(launch, prob
     assert_plant_finished(recording, 10.0)
 
 
-def _contribution_intruder(topic: str):
-    """What an intruder on a contribution topic sends for a plant step: the collective at fine pitch with zero torque
-    (the rotor would run away), or a 1P demand of cos 0.5 rad (28.6 deg of IPC)."""
-    if topic == "control/collective":
-        return lambda step: CollectivePitch(step=step, pitch=0.0, generator_torque=0.0)
-    return lambda step: HarmonicPitch(step=step, harmonic=1, cos=0.5, sin=0.0)
+CONTRIBUTION_INTRUDERS = {
+    "control/collective": lambda step: CollectivePitch(step=step, pitch=0.0, generator_torque=0.0),
+    "control/ipc/h1": lambda step: HarmonicPitch(step=step, harmonic=1, cos=0.5, sin=0.0)}
+"""What an intruder on each contribution topic sends for a plant step: the collective at fine pitch with zero torque
+(the rotor would run away), and a 1P demand of cos 0.5 rad (28.6 deg of IPC)."""
 
 
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
-@pytest.mark.parametrize("topic", ["control/collective", "control/ipc/h1"])
-def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(launch, probe, hawt_cli, tmp_path, topic,
-                                                                             mode):
-    """The ipc graph in turbulence: a second publisher answers every step on the collective (pitch 0, torque 0) or on
-    the 1P demand (cos 0.5 rad) from step 100 until mbc has reported it and 40 messages are sent. mbc reads only the
-    claimants of a contribution topic: it names the intruder once (an ERROR intruder event), and nothing of it reaches
-    the plant. In lockstep the plant's topics are equal in every field at every step to a run without it (`hawt run`,
-    equal to the lockstep graph); in realtime the pitch command never comes near the intruder's (no step's
-    individual pitch above 10 deg, the torque never 0) and nothing trips."""
-    namespace = f"contribution_{mode[0]}{topic[-2:].replace('/', '')}"
+def test_intruders_on_the_contribution_topics_are_refused_by_the_loop_assembler(launch, probe, hawt_cli, tmp_path,
+                                                                               mode):
+    """The ipc graph in turbulence: a second publisher answers every step on the collective (pitch 0, torque 0) and on
+    the 1P demand (cos 0.5 rad) from step 100 until mbc has reported both and 40 messages are sent on each. mbc reads
+    only the claimants of a contribution topic: it names the intruder once per topic (an ERROR intruder event each),
+    and nothing of it reaches the plant. In lockstep the plant's topics are equal in every field at every step to a
+    run without it (`hawt run`, equal to the lockstep graph); in realtime the pitch command never comes near the
+    intruder's (no step's individual pitch above 10 deg, the torque never 0) and nothing trips."""
+    namespace = f"contribution_{mode}"
     arguments = ("wind_type:=turbulent", "seed:=3", f"mode:={mode}", "duration:=" + ("10" if mode == "lockstep" else
                                                                                      "12"))
     alone = run_in_process(hawt_cli, tmp_path, "ipc", f"{namespace}_alone", *arguments) if mode == "lockstep" else None
@@ -122,14 +121,19 @@ def test_an_intruder_on_a_contribution_topic_is_refused_by_the_loop_assembler(la
     run = launch("ipc", namespace, *arguments)
     intruder.wait_until_recorded(run.launcher, margin=0)
     intruder.wait_for_step(100, run.launcher)
-    intruder.publish_until(_contribution_intruder(topic), lambda: intruder.reported("intruder", topic)
-                           and intruder.published >= 40, run.launcher, f"mbc's intruder event on {topic}", topic)
+    intruder.publish_until(CONTRIBUTION_INTRUDERS, lambda: all(intruder.reported("intruder", f"{topic} step ")
+                                                               for topic in CONTRIBUTION_INTRUDERS)
+                           and intruder.published >= 40 * len(CONTRIBUTION_INTRUDERS), run.launcher,
+                           "mbc's intruder event on each contribution topic")
     run.finish()
 
     recording = read_recording(run.bag, namespace)
-    (event,) = recording.events_of("intruder")
-    assert event["level"] == ControlEvent.ERROR and event["source"] == f"/{namespace}/mbc"
-    assert f"{topic} step " in event["detail"] and " from /fault_probe refused: only " in event["detail"]
+    events = recording.events_of("intruder")
+    assert sorted(topic for topic in CONTRIBUTION_INTRUDERS for event in events
+                  if f"{topic} step " in event["detail"]) == sorted(CONTRIBUTION_INTRUDERS), events
+    for event in events:
+        assert event["level"] == ControlEvent.ERROR and event["source"] == f"/{namespace}/mbc"
+        assert " from /fault_probe refused: only " in event["detail"]
     assert not recording.events_of("protection_trip") and not recording.events_of("watchdog")
     if alone is not None:
         plant = ("plant/blade_loads", "plant/state")

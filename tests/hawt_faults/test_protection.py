@@ -4,7 +4,6 @@ A collective controller stuck at fine pitch (the baseline tuning with zero gains
 active controller at 18 m/s: the rotor runs away, and the protection trips on overspeed below 1.2 x rated speed, in
 every engine, then feathers at the actuator's rate with the generator torque off.
 """
-import math
 import shutil
 import subprocess
 from pathlib import Path

@@ -39,7 +39,8 @@ def test_analyze_counts_an_intruders_commands_apart_from_the_applied_ones(launch
     run = launch("baseline", namespace, *arguments)
     intruder.wait_until_recorded(run.launcher, margin=0)
     intruder.wait_for_step(100, run.launcher)
-    intruder.publish_until(_feathered, lambda: intruder.reported("intruder") and intruder.published >= 40,
+    intruder.publish_until({"control/pitch_command": _feathered},
+                           lambda: intruder.reported("intruder") and intruder.published >= 40,
                            run.launcher, "the plant's intruder event and 40 commands sent")
     run.finish()
 
