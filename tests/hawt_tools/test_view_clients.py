@@ -124,10 +124,11 @@ def _free_port() -> int:
 @pytest.fixture(scope="module")
 def view_beside_a_graph():
     """A realtime ipc graph running (100 steps a second, as a user watches one; lockstep would step flat out on the
-    cores the view and the clients need), then a standalone view started beside it and a first client connected as
-    soon as the view listens, while it creates its channels (what that client saw is ``view.first``). Every client
-    of the tests joins after the description was published and forwarded to the first."""
-    with LaunchedGraph(["ipc", f"namespace:={_NAMESPACE}", "mode:=realtime", "duration:=600", "-p",
+    cores the view and the clients need; composed, every node in one process, a third of the CPU of separate
+    processes), then a standalone view started beside it and a first client connected as soon as the view listens,
+    while it creates its channels (what that client saw is ``view.first``). Every client of the tests joins after the
+    description was published and forwarded to the first."""
+    with LaunchedGraph(["ipc", f"namespace:={_NAMESPACE}", "mode:=realtime", "--composed", "duration:=600", "-p",
                         "plant.report_period:=1"]) as graph:
         graph.wait_for_line("t=")
         view = StandaloneView(_free_port())
