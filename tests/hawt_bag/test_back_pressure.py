@@ -1,6 +1,6 @@
 """A recorded lockstep run is complete, from its first step, at any pace of its recorder (/recorder/progress).
 
-The recorder of a running ``hawt launch ipc --record`` is stopped (SIGSTOP, as a starved process
+The recorder of a running ``hawt launch baseline --record`` is stopped (SIGSTOP, as a starved process
 would be): the plant must stop within its ``recorder_window`` of what the recorder has written,
 say so, and go on when the recorder does, leaving a bag that ``hawt bag verify`` finds complete.
 With ``--record-optional``, a recorder that stays stopped past ``recorder_timeout`` is given up with a
@@ -28,7 +28,7 @@ def _recorder(graph: LaunchedGraph) -> psutil.Process:
 
 
 def _launch(bag, duration: float, timeout: float, window: float, optional: bool) -> LaunchedGraph:
-    return LaunchedGraph(["ipc", "namespace:=bp", f"duration:={duration:g}", "-p", "plant.report_period:=0.1",
+    return LaunchedGraph(["baseline", "namespace:=bp", f"duration:={duration:g}", "-p", "plant.report_period:=0.1",
                           "-p", f"plant.recorder_window:={window:g}", "-p", f"plant.recorder_timeout:={timeout:g}",
                           "--record", str(bag), *(["--record-optional"] if optional else [])])
 
