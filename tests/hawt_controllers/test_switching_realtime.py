@@ -1,14 +1,15 @@
 """Switching from a shell while a realtime graph runs and records: hawt switch, hawt list, the bag.
 
-The switching graph runs in realtime with --record until Ctrl-C, 7 s after the last switch (its 600 s are only a
-limit: a busy machine once took the 60 s there were before the last switch); once
-the plant is stepping the test drives it as a user would:
+The switching graph runs in realtime with --record until Ctrl-C, 7 s of plant time after the last switch (its 600 s
+are only a limit: a busy machine once took the 60 s there were before the last switch); once
+the plant is stepping the test drives it as a user would, 7 s of plant time (over one revolution, 5 s, for the
+harmonics of each segment) between switches, read from the plant's progress lines:
 CPC -> +IPC-1P -> +IPC-2P -> swap IPC-1P for the retuned one -> all IPC off, plus one refused switch.
 """
 import math
+import re
 import signal
 import subprocess
-import time
 
 import numpy as np
 import pytest
@@ -21,6 +22,20 @@ from hawt_tools.controller_client import switch_controllers
 pytestmark = pytest.mark.ros
 SWITCHES = ((["ipc_h1"], [], -1.0), (["ipc_h2"], [], -1.0), (["ipc_h1_retuned"], ["ipc_h1"], -1.0),
             ([], ["ipc_h1_retuned", "ipc_h2"], 1.0))
+SEGMENT = 7.0
+"""Plant time [s] between switches, and after the last one."""
+PROGRESS = re.compile(r"\bt=([\d.]+) s \(")
+
+
+def _plant_time(lines) -> float:
+    """The latest plant time [s] the plant's progress lines report (0 before the first)."""
+    return max((float(m.group(1)) for line in lines if (m := PROGRESS.search(line))), default=0.0)
+
+
+def _run_on(graph: LaunchedGraph, seconds: float) -> None:
+    """Wait until the plant reports ``seconds`` more of plant time than it has so far."""
+    until = _plant_time(list(graph.lines)) + seconds
+    graph.wait_until(lambda: _plant_time(list(graph.lines)) >= until, f"plant time {until:g} s")
 
 
 def _hawt(*arguments):
@@ -34,7 +49,7 @@ def session(tmp_path_factory):
     with LaunchedGraph(["switching", "--mode", "realtime", "namespace:=rts", "duration:=600",
                         "-p", "plant.report_period:=1", "--record", str(bag)]) as graph:
         graph.wait_for_line("t=1.0 s", 120.0)
-        time.sleep(7.0)  # CPC alone for over one revolution
+        _run_on(graph, SEGMENT)  # CPC alone
         for number, (activate, deactivate, ramp) in enumerate(SWITCHES):
             answers.append(switch_controllers(activate, deactivate, ramp_time=ramp, namespace="rts", timeout=30.0))
             if number == 0:
@@ -45,7 +60,7 @@ def session(tmp_path_factory):
                     if "controllers of /rts/controller_manager" in listing.stdout:
                         break
                     listing = _hawt("list", "--settle", "3")
-            time.sleep(7.0)  # over one revolution (5 s) between switches, for the harmonics of each segment
+            _run_on(graph, SEGMENT)
         graph.process.send_signal(signal.SIGINT)  # Ctrl-C once the last segment is long enough: the bag keeps it all
         assert graph.finish() == 0, graph.tail()
     return answers, refused, listing, analyze_bag(bag)
