@@ -72,7 +72,8 @@ def test_a_standard_activate_that_the_manager_refuses_goes_back_to_inactive(grap
 
 
 def test_cleanup_and_configure_from_a_shell(graph):
-    """cleanup unconfigures an inactive controller (the manager lists it so); configure brings it back inactive."""
+    """cleanup unconfigures an inactive controller (the manager lists it so); configure brings it back inactive, and it
+    activates again (then inactive once more, as the graph began: each test leaves the graph as it found it)."""
     cleanup = _hawt("lifecycle", "blade_sine", "cleanup")
     assert cleanup.stdout.strip() == "blade_sine: unconfigured", cleanup.stderr
     _until(lambda: _listed("blade_sine") == "unconfigured", "blade_sine unconfigured in the list")
@@ -80,3 +81,5 @@ def test_cleanup_and_configure_from_a_shell(graph):
     _until(lambda: _listed("blade_sine") == "inactive", "blade_sine inactive in the list")
     assert _hawt("switch", "--activate", "blade_sine").returncode == 0
     _until(lambda: _listed("blade_sine") == "active", "blade_sine active after its reconfiguration")
+    assert _hawt("switch", "--deactivate", "blade_sine").returncode == 0
+    _until(lambda: _listed("blade_sine") == "inactive", "blade_sine inactive again")
