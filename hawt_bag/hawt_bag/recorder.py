@@ -60,7 +60,6 @@ from typing import Callable, Iterator, List, Optional, Sequence
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
@@ -70,6 +69,7 @@ from hawt_core.stop_signals import parent_gone, stop_signals
 from hawt_core.topics import RECORDER_PROGRESS
 from hawt_msgs.msg import RecorderProgress
 from hawt_node.command_senders import publisher_names
+from hawt_node.qos import NO_QOS_EVENTS  # it finds a publisher it cannot match itself (watch_offers)
 from hawt_node.writer_matching import can_match
 
 from .errors import BagError
@@ -94,11 +94,6 @@ STUCK_REPORT = 25.0
 faulthandler's own thread, so a hang in the middleware's C code shows too), before the launcher escalates at 30 s
 (hawt_tools.recording.stop_process): a fresh-clone suite once saw a recorder that did not stop within 35 s, and never
 again in 30 runs beside load."""
-_NO_EVENTS = SubscriptionEventCallbacks(use_default_callbacks=False)
-"""The recorder's subscriptions take no middleware events: it finds a publisher they cannot match itself, through the
-graph's offers (`Recorder.watch_offers`), and rclpy's default handlers (incompatible QoS and type) would be waited on
-with every message, two or three per topic in the executor's wait set (a 20 s realtime switching graph's recorder
-spent most of its CPU there)."""
 _PROGRESS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.VOLATILE)
 
@@ -218,7 +213,7 @@ class Recorder(Node):
         self.log_times[topic] = 0
 
         self._recorded[topic] = self.create_subscription(kind, topic, lambda data, info: self._take(topic, data, info),
-                                                         qos, raw=True, event_callbacks=_NO_EVENTS)
+                                                         qos, raw=True, event_callbacks=NO_QOS_EVENTS)
         self.get_logger().info(f"recording {topic} [{type_name}] "
                                f"({'reliable' if qos.reliability == ReliabilityPolicy.RELIABLE else 'best effort'}, "
                                f"{len(publishers)} publisher(s))")
@@ -248,7 +243,7 @@ class Recorder(Node):
             qos = adapted_qos(publishers, self.options.depth)
             self._second[topic] = self.create_subscription(
                 message_class(self._types[topic][0]), topic, lambda data, info, t=topic: self._take_second(t, data, info),
-                qos, raw=True, event_callbacks=_NO_EVENTS)
+                qos, raw=True, event_callbacks=NO_QOS_EVENTS)
             self.get_logger().info(f"recording {topic} from its publishers of other QoS through a second subscription "
                                    f"({qos.durability.name.lower()}, {qos.reliability.name.lower()})")
         for topic, waiting in list(self._unsorted.items()):

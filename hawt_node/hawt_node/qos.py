@@ -1,7 +1,8 @@
 """Quality-of-service profiles of the control loop (DESIGN.md §4)."""
+from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-__all__ = ["CONTROL_LOOP", "CONTROL_LOOP_HISTORY", "EVENTS", "LATCHED"]
+__all__ = ["CONTROL_LOOP", "CONTROL_LOOP_HISTORY", "EVENTS", "LATCHED", "NO_QOS_EVENTS"]
 
 #: Measurements and commands: reliable, keep the last sample only.
 CONTROL_LOOP = QoSProfile(
@@ -38,3 +39,9 @@ LATCHED = QoSProfile(
     durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
 """Switches and controller states: a node that starts later still receives what was published before."""
+
+NO_QOS_EVENTS = SubscriptionEventCallbacks(use_default_callbacks=False)
+"""A subscription without rclpy's default QoS event handlers (incompatible QoS and type, which only log), for a node
+spun by rclpy's SingleThreadedExecutor that takes a sample every step (the recorder, the launcher's event node): that
+executor rebuilds its wait set for every wait, two or three handlers per subscription (a 20 s realtime switching
+graph's recorder spent most of its CPU there)."""

@@ -13,8 +13,8 @@ __all__ = ["trilinear"]
 
 @njit
 def trilinear(t, x, y, z, planes, scale, shift, inv_dt, t_cells, upper, strides, corner_offsets, out):
-    """:meth:`~hawt_plant.turbulence.TurbulentWind.velocity` at flat points: the 8 nodes around each point's fractional grid index
-    (t_f, z, y), weighted by the products of their weights 1 - w_d, w_d along each axis."""
+    """:meth:`~hawt_plant.turbulence.TurbulentWind.velocity` at flat points: the 8 nodes around each point's
+    fractional grid index (t_f, z, y), weighted by the products of their weights 1 - w_d, w_d along each axis."""
     index = np.empty(3)
     cell = np.empty(3, dtype=np.intp)
     weights = np.empty((3, 2))

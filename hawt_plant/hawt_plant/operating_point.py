@@ -40,7 +40,8 @@ def baseline_operating_point(turbine: Turbine, wind_speed: float, blade: BemBlad
     wind_speed : float
         Hub-height wind speed [m/s], > 0.
     blade : BemBlade, optional
-        Precomputed BEM constants.
+        ``BemBlade.from_turbine(turbine)``, precomputed: the result kept on disk is keyed by the turbine, of which the
+        blade's constants are a function (a blade of other constants is not this turbine's operating point).
 
     Returns
     -------

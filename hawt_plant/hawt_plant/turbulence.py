@@ -422,7 +422,7 @@ class TurbulentWind:
             raise ValueError(f"x, y, z: expected equal shapes, found {x.shape}, {y.shape}, {z.shape}")
         out = np.empty((3, x.size))
         self._trilinear(float(t), x.reshape(-1), y.reshape(-1), z.reshape(-1), self._planes, self._scale, self._shift,
-                   self._inv_dt, self._t_cells, self._upper, self._strides, self._corner_offsets, out)
+                        self._inv_dt, self._t_cells, self._upper, self._strides, self._corner_offsets, out)
         return out.reshape((3,) + x.shape)
 
 

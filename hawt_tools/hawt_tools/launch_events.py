@@ -21,7 +21,6 @@ import rclpy
 from builtin_interfaces.msg import Time
 from hawt_msgs.msg import ControlEvent, TurbineState
 from rclpy.duration import Duration
-from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -29,7 +28,7 @@ from rclpy.serialization import deserialize_message
 from rclpy.signals import SignalHandlerOptions
 
 from hawt_core.topics import EVENTS, TURBINE_STATE
-from hawt_node.qos import EVENTS as EVENTS_QOS
+from hawt_node.qos import EVENTS as EVENTS_QOS, NO_QOS_EVENTS
 from hawt_node.writer_matching import unmatched_writers
 
 __all__ = ["HEAR_WAIT", "LaunchEvents", "MATCH_WAIT", "NODE_NAME"]
@@ -64,7 +63,7 @@ class LaunchEvents:
             self.publishers[namespace] = self.node.create_publisher(ControlEvent, f"{prefix}/{EVENTS}", EVENTS_QOS)
             self.node.create_subscription(TurbineState, f"{prefix}/{TURBINE_STATE}",
                                           lambda data, ns=namespace: self._heard(ns, data), _LATEST, raw=True,
-                                          event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))
+                                          event_callbacks=NO_QOS_EVENTS)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)

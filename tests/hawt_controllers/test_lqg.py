@@ -167,8 +167,9 @@ def _pitch_activity(design, omega, controller, *gains):
 @pytest.mark.parametrize("speed", SPEEDS)
 def test_check_20_fb_ff_pitches_more_than_the_integrator_ipc_from_3p_on_with_selvam_s_weights(shipped, speed):
     """Check 20 with Table II, the weights of Selvam's claim: from 3P to the Nyquist frequency FB-FF's cyclic pitch per
-    unit wind is at least 4.2 times the integrator IPC's (at 3P: 5.0, 4.4, 4.2 times at 13, 18, 24 m/s), and the ratio grows to about 8000 at the Nyquist frequency, where FB-FF still pitches
-    0.8 deg per m/s and the integrator has rolled off (1.4-1.8 times at 1P)."""
+    unit wind is at least 4.2 times the integrator IPC's (at 3P: 5.0, 4.4, 4.2 times at 13, 18, 24 m/s), and the ratio
+    grows to about 8000 at the Nyquist frequency, where FB-FF still pitches 0.8 deg per m/s and the integrator has
+    rolled off (1.4-1.8 times at 1P)."""
     design = design_lqg(shipped[speed].model, DT, TABLE_II)
     omega = np.geomspace(3 * shipped[speed].rotor_speed, math.pi / DT, 300)
     ratio = _pitch_activity(design, omega, "lqg") / _pitch_activity(design, omega, "integrator", *IPC_H1)
