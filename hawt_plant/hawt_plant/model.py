@@ -64,7 +64,7 @@ import numpy as np
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
-from hawt_plant.blade_elements import blade_element_loads, disk_weights
+from hawt_plant.blade_elements import MIN_INFLOW, blade_element_loads, disk_weights
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
 from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance_structure,
@@ -390,7 +390,7 @@ class TurbineModel:
         self._tower = self._displacement[:2]
         self._generator_torque = 0.0
         self._induction = np.zeros((2, b, n))  # axial and tangential induction factors a, a'
-        self._inflow_filter = np.zeros((3, b, n))
+        self._inflow_filter = np.zeros((2, 3, b, n))  # Øye's states, axial and tangential (blade_element_loads)
         generator = self._turbine.generator
         target_power = self._turbine.rated_mechanical_power
         refine_pitch = op is not None and pitch is None and rotor_speed is None and op.pitch > actuator.min_angle
@@ -440,7 +440,9 @@ class TurbineModel:
         cl, _ = bem.polars.coefficients(phi - pitch - bem.twist)
         loss = prandtl_loss(np.sin(phi), bem)
         self._induction[0], self._induction[1], _, _ = induction_factors(phi, cl, loss, bem.local_solidity)
-        self._inflow_filter[:] = self._induction[0] * vx  # Øye's filter holds BEM's induction, before the skew's
+        # Øye's filter holds BEM's induced velocities, before the skew's correction
+        self._inflow_filter[0] = self._induction[0] * np.maximum(vx, MIN_INFLOW)
+        self._inflow_filter[1] = self._induction[1] * np.maximum(vy, MIN_INFLOW)
         skewed, angle, cos_azimuth = self._skew() if self._config.skewed_wake else (False, 0.0, None)
         if skewed:
             self._induction[0] *= skewed_wake_factor(self._induction[0], angle, self._tip_ratio, cos_azimuth[:, None])

@@ -464,6 +464,17 @@ def test_hawt_turbine_import_and_show_print_what_was_converted_and_the_summary(h
     assert "  dynamic_inflow on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat Wake_Mod = 1 (BEMT), DBEMT_Mod = 2" in text
 
 
+def test_hawt_turbine_show_of_an_unknown_turbine_says_what_it_looked_for_in_one_line(hawt_cli, tmp_path):
+    """A turbine that is neither packaged nor a folder here is named as ``hawt run`` names it: the packaged names and
+    the path looked at, one line, exit 2."""
+    show = subprocess.run([*hawt_cli, "turbine", "show", "iea16"], capture_output=True, text=True, timeout=60,
+                          cwd=tmp_path)
+    assert show.returncode == 2 and show.stdout == ""
+    assert show.stderr.strip().splitlines() == [
+        f"hawt turbine: show: turbine 'iea16': no packaged turbine of that name (packaged: nrel_5mw, "
+        f"nrel_5mw_two_bladed, nrel_5mw_two_bladed_downwind) and no folder or file {tmp_path / 'iea16'}"]
+
+
 def test_an_imported_turbine_carries_its_rosco_input_and_runs_rosco_wherever_its_folder_is(rosco_case, tmp_path):
     """``hawt turbine import`` copies the deck's DISCON.IN (ServoDyn DLL_InFile) and the Cp/Ct/Cq file it names into
     the folder, PerfFileName rewritten to the file's name and every other line byte for byte the deck's. The folder,

@@ -29,7 +29,8 @@ def _cmd_graph_show(args: argparse.Namespace) -> int:
     graph = load_graph(path, launch_arguments(args.arguments), package_prefix)
     declared = declared_arguments(path)
     print(graph.path)
-    print("arguments (NAME:=VALUE, default, description):" if declared else "arguments: none")
+    described = ", description" if any(argument.description for argument in declared) else ""
+    print(f"arguments (NAME:=VALUE, default{described}):" if declared else "arguments: none")
     defaults = {a.name: "(none)" if a.default is None else a.default or '""' for a in declared}
     name_width = max(map(len, defaults), default=0)
     default_width = max(map(len, defaults.values()), default=0)

@@ -5,7 +5,7 @@ from pathlib import Path
 from typing import Sequence
 
 from hawt_tools.commands.options import POSITIVE
-from hawt_tools.graph_file import GraphError, find_graph
+from hawt_tools.graph_file import GraphError, find_graph, resolve_turbine
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
@@ -77,7 +77,7 @@ def _cmd_turbine_show(args: argparse.Namespace) -> int:
     from hawt_plant.turbine_summary import format_summary, turbine_summary
 
     try:
-        turbine = turbine_from(args.turbine)
+        turbine = turbine_from(resolve_turbine(args.turbine, "show"))
     except TurbineDefinitionError as error:
         raise GraphError(str(error)) from None
     print(format_summary(turbine_summary(turbine)))
