@@ -133,7 +133,8 @@ class Verification:
         if not self.ok:
             return f"verify: {'; '.join(self.problems)}"
         resent = sum(topic.coverage.resent for topic in self.topics)
-        return f"verify: OK — {len(self.topics)} topics, no gap" + (f", {resent} resent" if resent else "")
+        return f"verify: OK — {len(self.topics)} topics, no gap" + (
+            f", {resent} resent (a step the lockstep plant sent again, identical; analysed once)" if resent else "")
 
     def text(self) -> str:
         """One line per stepped topic, then the verdict."""

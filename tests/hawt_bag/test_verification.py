@@ -115,7 +115,8 @@ def test_a_resent_identical_step_is_reported_but_not_an_error(tmp_path, topics):
     report = verify_bag(_bag(tmp_path / "resent.mcap", _replaced(topics, loads)))
     assert report.ok
     assert "/wt1/plant/blade_loads: 1002 messages, steps 0-1000, no gap, 1 resent" in report.text().splitlines()
-    assert report.verdict() == "verify: OK — 3 topics, no gap, 1 resent"
+    assert report.verdict() == ("verify: OK — 3 topics, no gap, 1 resent (a step the lockstep plant sent again, "
+                                "identical; analysed once)")
 
 
 def test_a_step_recorded_twice_with_different_content_is_an_error(tmp_path, topics):
