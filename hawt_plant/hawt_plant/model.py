@@ -34,8 +34,9 @@ fixed-point iterations per step from the previous step's induction, or Øye's dy
 Structure: assumed modes with Kane-style generalized forces. Every blade element's load
 (aerodynamic, gravity, and the centrifugal force of the rotor's rotation, which stiffens the modes and, where a
 deflection moves the mass off the radius, softens the edgewise one) is projected on the
-motion each coordinate gives it; the tower-top rotation of the fore-aft mode nods the rotor,
-the side-side mode translates it and takes the drivetrain's roll reaction. The mass matrix
+motion each coordinate gives it; the tower-top rotation of the fore-aft mode nods the rotor (the loads' arms
+through the blades' deflections included, as the hub tilt moment has them), the side-side mode translates it and
+takes the drivetrain's roll reaction. The mass matrix
 follows the azimuth and the pitch: the blades' modes couple with the tower and, by their part along e_t, with the
 rotor's rotation (the drivetrain's torsion takes the blades' collective edgewise bending with it); each step solves it
 by eliminating every blade's modes (their blocks are diagonal) and then the rotor from a 3 x 3 system with the
