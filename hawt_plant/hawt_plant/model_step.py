@@ -248,7 +248,7 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
         deflected_tilt += trig[1, i] * (cone_s * along_t + cone * about_z) - trig[0, i] * along_n
     # The tower top's fore-aft rotation (slope_fa per metre) turns the loads' arms through the blades' deflections too:
     # their tilt moment (as measured_loads' hub tilt has it) does work on it, as ElastoDyn's partial velocities of the
-    # deflected blade points carry it. Without it the 3P of the tower top was 38 % under OpenFAST's at 8 m/s.
+    # deflected blade points carry it (tests/hawt_plant/test_model.py: the tower top's 3P against OpenFAST's).
     q_fa = tower_fa + constants[_SLOPE_FA] * deflected_tilt + constants[_FA_GRAVITY_FORCE] + drag_loads[0]
     q_ss = tower_ss + drag_loads[1] - constants[_SLOPE_SS] * constants[_COS_TILT] * shaft * (
         1.0 - 1.0 / constants[_GEARBOX_RATIO])
