@@ -35,8 +35,9 @@ Structure: assumed modes with Kane-style generalized forces. Every blade element
 (aerodynamic, gravity, and the centrifugal force of the rotor's rotation, which stiffens the modes and, where a
 deflection moves the mass off the radius, softens the edgewise one) is projected on the
 motion each coordinate gives it; the tower-top rotation of the fore-aft mode nods the rotor (the loads' arms
-through the blades' deflections included, as the hub tilt moment has them), the side-side mode translates it and
-takes the drivetrain's roll reaction. The mass matrix
+through the blades' deflections included, as the hub tilt moment has them), the side-side mode translates it, rolls
+it (the part about the tilted shaft's vertical axis yaws the rotor; the part about the shaft is the drivetrain's roll
+reaction). The mass matrix
 follows the azimuth and the pitch: the blades' modes couple with the tower and, by their part along e_t, with the
 rotor's rotation (the drivetrain's torsion takes the blades' collective edgewise bending with it); each step solves it
 by eliminating every blade's modes (their blocks are diagonal) and then the rotor from a 3 x 3 system with the
@@ -778,6 +779,12 @@ class TurbineModel:
         c0 = {"t": u0x * e_t[0] + u0z * e_t[2], "z": u0x * e_z[0] + u0z * e_z[2], "n": u0x * e_n[0] + u0z * e_n[2]}
         c1 = {"t": np.array([0.0, -sfa * sb, 0.0]), "z": np.zeros(3), "n": np.array([sfa, 0.0, 0.0])}
         y_part = {"t": gain * e_t[1], "z": gain * e_z[1], "n": gain * e_n[1]}
+        # Side-side: the tower top's roll (-sss per metre about x = ct x_s + st e_zs) turns the rotor about the shaft
+        # (the drivetrain's reaction carries that part) and yaws it about e_zs: a blade point at apex distance s_abs
+        # moves -sss st s_abs (e_zs x e_z), with (e_zs x e_z) . e_n = sin psi, . e_t = sb cos psi, . e_z = 0. (Its
+        # generalized mass, (sss st)^2 times the rotor's inertia about e_zs, is under 1e-3 of the mode's: left out.)
+        roll = -sss * st
+        y1 = {"t": np.array([roll * sb, 0.0, 0.0]), "z": np.zeros(3), "n": np.array([0.0, roll, 0.0])}
         gravity_part = {"t": -g * e_t[2], "z": -g * e_z[2], "n": -g * e_n[2]}
         by_row = [(d, sums[f], nod[f], radius_sums[f]) for d, f in LOAD_ROWS]
         blocks = {
@@ -786,21 +793,22 @@ class TurbineModel:
             # point per metre of tower-top motion (arms from the root shifted to the apex).
             "tower_fa": np.array([c0[d] + rh * c1[d] if f == 0 else c1[d] if f == 1 else 0 * c1[d]
                                   for d, f in LOAD_ROWS]),
-            "tower_ss": np.array([y_part[d] if f == 0 else 0 * y_part[d] for d, f in LOAD_ROWS]),
+            "tower_ss": np.array([y_part[d] + rh * y1[d] if f == 0 else y1[d] if f == 1 else 0 * y1[d]
+                                  for d, f in LOAD_ROWS]),
             # Each mode's inertial coupling with the tower coordinates, int mu phi (U . e) ds, for a mode along e_n
             # and along e_t (combined with the mode's direction each step): first the parts along cos theta of the
             # flap (e_n) and edgewise (e_t) modes, then those along sin theta (e_t, e_n).
             "coupling": np.array([row for mode_arms, d in ((flap_arms, "n"), (edge_arms, "t"), (flap_arms, "t"),
                                                            (edge_arms, "n"))
-                                  for row in (c0[d] * mode_arms[0] + c1[d] * mode_arms[1], y_part[d] * mode_arms[0])]),
+                                  for row in (c0[d] * mode_arms[0] + c1[d] * mode_arms[1],
+                                              y_part[d] * mode_arms[0] + y1[d] * mode_arms[1])]),
             "inertia_fa": np.array([c0[d] * w + c1[d] * wn for d, w, wn, _ in by_row]),
-            "inertia_ss": np.array([y_part[d] * w for d, w, _, _ in by_row]),
+            "inertia_ss": np.array([y_part[d] * w + y1[d] * wn for d, w, wn, _ in by_row]),
             "fa_mass": np.array([u0x * e_z[2] - u0z * e_z[0], e_z[1]]),
             # Inflow (vx, vy) of blade points per unit tower-top velocity: constant and s_abs
-            # parts of minus the speed along e_n, then of the speed along e_t; fore-aft, then
-            # side-side (whose rate enters with the apex gain).
+            # parts of minus the speed along e_n, then of the speed along e_t; fore-aft, then side-side.
             "inflow_motion_fa": np.array([-c0["n"], -c1["n"], c0["t"], c1["t"]]),
-            "inflow_motion_ss": gain * np.array([-y_part["n"], 0 * y_part["n"], y_part["t"], 0 * y_part["t"]]),
+            "inflow_motion_ss": np.array([-y_part["n"], -y1["n"], y_part["t"], y1["t"]]),
         }
         self._feature_matrix = np.vstack([blocks[name] for name, _ in FEATURE_BLOCKS])
         self._features = np.empty((len(self._feature_matrix), b))  # the feature rows at the blades' azimuths

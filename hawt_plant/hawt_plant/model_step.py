@@ -233,7 +233,7 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
     forces[_AERO_TORQUE], forces[_GRAVITY_TORQUE], forces[_SHAFT_TORQUE] = aero_torque, gravity_torque, shaft
     omega2 = rotor_speed * rotor_speed
     cone_s = constants[_SIN_CONE]
-    tower_fa = tower_ss = deflected_tilt = 0.0
+    tower_fa = tower_ss = deflected_tilt = deflected_yaw = 0.0
     for i in range(blades):
         flap_t, edge_t = omega2 * deflection[1, i], omega2 * deflection[3, i]
         for r in range(loads.shape[0]):
@@ -246,12 +246,14 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
             tower_ss += features[TOWER_SS + r, i] * load
         along_n, along_t, about_z = deflection_moments(loads[:, i], deflection, i)
         deflected_tilt += trig[1, i] * (cone_s * along_t + cone * about_z) - trig[0, i] * along_n
-    # The tower top's fore-aft rotation (slope_fa per metre) turns the loads' arms through the blades' deflections too:
-    # their tilt moment (as measured_loads' hub tilt has it) does work on it, as ElastoDyn's partial velocities of the
-    # deflected blade points carry it (tests/hawt_plant/test_model.py: the tower top's 3P against OpenFAST's).
+        deflected_yaw -= trig[1, i] * along_n + trig[0, i] * (cone_s * along_t + cone * about_z)
+    # The tower top's rotations (slope_fa per metre fore-aft; -slope_ss about x side-side, whose part about e_zs yaws
+    # the rotor) turn the loads' arms through the blades' deflections too: their tilt and yaw moments (as
+    # measured_loads' hub moments have them) do work on them, as ElastoDyn's partial velocities of the deflected blade
+    # points carry it (tests/hawt_plant/test_model.py: the tower top's 3P against OpenFAST's).
     q_fa = tower_fa + constants[_SLOPE_FA] * deflected_tilt + constants[_FA_GRAVITY_FORCE] + drag_loads[0]
-    q_ss = tower_ss + drag_loads[1] - constants[_SLOPE_SS] * constants[_COS_TILT] * shaft * (
-        1.0 - 1.0 / constants[_GEARBOX_RATIO])
+    q_ss = tower_ss + drag_loads[1] - constants[_SLOPE_SS] * (constants[_SIN_TILT] * deflected_yaw + constants[
+        _COS_TILT] * shaft * (1.0 - 1.0 / constants[_GEARBOX_RATIO]))
     residual_fa = q_fa - constants[_FA_DAMPING] * rates[0] - constants[_FA_STIFFNESS] * displacement[0]
     residual_ss = q_ss - constants[_SS_DAMPING] * rates[1] - constants[_SS_STIFFNESS] * displacement[1]
     forces[_RESIDUAL_FA], forces[_RESIDUAL_SS] = residual_fa, residual_ss
