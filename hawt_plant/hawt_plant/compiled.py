@@ -31,12 +31,18 @@ __all__ = ["cache_folder", "flat", "njit", "source_hash"]
 os.environ["NUMBA_CACHE_DIR"] = str(cache_folder())  # read by numba when it is first imported (just below), and
 # inherited by the processes this one starts
 
-_HIDDEN = "coverage" not in sys.modules
-if _HIDDEN:  # numba imports coverage (65 ms) only to report compiled lines to a coverage measurement running already
-    sys.modules["coverage"] = None  # type: ignore[assignment]  # an ImportError to numba: it then leaves coverage
+# Two imports numba makes for features the plant's kernels do not use, hidden from it while it loads (an ImportError
+# to numba, which then goes without them), importable again afterwards for whoever wants them:
+# - coverage (65 ms), only to report compiled lines to a coverage measurement running already;
+# - scipy (numba.np.arraymath asks for scipy.linalg's BLAS as it loads, 0.15-0.25 s of a plant's start, to speed up
+#   np.convolve and np.correlate; np.dot and np.linalg still find it when a kernel is typed with them).
+_HIDDEN = [name for name in ("coverage", "scipy") if name not in sys.modules]
+for _name in _HIDDEN:
+    sys.modules[_name] = None  # type: ignore[assignment]
 import numba  # noqa: E402  (after its cache folder is set)
-if _HIDDEN:
-    del sys.modules["coverage"]  # importable again, for whoever wants it later
+import numba.np.arraymath  # noqa: E402,F401  (what the first kernel's load would import, here while scipy is hidden)
+for _name in _HIDDEN:
+    del sys.modules[_name]
 from numba.core import caching as _caching  # noqa: E402
 from numba.core import config as _numba_config  # noqa: E402
 
