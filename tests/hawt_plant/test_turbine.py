@@ -209,16 +209,15 @@ def test_invalid_unsteady_parameter_is_named(editable_copy, tmp_path):
 
 def test_the_packaged_nrel_5mw_takes_the_options_of_its_aerodyn_deck(turbine):
     """NRELOffshrBsline5MW_Onshore_AeroDyn15.dat: TwrPotent 1, TwrAero True, Skew_Mod 1 and UA_Mod 3 give tower
-    shadow, tower drag, skewed wake and unsteady airfoil; dynamic inflow stays off (quasi-steady, as the linear
-    models assume; the deck's DBEMT_Mod 2 is OpenFAST 4's dynamic BEMT), its source says so."""
+    shadow, tower drag, skewed wake and unsteady airfoil; Wake_Mod 1 with DBEMT_Mod 2 (OpenFAST 4's dynamic BEMT)
+    gives dynamic inflow. Each source names the deck's switch."""
     options = turbine.aerodynamics
     assert (options.tower_shadow, options.tower_drag, options.skewed_wake, options.unsteady_airfoil,
-            options.dynamic_inflow) == (True, True, True, True, False)
+            options.dynamic_inflow) == (True, True, True, True, True)
     for name, key in (("tower_shadow", "TwrPotent = 1"), ("tower_drag", "TwrAero = True"),
-                      ("skewed_wake", "Skew_Mod = 1"), ("unsteady_airfoil", "UA_Mod = 3")):
+                      ("skewed_wake", "Skew_Mod = 1"), ("unsteady_airfoil", "UA_Mod = 3"),
+                      ("dynamic_inflow", "Wake_Mod = 1 (BEMT), DBEMT_Mod = 2")):
         assert options.sources[name].startswith(f"NRELOffshrBsline5MW_Onshore_AeroDyn15.dat {key}"), name
-    assert options.sources["dynamic_inflow"].startswith("hawt: quasi-steady") and \
-        "DBEMT_Mod = 2" in options.sources["dynamic_inflow"]
 
 
 def test_the_two_bladed_variants_keep_the_decks_options_and_the_downwind_one_says_why_its_shadow_is_on():

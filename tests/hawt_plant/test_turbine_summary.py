@@ -77,6 +77,6 @@ def test_the_text_names_rated_values_cp_max_first_modes_and_the_aerodynamic_opti
     assert lines[5].startswith("aerodynamics")
     assert lines[9] == ("  unsteady_airfoil on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat UA_Mod = 3 (B-L "
                         "Minnema/Pierce; the plant's is Hansen-Gaunaa-Madsen's, UA_Mod = 4)")
-    assert lines[10].startswith("  dynamic_inflow off: hawt: quasi-steady induction")
+    assert lines[10].startswith("  dynamic_inflow on: NRELOffshrBsline5MW_Onshore_AeroDyn15.dat Wake_Mod = 1 (BEMT)")
     assert lines[11].startswith("protection (the safety system trips and feathers above these") and \
         "rotor 14.28 rpm (1.18 x rated; warning at 13.55), generator 1385.0 rpm" in lines[11]

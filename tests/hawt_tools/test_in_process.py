@@ -114,7 +114,7 @@ def test_a_plant_parameter_overrides_the_turbines_aerodynamic_option_in_process(
     assert (overridden.model.config.skewed_wake, overridden.model.config.unsteady_airfoil) == (False, True)
     assert replace(overridden.model.config, skewed_wake=True) == default.model.config
     assert aerodynamics_line(overridden.turbine, overridden.plant_values).endswith(
-        "skewed_wake off, unsteady_airfoil on, dynamic_inflow off (the turbine's; by parameter: skewed_wake)")
+        "skewed_wake off, unsteady_airfoil on, dynamic_inflow on (the turbine's; by parameter: skewed_wake)")
 
     definition = tmp_path / "nrel_5mw" / "turbine.yaml"
     shutil.copytree(PACKAGED_NREL_5MW, definition.parent)
@@ -140,7 +140,7 @@ def test_hawt_run_says_first_which_aerodynamic_options_the_plant_has():
     lines = []
     run_graph(graph, parse_overrides(graph, ["plant.tower_drag:=false"]), duration=0.05, progress=lines.append)
     assert lines[0] == ("NREL 5MW onshore: aerodynamics: tower_shadow on, tower_drag off, skewed_wake on, "
-                        "unsteady_airfoil on, dynamic_inflow off (the turbine's; by parameter: tower_drag)")
+                        "unsteady_airfoil on, dynamic_inflow on (the turbine's; by parameter: tower_drag)")
 
 
 def test_the_commanded_pitch_rate_is_the_turbines_whatever_the_graph(hawt_cli, tmp_path):

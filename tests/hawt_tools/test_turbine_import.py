@@ -107,6 +107,7 @@ MATCHES = {
     "aerodynamics.tower_drag": (0.0, 0.0, "AeroDyn15 TwrAero = True"),
     "aerodynamics.skewed_wake": (0.0, 0.0, "AeroDyn15 Skew_Mod = 1, SkewRedistr_Mod = default"),
     "aerodynamics.unsteady_airfoil": (0.0, 0.0, "AeroDyn15 UA_Mod = 3"),
+    "aerodynamics.dynamic_inflow": (0.0, 0.0, "AeroDyn15 Wake_Mod = 1 with DBEMT_Mod = 2"),
     **{f"protection.{name}": (1e-6, 0.0, "neither has a protection section: the defaults from the same ratings")
        for name in ("rotor_speed_warning", "rotor_speed_trip", "generator_speed_warning", "generator_speed_trip",
                     "tower_top_acceleration_trip", "pitch_asymmetry_trip")},
@@ -120,8 +121,6 @@ DELIBERATE = {
     "schedule.optimal_tip_speed_ratio": (7.55, 7.5, "Jonkman's region 2; DISCON.IN VS_TSRopt"),
     "protection.pitch_rate_trip": (1.1 * 0.1396263, 1.1 * 0.1745, "the default, 1.1 x the actuator's rate limit "
                                                                    "(pitch_actuator.max_rate above)"),
-    "aerodynamics.dynamic_inflow": (False, True, "hawt keeps the quasi-steady induction the linear models assume; "
-                                                 "AeroDyn15 Wake_Mod = 1 with DBEMT_Mod = 2, OpenFAST 4's dynamic BEMT"),
 }
 """Field -> (the shipped value, from Jonkman et al. 2009 or hawt's choice; the deck's value, which the import gives;
 sources)."""
@@ -147,9 +146,6 @@ def test_the_nrel_5mw_deck_gives_the_shipped_definition_within_each_fields_toler
 def test_the_shipped_values_from_jonkman_2009_are_the_only_other_differences(imported_5mw, path):
     """Where the shipped file takes a value from Jonkman et al. (2009), the import gives the deck's instead."""
     shipped, deck, _ = DELIBERATE[path]
-    if isinstance(shipped, bool):
-        assert (_field(nrel_5mw(), path), _field(imported_5mw, path)) == (shipped, deck)
-        return
     assert _field(nrel_5mw(), path) == pytest.approx(shipped, rel=1e-9)
     assert _field(imported_5mw, path) == pytest.approx(deck, rel=1e-6)
 
@@ -165,14 +161,12 @@ def test_every_field_of_the_definition_is_compared():
 
 
 def test_the_shipped_aerodynamic_options_name_the_sources_the_import_writes(imported_5mw):
-    """The shipped NREL 5 MW's options that follow the deck have the import's sources word for word; its
-    dynamic_inflow names hawt's reason and the deck's switches."""
+    """The shipped NREL 5 MW's options follow the deck: their sources are the import's word for word (the unsteady
+    airfoil's adds which model the plant runs)."""
     shipped, imported = nrel_5mw().aerodynamics.sources, imported_5mw.aerodynamics.sources
-    for name in ("tower_shadow", "tower_drag", "skewed_wake"):
+    for name in ("tower_shadow", "tower_drag", "skewed_wake", "dynamic_inflow"):
         assert shipped[name] == imported[name], name
     assert shipped["unsteady_airfoil"].startswith(imported["unsteady_airfoil"][:-1])
-    assert imported["dynamic_inflow"].endswith("Wake_Mod = 1 (BEMT), DBEMT_Mod = 2 (time-dependent tau1)")
-    assert shipped["dynamic_inflow"].startswith("hawt: quasi-steady induction")
 
 
 def test_the_nrel_5mw_polars_are_the_shipped_ones(imported_5mw):
