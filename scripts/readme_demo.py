@@ -3,9 +3,10 @@
 
 Runs ``./hawt demo --duration 30`` (into a temporary folder), times it, and replaces the README's block between
 the ``<!-- readme_demo: begin -->`` and ``<!-- readme_demo: end -->`` markers with the command, its wall time and
-the headline the demo printed. Prints the new block. Exit 1 if the demo fails or prints no headline.
+the headline the demo printed. Prints the new block. Exit 1 if the demo fails, prints no headline or cautions that
+a run did not go as meant (a contribution lost, a recorder given up: its numbers are not the demo's).
 
-Usage: scripts/readme_demo.py [--duration S] [--readme PATH]
+Usage: source scripts/env.sh; python scripts/readme_demo.py [--duration S] [--readme PATH]
 """
 from __future__ import annotations
 
@@ -16,6 +17,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from hawt_tools.commands.demo import CAUTION
 
 ROOT = Path(__file__).resolve().parents[1]
 BEGIN, END = "<!-- readme_demo: begin -->", "<!-- readme_demo: end -->"
@@ -28,9 +31,12 @@ def headline_of(output: str) -> str:
     Raises
     ------
     ValueError
-        If the output has no headline.
+        If the output has no headline, or cautions that a run did not go as meant (its lines).
     """
     lines = output.splitlines()
+    cautioned = [line for line in lines if line.startswith(CAUTION)]
+    if cautioned:
+        raise ValueError("the demo's runs did not go as meant; the README keeps its block:\n" + "\n".join(cautioned))
     try:
         start = lines.index(HEADLINE_START)
     except ValueError:

@@ -46,3 +46,11 @@ def test_a_readme_without_exactly_one_block_is_refused(readme):
 def test_a_demo_output_without_a_headline_is_refused():
     with pytest.raises(ValueError, match="printed no line"):
         readme_demo.headline_of("hawt demo: failed\n")
+
+
+def test_a_demo_output_that_cautions_about_a_run_is_refused_and_names_it():
+    """A run with a lost contribution is not the demo's comparison: its numbers never reach the README."""
+    caution = ("hawt demo: caution: ipc.mcap has 1 warning or error event(s), the first at t=12.30 s, mbc: "
+               "contribution_lost (control/ipc/h1: nothing for step 1230 within 1 s)")
+    with pytest.raises(ValueError, match="ipc.mcap has 1 warning"):
+        readme_demo.headline_of(DEMO_OUTPUT + caution + "\n")

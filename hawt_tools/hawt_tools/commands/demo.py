@@ -1,13 +1,34 @@
 """``hawt demo``: the baseline and IPC graphs on the same turbulent wind, each recorded, and their loads compared."""
 import argparse
+import logging
 import os
 import time
 from pathlib import Path
-from typing import Sequence
+from typing import Dict, List, Mapping, Sequence
 
 from hawt_tools.commands.graphs import launch_graph
 from hawt_tools.commands.options import POSITIVE, progress
 from hawt_tools.graph_file import find_graph, load_graph, package_prefix
+
+
+CAUTION = "hawt demo: caution:"
+"""How a line about a run that did not go as meant begins (scripts/readme_demo.py refuses output with one)."""
+
+
+def cautions(events: Mapping[str, Sequence[Dict]]) -> List[str]:
+    """One line for each run (label -> its ``control/events`` timeline) that has a warning or an error: a
+    controller's contribution lost (a process that did not answer a lockstep step within the loop assembler's
+    input_timeout), a recorder given up, a safety trip. Such a run is not the comparison the demo means, whatever
+    its numbers; a clean run has only informational events."""
+    lines = []
+    for label, timeline in events.items():
+        bad = [e for e in timeline if e["level"] >= logging.WARNING]
+        if bad:
+            first = bad[0]
+            lines.append(f"{CAUTION} {label} has {len(bad)} warning or error event(s), the first at t="
+                         f"{first['time']:.2f} s, {first['source']}: {first['kind']} ({first['detail']}); its "
+                         "numbers are not the comparison the demo means: run it again on a quieter machine")
+    return lines
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -48,6 +69,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     print(f"hawt demo: IPC 1P+2P against the baseline, {args.duration:g} s of IEC class B turbulence at "
           f"{args.wind_speed:g} m/s (seed {args.seed})")
     print(headline_text(comparison))
+    for line in cautions({p.name: a.run.events for p, a in zip(paths, analyses)}):
+        print(line)
     report = write_comparison_report(comparison, bags / "report", analyses)
     print(f"every number (DELs, harmonics, spectra, pitch activity): {report}\n"
           f"(or: ./hawt compare {' '.join(str(p) for p in paths)})")
