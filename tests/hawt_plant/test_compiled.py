@@ -92,16 +92,3 @@ def test_a_plant_imported_through_a_link_finds_the_kernels_compiled_from_its_sou
                                                           "PYTHONPATH": path}, check=True, cwd=tmp_path)
     assert len([folder for folder in cache.iterdir() if folder.is_dir()]) == 1
 
-
-def test_a_plant_started_again_imports_no_scipy_and_numba_loads_without_it(tmp_path):
-    """Loading the kernels does not import scipy (numba asks for scipy.linalg's BLAS only for np.convolve and
-    np.correlate, which no kernel uses; 0.15-0.25 s of every start): the second start of the same plant, its operating
-    point kept, imports no scipy at all. And scipy imports as usual afterwards."""
-    script = ("import sys\nfrom hawt_plant.plant_setup import PARAMETERS, make_plant\n"
-              "make_plant({spec.name: spec.default for spec in PARAMETERS})\n"
-              "loaded = 'scipy' in sys.modules\nimport scipy.linalg\nprint(loaded, scipy.linalg.norm([3.0, 4.0]))\n")
-    environment = dict(os.environ, HAWT_CACHE_DIR=str(tmp_path))
-    runs = [subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=environment,
-                           timeout=300) for _ in range(2)]
-    assert [run.stdout.split()[-2:] for run in runs] == [["True", "5.0"], ["False", "5.0"]], \
-        [run.stderr[-2000:] for run in runs]
