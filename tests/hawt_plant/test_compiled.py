@@ -91,4 +91,3 @@ def test_a_plant_imported_through_a_link_finds_the_kernels_compiled_from_its_sou
         subprocess.run([sys.executable, "-c", code], env={**os.environ, "NUMBA_CACHE_DIR": str(cache),
                                                           "PYTHONPATH": path}, check=True, cwd=tmp_path)
     assert len([folder for folder in cache.iterdir() if folder.is_dir()]) == 1
-
