@@ -245,8 +245,9 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
             tower_fa += features[TOWER_FA + r, i] * load
             tower_ss += features[TOWER_SS + r, i] * load
         along_n, along_t, about_z = deflection_moments(loads[:, i], deflection, i)
-        deflected_tilt += trig[1, i] * (cone_s * along_t + cone * about_z) - trig[0, i] * along_n
-        deflected_yaw -= trig[1, i] * along_n + trig[0, i] * (cone_s * along_t + cone * about_z)
+        turned = cone_s * along_t + cone * about_z  # the part the azimuth turns into tilt (sin psi), yaw (-cos psi)
+        deflected_tilt += trig[1, i] * turned - trig[0, i] * along_n
+        deflected_yaw -= trig[1, i] * along_n + trig[0, i] * turned
     # The tower top's rotations (slope_fa per metre fore-aft; -slope_ss about x side-side, whose part about e_zs yaws
     # the rotor) turn the loads' arms through the blades' deflections too: their tilt and yaw moments (as
     # measured_loads' hub moments have them) do work on them, as ElastoDyn's partial velocities of the deflected blade
