@@ -32,6 +32,7 @@ __all__ = [
     "blade_modal_properties",
     "polynomial_mode",
     "tower_modal_properties",
+    "twisted_tip_angle",
 ]
 
 _GRID_POINTS = 2001
@@ -58,6 +59,9 @@ class BladeMode:
         with N the axial force of the coned rotating blade.
     damping_ratio : float
         Structural damping ratio [-].
+    twist_angle : float
+        How far the structural twist turns the mode's tip deflection from the direction the pitch alone gives it [rad],
+        positive towards feather like the pitch (:func:`twisted_tip_angle`).
     """
 
     modal_mass: float
@@ -66,6 +70,7 @@ class BladeMode:
     stiffness: float
     centrifugal_stiffness: float
     damping_ratio: float
+    twist_angle: float = 0.0
 
     @property
     def natural_frequency(self) -> float:
@@ -214,7 +219,25 @@ def _blade_mode(turbine: Turbine, coefficients: np.ndarray, stiffness: np.ndarra
         stiffness=float(trapezoid(ei * (d2 / length**2) ** 2, s)),
         centrifugal_stiffness=float(trapezoid(axial * (d1 / length) ** 2, s)),
         damping_ratio=damping_ratio,
+        twist_angle=twisted_tip_angle(d2, np.interp(x, turbine.blade_structure.span_fraction,
+                                                    turbine.blade_structure.structural_twist), s),
     )
+
+
+def twisted_tip_angle(curvature: np.ndarray, structural_twist: np.ndarray, s: np.ndarray) -> float:
+    """The angle [rad] of a twisted blade mode's tip deflection from its principal direction at zero twist, as
+    ElastoDyn's twisted shape functions give it (``ElastoDyn.f90``, Coeff: TwistedSF): the mode bends along its
+    principal axis, which the structural twist theta(s) turns at each station, so its deflection is the curvature
+    phi''(s) along (cos theta, sin theta) integrated twice from the clamped root; the angle is that of the tip's
+    deflection. Flap and edgewise alike: their principal axes turn together with the section.
+
+    ``curvature`` phi'' (any scale), ``structural_twist`` theta [rad] and ``s`` [m] on the same stations, root to tip.
+    """
+    def integral(values: np.ndarray) -> np.ndarray:
+        return np.concatenate(([0.0], np.cumsum(0.5 * (values[1:] + values[:-1]) * np.diff(s))))
+    along = integral(integral(curvature * np.cos(structural_twist)))[-1]
+    across = integral(integral(curvature * np.sin(structural_twist)))[-1]
+    return float(math.atan2(across, along))
 
 
 def hub_centre_moments(turbine: Turbine, blade: BladeModalProperties) -> tuple[float, float, float]:

@@ -3,10 +3,14 @@
 Degrees of freedom
 ------------------
 - rotor azimuth and speed, generator speed, low-speed-shaft torsion (two-inertia drivetrain);
-- first flap and first edgewise mode of each blade (tip deflections; ElastoDyn's BldFl1Sh and BldEdgSh), turning with
-  the blade's pitch as ElastoDyn's do: the flap mode along cos(theta) e_n + sin(theta) e_t, the edgewise one along the
-  chord, cos(theta) e_t - sin(theta) e_n (the structural twist does not turn them, ElastoDyn's does); a blade whose
-  definition has no edgewise mode is rigid edgewise;
+- first flap and first edgewise mode of each blade (tip deflections; ElastoDyn's BldFl1Sh and BldEdgSh), turned by
+  the blade's pitch and, as ElastoDyn's twisted shape functions are, by the structural twist: the flap mode along
+  cos(theta_f) e_n + sin(theta_f) e_t, the edgewise one along cos(theta_e) e_t - sin(theta_e) e_n, theta = pitch + the
+  angle the twist turns the mode's tip deflection (:func:`hawt_plant.modal.twisted_tip_angle`; 7.3 and 9.6 deg for the
+  NREL 5 MW). Each mode keeps that direction along its span, and the modes' mass coupling that their different angles
+  give (int mu phi_f phi_e sin(theta_e - theta_f), 2.8 % of the geometric mean of their generalized masses for the
+  NREL 5 MW, ElastoDyn's from its twisted shapes) is left out; a blade whose definition has no edgewise mode is rigid
+  edgewise;
 - first fore-aft and side-side tower modes (tower-top displacements);
 - a second-order pitch actuator per blade (:mod:`hawt_plant.pitch_actuator`);
 - the generator torque follows its command within its rate limit while the generator is on the grid; off it
@@ -714,6 +718,8 @@ class TurbineModel:
         flap_arms = (blade.modal_first_moment, blade.modal_moment_arm + rh * blade.modal_first_moment)
         edge = edge_mode or BladeMode(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # rigid: no coupling, never advanced
         edge_arms = (edge.modal_first_moment, edge.modal_moment_arm + rh * edge.modal_first_moment)
+        # The structural twist turns each mode's deflection from the pitch's direction (modal.twisted_tip_angle).
+        self._flap_twist, self._edge_twist = blade.twist_angle, edge.twist_angle
         # The blades' modes as one array [flap 1..B, edge 1..B]: generalized mass, stiffness, centrifugal stiffening,
         # damping; a mode that does not move (the blades of a shut-down rotor, a blade rigid edgewise) has 0 as its
         # 1/sqrt(mass), which takes it out of the mass matrix and gives it no acceleration.
@@ -877,7 +883,8 @@ class TurbineModel:
             fa_height_moment=fa.modal_height_moment, ss_height_moment=ss.modal_height_moment,
             fa_gravity_moment=fa.modal_first_moment - fa.base_shape * fa.mass_above_base,
             ss_gravity_moment=ss.modal_first_moment - ss.base_shape * ss.mass_above_base,
-            nacelle_mass=nacelle.mass, nacelle_x=xn, nacelle_z=zn, hub_mass=rotor.hub_mass)
+            nacelle_mass=nacelle.mass, nacelle_x=xn, nacelle_z=zn, hub_mass=rotor.hub_mass,
+            flap_twist=self._flap_twist, edge_twist=self._edge_twist)
 
     # ------------------------------------------------------------------ loads (model_step's kernels)
 

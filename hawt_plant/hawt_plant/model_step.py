@@ -57,7 +57,8 @@ CONSTANTS = (
     "gearbox_ratio", "generator_inertia", "hub_inertia", "rotor_inertia", "slope_fa", "slope_ss", "fa_gravity_force",
     "fa_mass_constant", "fa_mass_linear", "fa_mass_quadratic", "ss_mass", "fa_damping", "ss_damping", "fa_stiffness",
     "ss_stiffness", "base_height", "fa_base_shape", "ss_base_shape", "fa_height_moment", "ss_height_moment",
-    "fa_gravity_moment", "ss_gravity_moment", "nacelle_mass", "nacelle_x", "nacelle_z", "hub_mass",
+    "fa_gravity_moment", "ss_gravity_moment", "nacelle_mass", "nacelle_x", "nacelle_z", "hub_mass", "flap_twist",
+    "edge_twist",
 )
 """The model's scalar constants, in the order of :func:`constant_array`'s array."""
 (_APEX_X, _APEX_FA_X, _APEX_FA_Z, _APEX_SS_GAIN, _APEX_HEIGHT, _TOWER_HEIGHT, _COS_CONE, _SIN_CONE, _COS_TILT,
@@ -65,7 +66,7 @@ CONSTANTS = (
  _GENERATOR_INERTIA, _HUB_INERTIA, _ROTOR_INERTIA, _SLOPE_FA, _SLOPE_SS, _FA_GRAVITY_FORCE, _FA_MASS_CONSTANT,
  _FA_MASS_LINEAR, _FA_MASS_QUADRATIC, _SS_MASS, _FA_DAMPING, _SS_DAMPING, _FA_STIFFNESS, _SS_STIFFNESS, _BASE_HEIGHT,
  _FA_BASE_SHAPE, _SS_BASE_SHAPE, _FA_HEIGHT_MOMENT, _SS_HEIGHT_MOMENT, _FA_GRAVITY_MOMENT, _SS_GRAVITY_MOMENT,
- _NACELLE_MASS, _NACELLE_X, _NACELLE_Z, _HUB_MASS) = range(len(CONSTANTS))
+ _NACELLE_MASS, _NACELLE_X, _NACELLE_Z, _HUB_MASS, _FLAP_TWIST, _EDGE_TWIST) = range(len(CONSTANTS))
 
 FORCES = ("thrust", "aero_torque", "gravity_torque", "shaft_torque", "residual_fa", "residual_ss")
 """What :func:`generalized_forces` writes besides its arrays, in order: the aerodynamic thrust and torque, the gravity
@@ -92,7 +93,8 @@ def place_elements(azimuth: float, pitch: np.ndarray, displacement: np.ndarray, 
                    drag_shapes: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray,
                    deflection: np.ndarray, apex: np.ndarray, samples: np.ndarray) -> None:
     """Where the elements are: writes ``trig`` (cos psi_i, sin psi_i, 1), ``features`` (R, B), the modes' directions
-    (rows: flap along e_n and e_t, cos theta and sin theta; edge along e_n and e_t, -sin theta and cos theta),
+    (rows: flap along e_n and e_t, cos theta_f and sin theta_f; edge along e_n and e_t, -sin theta_e and cos theta_e;
+    theta the pitch and the mode's angle from the structural twist, ``constants`` flap_twist and edge_twist),
     ``deflection`` (the flap and edgewise tip deflections along those four), ``apex`` (x, y, z) and ``samples``.
 
     ``displacement``: [tower fa, tower ss, flap 1..B, edge 1..B]; ``point_basis`` (4, N + 1): the span functions
@@ -112,9 +114,9 @@ def place_elements(azimuth: float, pitch: np.ndarray, displacement: np.ndarray, 
         trig[0, i], trig[1, i], trig[2, i] = c, s, 1.0
         for r in range(feature_matrix.shape[0]):
             features[r, i] = feature_matrix[r, 0] * c + feature_matrix[r, 1] * s + feature_matrix[r, 2]
-        cos_pitch, sin_pitch = math.cos(pitch[i]), math.sin(pitch[i])
-        directions[0, i], directions[1, i], directions[2, i], directions[3, i] = \
-            cos_pitch, sin_pitch, -sin_pitch, cos_pitch
+        flap_angle, edge_angle = pitch[i] + constants[_FLAP_TWIST], pitch[i] + constants[_EDGE_TWIST]
+        directions[0, i], directions[1, i] = math.cos(flap_angle), math.sin(flap_angle)
+        directions[2, i], directions[3, i] = -math.sin(edge_angle), math.cos(edge_angle)
         flap, edge = displacement[2 + i], displacement[2 + blades + i]
         for d in range(4):
             deflection[d, i] = directions[d, i] * (flap if d < 2 else edge)
@@ -261,25 +263,22 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
     stiffness, centrifugal, damping, scale, rotor_arms = (mode_constants[0], mode_constants[1], mode_constants[2],
                                                           mode_constants[3], mode_constants[4])
     for i in range(blades):
-        cos_pitch, sin_pitch = directions[0, i], directions[1, i]
         for mode in range(2):  # flap, edge
             m = mode * blades + i
-            if mode == 0:  # along cos theta e_n + sin theta e_t
-                force = cos_pitch * loads[_N2, i] + sin_pitch * loads[_T2, i]
-                along_t = sin_pitch
-            else:  # along cos theta e_t - sin theta e_n
-                force = cos_pitch * loads[_T3, i] + directions[2, i] * loads[_N3, i]
-                along_t = cos_pitch
+            mode_n, mode_t = directions[2 * mode, i], directions[2 * mode + 1, i]  # the mode's direction
+            force = mode_n * loads[_N2 + mode, i] + mode_t * loads[_T2 + mode, i]
             mode_stiffness[m] = stiffness[m] + centrifugal[m] * omega2
             mode_residual[m] = force - damping[m] * rates[2 + m] - mode_stiffness[m] * displacement[2 + m]
             scaled_residual[m] = mode_residual[m] * scale[m]
             # couplings with the tower: int mu phi (U . d) ds of the mode's direction d
             for tower in range(2):
-                cos_part = features[COUPLING + 2 * mode + tower, i]
-                sin_part = features[COUPLING + 4 + 2 * mode + tower, i]
-                sin_factor = sin_pitch if mode == 0 else directions[2, i]
-                scaled[tower, m] = (cos_pitch * cos_part + sin_factor * sin_part) * scale[m]
-            scaled[2, m] = rotor_arms[m] * along_t * scale[m]
+                principal = features[COUPLING + 2 * mode + tower, i]  # flap along e_n, edge along e_t
+                across = features[COUPLING + 4 + 2 * mode + tower, i]  # flap along e_t, edge along e_n
+                if mode == 0:
+                    scaled[tower, m] = (mode_n * principal + mode_t * across) * scale[m]
+                else:
+                    scaled[tower, m] = (mode_t * principal + mode_n * across) * scale[m]
+            scaled[2, m] = rotor_arms[m] * mode_t * scale[m]
     modal_mass = np.zeros((3, 3))  # what eliminating the modes takes off the tower's and rotor's mass: M M^T
     projected = np.zeros(3)
     for a in range(3):

@@ -41,15 +41,16 @@ def shipped():
     return {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}
 
 
-@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.37, 21.2), (18.0, 2.96, 37.9),
-                                                              (24.0, 3.23, 57.3)])
+@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.34, 21.2), (18.0, 2.92, 38.0),
+                                                              (24.0, 3.17, 57.4)])
 def test_check_12_the_baseline_collective_loop_has_selvam_s_gain_margin_and_his_phase_margin_only_at_24_m_s(
         shipped, speed, gain_margin, phase_margin):
     """Check 12 asks GM >= 2 and PM >= 45 deg of the collective PI. This project's is Jonkman's baseline (PI on the
     0.25 Hz low-passed generator speed, gain-scheduled at the operating pitch), here on the model's collective pitch
     command -> generator speed (pitch actuator, drivetrain, blades' edgewise modes and tower included) with the torque
-    held: GM 2.37, 2.96, 3.23 and PM 21.2, 37.9, 57.3 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
-    only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (With the tower damped at the deck's
+    held: GM 2.34, 2.92, 3.17 and PM 21.2, 38.0, 57.4 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
+    only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (With the blade modes not turned by the
+    structural twist: GM 2.37, 2.96, 3.23, PM 21.2, 37.9, 57.3 deg. With the tower damped at the deck's
     ratio of the mode with the rotor on top rather than ElastoDyn's of the tower alone: GM 2.37, 2.98, 3.27. With the
     blades rigid edgewise: GM
     2.41, 3.19, 3.51, PM 21.2, 38.3, 57.5 deg; with edgewise modes not turning with the pitch, GM 2.40, 3.14, 3.50. On the plant before it took AeroDyn 15's nodes: GM 2.45,
@@ -76,12 +77,14 @@ def test_the_stability_margins_of_a_loop_with_known_crossovers():
 @pytest.mark.parametrize("speed", SPEEDS)
 def test_check_15_the_integrator_ipc_removes_a_constant_tilt_yaw_load_and_does_not_reduce_from_1p_on(shipped, speed):
     """Check 15, the conventional IPC: a constant cos/sin wind leaves no steady-state cos/sin moment (0.83-0.90 MN m
-    per m/s without IPC); from 1P to the Nyquist frequency |u -> M| is at most 29 % above no IPC (at 1.5P; 25 % at
-    13 m/s, 28 % at 18 m/s) and nowhere more than 1 % below it, except at the blades' edgewise whirl modes (backward
-    0.91 Hz, forward 1.30-1.32 Hz in the Coleman frame, 0.5-1 % damped), where the loop shifts those resonances: there
-    it is down to 0.977, 0.950 and 0.639 times no IPC at 13, 18 and 24 m/s (the last at the backward whirl, yaw axis):
-    Selvam's "no reduction, and even a slight increase" (check 19 asks >= no IPC at 1P, 2P and 3P) holds away from
-    them. (With the blades rigid edgewise the ratio stayed above 0.99 everywhere.)"""
+    per m/s without IPC); from 1P to the Nyquist frequency |u -> M| is at most 29 % above no IPC (at 1.5P; 26 % at
+    13 m/s, 28 % at 18 m/s) and nowhere more than 1.5 % below it (1.2 % at 1.6 Hz, beside the drivetrain's torsion at
+    1.66-1.73 Hz), except at the blades' edgewise whirl modes (backward 0.91 Hz, forward 1.31 Hz in the Coleman frame,
+    0.8-1.7 % damped), where the loop shifts those resonances: there it is down to 0.990, 0.975 and 0.839 times no IPC
+    at 13, 18 and 24 m/s (the last at the forward whirl, yaw axis): Selvam's "no reduction, and even a slight increase"
+    (check 19 asks >= no IPC at 1P, 2P and 3P) holds away from them. (With the blade modes not turned by the
+    structural twist, the whirls 0.5-1 % damped: down to 0.977, 0.950 and 0.639 there, 0.99 elsewhere; with the blades
+    rigid edgewise the ratio stayed above 0.99 everywhere.)"""
     design = design_lqg(shipped[speed].model, DT)
     assert np.abs(closed_loop_response(design, [0.0], "integrator", *IPC_H1)).max() < 1e-12
     assert np.abs(closed_loop_response(design, [0.0], "none")).max() > 0.8
@@ -91,8 +94,8 @@ def test_check_15_the_integrator_ipc_removes_a_constant_tilt_yaw_load_and_does_n
     hertz = omega / (2 * math.pi)
     whirl = ((hertz > 0.85) & (hertz < 0.97)) | ((hertz > 1.2) & (hertz < 1.6))
     for axis in (0, 1):
-        assert 0.99 <= ratio[~whirl, axis, axis].min() and ratio[:, axis, axis].max() <= 1.35
-        assert 0.6 <= ratio[whirl, axis, axis].min()
+        assert 0.985 <= ratio[~whirl, axis, axis].min() and ratio[:, axis, axis].max() <= 1.35
+        assert 0.8 <= ratio[whirl, axis, axis].min()
 
 
 def test_check_16_the_augmented_model_is_observable_and_the_plant_controllable(design):
@@ -167,13 +170,14 @@ def _pitch_activity(design, omega, controller, *gains):
 @pytest.mark.parametrize("speed", SPEEDS)
 def test_check_20_fb_ff_pitches_more_than_the_integrator_ipc_from_3p_on_with_selvam_s_weights(shipped, speed):
     """Check 20 with Table II, the weights of Selvam's claim: from 3P to the Nyquist frequency FB-FF's cyclic pitch per
-    unit wind is at least 4.2 times the integrator IPC's (at 3P: 5.0, 4.4, 4.2 times at 13, 18, 24 m/s), and the ratio
-    grows to about 8000 at the Nyquist frequency, where FB-FF still pitches 0.8 deg per m/s and the integrator has
+    unit wind is at least 2.7 times the integrator IPC's (at 3P: 5.0, 4.4, 4.2 times at 13, 18, 24 m/s; the least,
+    2.7, at 24 m/s at the backward edgewise whirl, 0.91 Hz, where the integrator's pitch resonates), and the ratio
+    grows to about 2000 at the Nyquist frequency, where FB-FF still pitches 0.8 deg per m/s and the integrator has
     rolled off (1.4-1.8 times at 1P)."""
     design = design_lqg(shipped[speed].model, DT, TABLE_II)
     omega = np.geomspace(3 * shipped[speed].rotor_speed, math.pi / DT, 300)
     ratio = _pitch_activity(design, omega, "lqg") / _pitch_activity(design, omega, "integrator", *IPC_H1)
-    assert ratio.min() > 3.5 and ratio[-1] > 1000
+    assert ratio.min() > 2.5 and ratio[-1] > 1000
 
 
 @pytest.mark.parametrize("speed, at_3p", [(13.0, 1.32), (18.0, 1.13), (24.0, 1.04)])

@@ -5,8 +5,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from hawt_plant.modal import (beam_first_mode, blade_edgewise_frequency, blade_modal_properties, polynomial_mode,
-                              tower_modal_properties)
+from hawt_plant.modal import (beam_first_mode, blade_edge_mode, blade_edgewise_frequency, blade_modal_properties,
+                              polynomial_mode, tower_modal_properties, twisted_tip_angle)
 
 
 def test_mode_shape_has_unit_tip_and_zero_root_slope(turbine):
@@ -16,6 +16,32 @@ def test_mode_shape_has_unit_tip_and_zero_root_slope(turbine):
     assert phi[0] == d1[0] == 0.0 and phi[-1] == pytest.approx(1.0, abs=1e-4)
     np.testing.assert_allclose(np.gradient(phi, x)[1:-1], d1[1:-1], atol=1e-4)
     np.testing.assert_allclose(np.gradient(d1, x)[1:-1], d2[1:-1], atol=1e-3)
+
+
+def test_a_mode_twisted_alike_along_the_span_deflects_along_its_principal_axis_turned_by_that_twist():
+    """A constant structural twist turns the whole mode: the tip deflects at that angle (ElastoDyn's twisted shape
+    functions); without twist it deflects along the principal axis."""
+    s = np.linspace(0.0, 60.0, 601)
+    curvature = polynomial_mode(np.array([0.6, 0.3, 0.1, 0.0, 0.0]), s / 60.0)[2]
+    assert twisted_tip_angle(curvature, np.full_like(s, 0.2), s) == pytest.approx(0.2, abs=1e-12)
+    assert twisted_tip_angle(curvature, np.zeros_like(s), s) == 0.0
+
+
+def test_a_mode_takes_the_twist_where_it_bends():
+    """The tip's angle weighs the twist by the curvature and its arm to the tip: a beam bending only over its inner
+    half, twisted 0.3 rad there and 0 outside, deflects at 0.3 rad; one bending only over its outer half at 0."""
+    s = np.linspace(0.0, 60.0, 6001)
+    inner, twist = s <= 30.0, np.where(s <= 30.0, 0.3, 0.0)
+    assert twisted_tip_angle(np.where(inner, 1.0, 0.0), twist, s) == pytest.approx(0.3, abs=2e-3)
+    assert twisted_tip_angle(np.where(inner, 0.0, 1.0), twist, s) == pytest.approx(0.0, abs=2e-3)
+
+
+def test_the_nrel_5mw_modes_tip_angles_lie_within_the_twist_where_they_bend(turbine):
+    """The NREL 5 MW's structural twist falls from 13.3 deg at the root to 0 at the tip; its edgewise mode bends mostly
+    near the root, its flap mode further out: the tips deflect 9.6 and 7.3 deg from the pitch's direction."""
+    flap, edge = blade_modal_properties(turbine).twist_angle, blade_edge_mode(turbine).twist_angle
+    assert 0.0 < flap < edge < math.radians(13.3)
+    assert (math.degrees(flap), math.degrees(edge)) == pytest.approx((7.27, 9.63), abs=0.01)
 
 
 def test_blade_mass_and_centre_of_mass_match_jonkman(turbine):
