@@ -13,7 +13,6 @@ from typing import Optional
 from hawt_core.topics import RECORDER_NODE
 
 from .errors import BagError
-from .writer import new_bag_path
 
 __all__ = ["RecorderOptions", "add_record_arguments", "options_from"]
 
@@ -88,6 +87,8 @@ def options_from(args: argparse.Namespace) -> RecorderOptions:
         raise BagError(f"--chunk-interval: expected a positive number of seconds, found {args.chunk_interval}")
     if args.chunk_size < 1:
         raise BagError(f"--chunk-size: expected a positive number of bytes, found {args.chunk_size}")
+    from .writer import new_bag_path  # here: the mcap writer is not on the path of hawt commands that record nothing
+
     output = str(new_bag_path(args.output or time.strftime("bags/run_%Y%m%d_%H%M%S.mcap"), "-o"))
     return RecorderOptions(output, tuple(args.topics), args.regex, args.include_hidden_topics,
                            chunk_size=args.chunk_size, chunk_interval=args.chunk_interval, node_name=args.node_name)

@@ -117,7 +117,6 @@ def launch_graph(graph, parameters: List[str], mode: Optional[str], duration: Op
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from hawt_bag.writer import new_bag_path
     from hawt_tools.in_process import run_graph
     from hawt_tools.node_parameters import parse_overrides
     from hawt_tools.parameter_check import check_against_plant, check_graph_parameters
@@ -125,7 +124,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
     graph = load_graph(find_graph(args.graph), launch_arguments(args.arguments), package_prefix)
     overrides = parse_overrides(graph, args.param)
     check_against_plant(graph, check_graph_parameters(graph, overrides))
-    record = new_bag_path(args.record, "--record") if args.record else None
+    record = None
+    if args.record:
+        from hawt_bag.writer import new_bag_path  # the bag writer (mcap's) only for a run that records
+
+        record = new_bag_path(args.record, "--record")
     run = run_graph(graph, overrides, record, args.duration, progress)
     for event in run.events:
         if event["level"] >= 30:
