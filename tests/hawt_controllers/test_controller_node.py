@@ -171,6 +171,28 @@ def test_a_replacing_controller_waits_for_the_outgoing_output_of_the_step_before
     assert any(e.kind == "switch" and "from the outgoing controller's last output" in e.detail for e in plant.events)
 
 
+def test_a_controller_handed_over_at_a_step_it_never_saw_reports_the_switch_at_that_step(graph):
+    """ipc_a hands harmonic/1 over to ipc_b at step 3. From step 3 on nothing of ipc_a is used, so the plant does not
+    wait for it: a busy node may next see step 5. It answered nothing from step 3 on, so the switch took effect at
+    step 3, and it says so, not that it came late; step 5 gets no output from it."""
+    context, add, spin_until = graph
+    plant = add(FakePlant(context))
+    switch = ControllerSwitch(step=3, activate=["/cn/ipc_b"], activate_interfaces=["harmonic/1"],
+                              deactivate=["/cn/ipc_a"], deactivate_interfaces=["harmonic/1"], ramp_time=0.0)
+    plant.create_publisher(ControllerSwitch, SWITCHES, LATCHED).publish(switch)
+    outgoing = add(ControllerNode("ipc", context=context, cli_args=_arguments(active=True, lowpass_order=0) + [
+        "-r", "__node:=ipc_a"]))
+    spin_until(lambda: outgoing.switches is not None and outgoing.switches.pending, "ipc_a configured, switch known")
+    for step in (0, 1, 2, 5):
+        plant.send(step)
+        spin_until(lambda: outgoing.answer.last is not None and outgoing.answer.last.step == step, f"step {step}")
+    spin_until(lambda: any(e.kind == "switch" for e in plant.events), "ipc_a's switch event")
+    switches = [e for e in plant.events if e.kind == "switch"]
+    assert [(e.step, e.level, e.detail) for e in switches] == [
+        (3, ControlEvent.INFO, "deactivated at step 3, handing over")]
+    assert sorted(plant.answers) == [0, 1, 2]
+
+
 def test_with_await_schedule_no_step_is_answered_before_the_schedule_so_a_switch_at_step_0_is_on_time(graph):
     """An inactive ipc with await_schedule (hawt launch sets it in a graph with a controller_manager): step 0, sent
     again and again, gets no answer while the schedule is missing; once the schedule (activate it at step 0) is

@@ -238,24 +238,31 @@ class ControllerNode(LifecycleNode):
         self.switches.announce(ControllerState.ACTIVE if active else ControllerState.INACTIVE, step)
 
     def _apply_switch(self, switch: Switch, step: int, stamp: Any, loads: Any) -> None:
-        late = f" (due at step {switch.step}, applied late)" if switch.step < step else ""
+        """Apply ``switch`` while handling ``step``; reported at the step it took effect, with a warning if after its
+        own."""
         effect = switch_effect(switch, self.name, self.core.claims(), self.plant.dt)
         if effect is None:
             return
+        at = step
+        if not effect.active and effect.publish_until <= switch.step and self._last_step() < switch.step:
+            # Handed over: from its step on nothing of this controller is used, so the plant does not wait for it and a
+            # busy node may never see those steps. None of them answered here, the switch took effect at its step.
+            at = switch.step
+        late = f" (due at step {switch.step}, applied late)" if switch.step < at else ""
         if effect.active:
             initial = tuple(self.followed[t][1] for t in self._claimed_topics() if t in self.followed) \
                 if effect.replaced else ()
-            self._switch_to(True, step, effect.ramp_time, initial, loads)
+            self._switch_to(True, at, effect.ramp_time, initial, loads)
             how = ("from the outgoing controller's last output" if initial
                    else f"ramping in over {effect.ramp_time:g} s")
             what = "activated"
         else:
-            self._switch_to(False, step, effect.ramp_time, publish_until=effect.publish_until)
+            self._switch_to(False, at, effect.ramp_time, publish_until=effect.publish_until)
             how = "handing over" if effect.replaced else \
                 f"ramping out over {switch.ramp_time:g} s until step {effect.publish_until}"
             what = "deactivated"
-        self.events(ControlEvent.WARN if late else ControlEvent.INFO, "switch", f"{what} at step {step}, {how}{late}",
-                    step=step, stamp=stamp)
+        self.events(ControlEvent.WARN if late else ControlEvent.INFO, "switch", f"{what} at step {at}, {how}{late}",
+                    step=at, stamp=stamp)
 
     def _follow_others(self, follow: bool) -> None:
         """While inactive, remember the contributions another controller publishes on this one's interfaces."""
