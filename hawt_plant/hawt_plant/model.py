@@ -35,7 +35,8 @@ the blades of a shut-down rotor stay rigid.
 Aerodynamics: blade-element momentum (:mod:`hawt_plant.bem`) on every element of every blade
 at its own azimuth, the inflow sampled from the wind field at the element's position (shear,
 turbulence and tower shadow are seen by the rotating blade), the element's own motion (flap,
-tower) in the relative velocity, and the induction carried from step to step: a few relaxed
+tower) in the relative velocity, its normal turned by the deflected blade's out-of-plane slope as AeroDyn's BEM frame
+is (:func:`~hawt_plant.model_step.element_inflow`), and the induction carried from step to step: a few relaxed
 fixed-point iterations per step from the previous step's induction, or Øye's dynamic inflow.
 
 Structure: assumed modes with Kane-style generalized forces. Every blade element's load
@@ -701,9 +702,12 @@ class TurbineModel:
         cumulative = np.concatenate(([0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(fine))))
         edges = np.concatenate(([0.0], np.cumsum(aero.width)))  # each node's stretch of blade
         mass = np.diff(np.interp(np.clip(edges, 0.0, length), fine, cumulative))
-        flap_shape = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)[0]
-        edge_shape = polynomial_mode(t.blade_structure.edge_mode_shape, span / length)[0] if self._has_edge \
-            else np.zeros(n)
+        flap_shape, flap_slope, _ = polynomial_mode(t.blade_structure.flap_mode_shape, span / length)
+        edge_shape, edge_slope, _ = polynomial_mode(t.blade_structure.edge_mode_shape, span / length) \
+            if self._has_edge else (np.zeros(n), np.zeros(n), None)
+        # The shapes' slopes d phi / ds at the elements [1/m]: the deflected blade's out-of-plane slope turns the
+        # elements' normal in the inflow (model_step.element_inflow).
+        self._mode_slopes = np.vstack((flap_slope, edge_slope)) / length
         # Element loads are summed per blade against the span functions f = 1, s (from the root), phi_flap and
         # phi_edge; the load rows (LOAD_ROWS) are the components along e_n, e_t and e_z against them.
         functions = np.vstack((np.ones(n), span, flap_shape, edge_shape))
@@ -904,8 +908,8 @@ class TurbineModel:
         if self._config.skewed_wake:
             self._apex_wind = velocity[:, 0, n].tolist()
         element_inflow(velocity, samples, displacement, self._velocity, self._rotor_speed, constants, features,
-                       directions, self._point_basis, *self._shadow, self._drag_constants, self._element_wind,
-                       self._inflow, self._drag_loads)
+                       directions, self._point_basis, self._deflection_parts, self._mode_slopes, *self._shadow,
+                       self._drag_constants, self._element_wind, self._inflow, self._drag_loads)
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix

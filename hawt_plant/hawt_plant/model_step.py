@@ -139,13 +139,17 @@ def place_elements(azimuth: float, pitch: np.ndarray, displacement: np.ndarray, 
 @njit
 def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.ndarray, rates: np.ndarray,
                    rotor_speed: float, constants: np.ndarray, features: np.ndarray, directions: np.ndarray,
-                   point_basis: np.ndarray, shadow_on: bool, downwind: bool, shadow_drag: float,
-                   shadow_elevation: np.ndarray, shadow_outline: np.ndarray, drag_constants: np.ndarray,
-                   wind: np.ndarray, inflow: np.ndarray, drag_loads: np.ndarray) -> None:
+                   point_basis: np.ndarray, deflection: np.ndarray, mode_slopes: np.ndarray, shadow_on: bool,
+                   downwind: bool, shadow_drag: float, shadow_elevation: np.ndarray, shadow_outline: np.ndarray,
+                   drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, drag_loads: np.ndarray) -> None:
     """The wind at every element with the tower shadow (:func:`hawt_plant.tower_shadow.shadow`, at the element
     relative to the tower top's position) into ``wind`` (3, B, N), and the inflow without induction into ``inflow``
-    (2, B, N): vx = V . e_n - (the element's velocity along e_n), vy = -V . e_t + (its velocity along e_t), the element
-    moving with the tower, its blade's modes and the rotation (omega r, r = s_abs cos cone).
+    (2, B, N): vx = V . e_n' - (the element's velocity along e_n), vy = -V . e_t + (its velocity along e_t), the element
+    moving with the tower, its blade's modes and the rotation (omega r, r = s_abs cos cone). e_n' = cos gamma e_n -
+    sin gamma e_z is the normal the deflected blade's out-of-plane slope turns towards the span, as AeroDyn's BEM frame
+    keeps the node's out-of-plane rotation (its "cant"; ``AeroDyn.f90``, Calculate_MeshOrientation_NoSweepPitchTwist);
+    tan gamma = d(deflection along e_n)/ds from ``deflection`` (:func:`place_elements`) and ``mode_slopes`` (2, N),
+    the flap and edgewise shapes' slopes d phi/ds [1/m] at the elements.
 
     ``velocity`` is the wind at ``samples`` (:func:`place_elements`); ``rates`` the structural rates (as
     ``displacement``). With tower drag nodes (``drag_constants`` (4, K): :class:`~hawt_plant.tower_drag.TowerDrag`'s
@@ -157,6 +161,7 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
     spin = rotor_speed * constants[_COS_CONE]
     motion = np.empty((2, 4))  # vx, vy per unit of 1, s_abs, phi_flap, phi_edge
     for i in range(blades):
+        flap_n, edge_n = deflection[0, i], deflection[2, i]
         for row in range(2):
             for part in range(2):
                 k = 2 * row + part
@@ -180,6 +185,11 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                                              + features[axis + 2, i] * w)
                                      + motion[row, 0] * point_basis[0, j] + motion[row, 1] * point_basis[1, j]
                                      + motion[row, 2] * point_basis[2, j] + motion[row, 3] * point_basis[3, j])
+            slope = flap_n * mode_slopes[0, j] + edge_n * mode_slopes[1, j]  # tan gamma
+            cos_gamma = 1.0 / math.sqrt(1.0 + slope * slope)
+            inflow[0, i, j] = cos_gamma * (inflow[0, i, j] - slope * (features[BASIS + 6, i] * u
+                                                                      + features[BASIS + 7, i] * v
+                                                                      + features[BASIS + 8, i] * w))
     nodes = drag_constants.shape[1]
     if nodes > 0:
         drag_loads[0], drag_loads[1], drag_loads[2], drag_loads[3] = node_drag(

@@ -22,7 +22,7 @@ def test_the_budget_is_the_pitch_that_cancels_the_steady_shear_moment_at_its_har
     assert 1.0 < math.degrees(budget.amplitude) < 2.5  # the 1P of shear 0.2 over dM/dθ of −54 MN·m/rad
     assert 0.2 < budget.share < 0.35
     uniform = rate_budget(turbine, response, shear=0.0)
-    assert uniform.amplitude < 0.25 * budget.amplitude  # without shear only tilt and gravity are left (22 %)
+    assert uniform.amplitude < 0.3 * budget.amplitude  # without shear only tilt and gravity are left (28 %)
 
 
 def test_on_the_iea_15mw_1p_takes_most_of_the_2_deg_per_second_and_2p_does_not_fit_beside_it(imported_deck):
@@ -64,7 +64,7 @@ def test_on_the_nrel_5mw_1p_2p_and_3p_fit_the_budget_and_the_design_leaves_them_
 
 
 def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_inactive(capsys):
-    """The NREL 5 MW with a 3 °/s actuator: 1P takes 66 %, 1P+2P would take 81 %; 2P and 3P keep their design but are
+    """The NREL 5 MW with a 3 °/s actuator: 1P takes 64 %, 1P+2P would take 80 %; 2P and 3P keep their design but are
     written inactive, and the design says how to start one anyway."""
     turbine = nrel_5mw()
     slow = replace(turbine, pitch_actuator=replace(turbine.pitch_actuator, max_rate=math.radians(3.0)))
@@ -72,6 +72,6 @@ def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_in
     assert [nodes[f"/**/ipc_h{n}"]["ros__parameters"].get("active", True) for n in (1, 2, 3)] == [True, False, False]
     assert nodes["/**/ipc_h3"]["ros__parameters"]["integral_gain"] > 0.0
     assert capsys.readouterr().out.splitlines()[-1] == (
-        "rate budget: h1 takes 66 %, within 70 % of the actuator's 3.0 deg/s; h2 would bring it to 81 %: h2, h3 "
+        "rate budget: h1 takes 64 %, within 70 % of the actuator's 3.0 deg/s; h2 would bring it to 80 %: h2, h3 "
         "written inactive (active: false, which the graphs' ipc_hN arguments do not override; -p "
         "ipc_h2.active:=true starts one active, hawt switch --activate ipc_h2 brings one in)")

@@ -65,7 +65,7 @@ the NREL 5 MW's skewed wake, the measured route (the shipped file) has not."""
 @pytest.mark.parametrize("harmonic", [1, 2, 3])
 def test_the_model_route_reproduces_the_shipped_design(models, shipped, harmonic):
     """The shipped file comes from the measured route; from the linear models the same recipe gives its offsets and
-    gains within TOLERANCE, and its schedule's pitch breakpoints 0.14-0.22 deg lower (the linear models' steady
+    gains within TOLERANCE, and its schedule's pitch breakpoints 0.16-0.27 deg lower (the linear models' steady
     wind has the plant's shear and tower shadow, the measured route's is uniform; and their plant the skewed wake)."""
     offset, gain, factors = TOLERANCE[harmonic]
     found, _ = tune([model_harmonic_response(models[v], harmonic) for v in WIND_SPEEDS], 18.0, 2 * math.pi * 0.1,
@@ -75,7 +75,7 @@ def test_the_model_route_reproduces_the_shipped_design(models, shipped, harmonic
     assert found["integral_gain"] == pytest.approx(designed["integral_gain"], rel=gain)
     assert found["schedule_factors"] == pytest.approx(designed["schedule_factors"], rel=factors)
     lower = np.degrees(np.subtract(designed["schedule_breakpoints"], found["schedule_breakpoints"]))
-    assert np.all((lower > 0.1) & (lower < 0.25)), lower
+    assert np.all((lower > 0.1) & (lower < 0.3)), lower
 
 
 def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(models, tmp_path, capsys):
@@ -90,8 +90,8 @@ def test_the_design_takes_the_model_route_and_prints_the_measured_one_beside_it(
     assert written["phase_offset"] == model_harmonic_response(models[18.0], 1).phase
     printed = capsys.readouterr().out
     assert "h1 (linear model)" in printed
-    # +0.13 deg with the skewed wake in the linear models (the measured route has none).
-    assert "cross-check, the measured static response against the model's: 18 m/s phase +0.13 deg" in printed
+    # +0.21 deg with the skewed wake in the linear models (the measured route has none).
+    assert "cross-check, the measured static response against the model's: 18 m/s phase +0.21 deg" in printed
     assert "crossover on the model 0.100 Hz" in printed
     assert cli.main(["design", "ipc", "--harmonics", "1", "--wind-speeds", "18", "--measured"] + files) == 0
     written = yaml.safe_load((tmp_path / "ipc.yaml").read_text())["/**/ipc_h1"]["ros__parameters"]
@@ -111,23 +111,23 @@ def test_on_the_model_the_shipped_1p_loop_crosses_over_at_0_1_hz_with_50_deg_of_
 
 
 def test_with_disario_s_offset_tilt_and_yaw_decouple_at_crossover_and_the_sensitivity_peak_halves(models, shipped):
-    """The shipped 1P loop at 18 m/s on the linear model, with its offset (24.6 deg) and without it (the integral
-    gain divided by cos 24.6 deg, Disario's compensation: the same crossover, 0.63 rad/s). With the offset RGA11 at
-    the crossover goes from 0.820 to 1.000 (Disario: 0.9052 -> 0.9997); the sensitivity's largest singular value
-    peaks at 2.09 at 1.08 rad/s instead of 4.27 at 0.86 rad/s, and its -3 dB points close from 0.358-0.569 to
-    0.407-0.423 rad/s (Disario: [0.38, 0.65] -> 0.47 rad/s). At 1P (1.267 rad/s) both amplify by 1.85-1.92."""
+    """The shipped 1P loop at 18 m/s on the linear model, with its offset (24.5 deg) and without it (the integral
+    gain divided by cos 24.5 deg, Disario's compensation: the same crossover, 0.63 rad/s). With the offset RGA11 at
+    the crossover goes from 0.823 to 1.000 (Disario: 0.9052 -> 0.9997); the sensitivity's largest singular value
+    peaks at 2.07 at 1.08 rad/s instead of 4.20 at 0.86 rad/s, and its -3 dB points close from 0.357-0.567 to
+    0.406-0.422 rad/s (Disario: [0.38, 0.65] -> 0.47 rad/s). At 1P (1.267 rad/s) both amplify by 1.85-1.91."""
     designed = shipped["/**/ipc_h1"]["ros__parameters"]
     gain, offset = designed["integral_gain"], designed["phase_offset"]
     without = loop_analysis(models[18.0], 1, gain / math.cos(offset), 0.0, 0.01)
     with_offset = loop_analysis(models[18.0], 1, gain, offset, 0.01)
     assert with_offset.crossover == pytest.approx(without.crossover, rel=0.005)
     assert abs(with_offset.rga - 1.0) < abs(without.rga - 1.0)
-    assert (without.rga, with_offset.rga) == pytest.approx((0.820, 1.000), abs=0.002)
-    assert (without.peak, without.peak_frequency) == pytest.approx((4.27, 0.86), abs=0.01)
-    assert (with_offset.peak, with_offset.peak_frequency) == pytest.approx((2.09, 1.08), abs=0.01)
-    assert without.bandwidth == pytest.approx((0.358, 0.569), abs=0.002)
-    assert with_offset.bandwidth == pytest.approx((0.407, 0.423), abs=0.002)
-    assert (without.at_1p, with_offset.at_1p) == pytest.approx((1.85, 1.92), abs=0.01)
+    assert (without.rga, with_offset.rga) == pytest.approx((0.823, 1.000), abs=0.002)
+    assert (without.peak, without.peak_frequency) == pytest.approx((4.20, 0.86), abs=0.01)
+    assert (with_offset.peak, with_offset.peak_frequency) == pytest.approx((2.07, 1.08), abs=0.01)
+    assert without.bandwidth == pytest.approx((0.357, 0.567), abs=0.002)
+    assert with_offset.bandwidth == pytest.approx((0.406, 0.422), abs=0.002)
+    assert (without.at_1p, with_offset.at_1p) == pytest.approx((1.85, 1.91), abs=0.01)
 
 
 def _exit_code(words: list) -> int:

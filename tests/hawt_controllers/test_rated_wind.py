@@ -1,7 +1,7 @@
-"""Near rated wind the baseline graph settles (issue 13): Jonkman's collective PI on this plant grew a 0.05 Hz limit
-cycle at 11.4 m/s; with K_I x 0.4 near rated (hawt_controllers.laws.collective.integral_gain_factor) steady wind at 10.5,
-11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0.021, 0.004 deg over the last
-60 s of 120 s; 0, 0.012, 0.004 over the last 100 s of 200 s, where the 11.4 m/s run is still settling)."""
+"""Near rated wind the baseline graph settles (issue 13): Jonkman's collective PI on this plant grows a 0.05 Hz limit
+cycle just above rated; with K_I x 0.4 near rated (hawt_controllers.laws.collective.integral_gain_factor) steady wind
+at 10.5, 11.4 and 12.5 m/s settles to a pitch standard deviation below 0.05 deg (measured 0, 0, 0.005 deg over the
+last 60 s of 120 s: at 11.4 m/s in uniform wind the plant holds fine pitch)."""
 import dataclasses
 
 import numpy as np
@@ -34,10 +34,13 @@ def test_steady_wind_near_rated_settles(wind_speed):
     assert _pitch_std(wind_speed) < 0.05
 
 
-def test_with_jonkmans_integral_gain_near_rated_the_limit_cycle_returns(tmp_path):
-    """The same run at 11.4 m/s with the factor set to 1 (Jonkman's DISCON): pitch std 0.51 deg (0.49 over the last
-    100 s of 200 s: the limit cycle has grown within the first minute)."""
+def test_with_jonkmans_integral_gain_just_above_rated_the_limit_cycle_returns(tmp_path):
+    """The same run with the factor set to 1 (Jonkman's DISCON) at 11.44 m/s, just above where this plant reaches rated
+    power in uniform wind (at 11.4 m/s it holds fine pitch): pitch std 0.21 deg against 0.016 with the factor. (Before
+    the elements' inflow took the deflected blade's slope the plant pitched 1.25 deg at 11.4 m/s and the cycle there
+    had 0.51 deg; at 11.42 and 11.46 m/s it now has 0.10 and 0.04, at 11.5-12 m/s none: the cycle lives where the
+    pitch leaves fine pitch.)"""
     jonkman = dataclasses.replace(load_baseline_config(), near_rated_integral_factor=1.0)
     path = tmp_path / "jonkman.yaml"
     path.write_text(yaml.safe_dump({"source": "test", "parameters": dataclasses.asdict(jonkman)}))
-    assert _pitch_std(11.4, {"/wt1/cpc": [("controller_file", str(path))]}) > 0.3
+    assert _pitch_std(11.44, {"/wt1/cpc": [("controller_file", str(path))]}) > 0.1

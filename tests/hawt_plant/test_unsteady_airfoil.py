@@ -263,7 +263,9 @@ def test_in_axisymmetric_steady_flow_the_unsteady_model_stays_at_the_steady_valu
 def test_in_steady_sheared_wind_the_unsteady_model_stays_near_the_quasi_steady_one(turbine):
     """NREL 5 MW (tilt, cone, tower shadow) in steady sheared wind at 18 m/s, commands held: over each of five
     revolutions dynamic stall changes the mean blade-root moment and aerodynamic torque by under 0.5 % and the
-    rotor speed by under 0.1 %, and these means do not drift (the tower passage's dip itself differs)."""
+    rotor speed by under 0.1 %, and it adds no drift to these means (the tower passage's dip itself differs): from
+    the second revolution to the fifth they move as the quasi-steady model's settle (its aerodynamic torque by 0.11 %),
+    within 0.1 %."""
     runs = [simulate(TurbineModel(turbine, PowerLawWind(18.0, shear_exponent=0.2),
                                   ModelConfig(unsteady_airfoil=on)), 3000) for on in (False, True)]
     revolution = round(2.0 * math.pi / runs[0]["rotor_speed"][0] / 0.01)
@@ -272,7 +274,8 @@ def test_in_steady_sheared_wind_the_unsteady_model_stays_near_the_quasi_steady_o
     for name, quasi_steady in means[0].items():
         tolerance = 1e-3 if name == "rotor_speed" else 5e-3
         np.testing.assert_allclose(means[1][name], quasi_steady, rtol=tolerance, err_msg=name)
-        assert abs(means[1][name][-1] - means[1][name][1]) < 1e-3 * abs(quasi_steady[1]), name
+        drift = [run_means[name][-1] - run_means[name][1] for run_means in means]
+        assert abs(drift[1] - drift[0]) < 1e-3 * abs(quasi_steady[1]), name
 
 
 def test_a_turbulent_run_with_dynamic_stall_stays_finite_and_close_to_quasi_steady(turbine):
