@@ -143,6 +143,19 @@ def test_a_repeated_step_is_answered_again_without_advancing_the_law(graph):
     assert np.isclose(seen[2].cos, 2 * seen[0].cos, rtol=1e-9)
 
 
+def _ipc_in_handover_at_step_3(graph, plant: FakePlant, name: str) -> ControllerNode:
+    """The 1P ipc ``name``, configured and knowing the switch that hands harmonic/1 from ipc_a (active) to ipc_b at
+    step 3, which ``plant`` publishes."""
+    context, add, spin_until = graph
+    switch = ControllerSwitch(step=3, activate=["/cn/ipc_b"], activate_interfaces=["harmonic/1"],
+                              deactivate=["/cn/ipc_a"], deactivate_interfaces=["harmonic/1"], ramp_time=0.0)
+    plant.create_publisher(ControllerSwitch, SWITCHES, LATCHED).publish(switch)
+    node = add(ControllerNode("ipc", context=context, cli_args=_arguments(active=name == "ipc_a", lowpass_order=0)
+                              + ["-r", f"__node:={name}"]))
+    spin_until(lambda: node.switches is not None and node.switches.pending, f"{name} configured, switch known")
+    return node
+
+
 def test_a_replacing_controller_waits_for_the_outgoing_output_of_the_step_before(graph):
     """ipc_b replaces ipc_a on harmonic/1 at step 3. The loads of step 3 reach ipc_b before ipc_a's output of
     step 2 (a busy machine may deliver them so): ipc_b answers nothing until that output is there, then starts
@@ -150,12 +163,7 @@ def test_a_replacing_controller_waits_for_the_outgoing_output_of_the_step_before
     context, add, spin_until = graph
     plant = add(FakePlant(context))
     outgoing = plant.create_publisher(HarmonicPitch, ipc_topic(1), CONTROL_LOOP_HISTORY)
-    switch = ControllerSwitch(step=3, activate=["/cn/ipc_b"], activate_interfaces=["harmonic/1"],
-                              deactivate=["/cn/ipc_a"], deactivate_interfaces=["harmonic/1"], ramp_time=0.0)
-    plant.create_publisher(ControllerSwitch, SWITCHES, LATCHED).publish(switch)
-    incoming = add(ControllerNode("ipc", context=context, cli_args=_arguments(active=False, lowpass_order=0) + [
-        "-r", "__node:=ipc_b"]))
-    spin_until(lambda: incoming.switches is not None and incoming.switches.pending, "ipc_b configured, switch known")
+    incoming = _ipc_in_handover_at_step_3(graph, plant, "ipc_b")
     for step, cos in ((0, 0.01), (1, 0.02)):
         outgoing.publish(HarmonicPitch(step=step, harmonic=1, cos=cos, sin=0.0))
         plant.send(step)
@@ -177,12 +185,7 @@ def test_a_controller_handed_over_at_a_step_it_never_saw_reports_the_switch_at_t
     step 3, and it says so, not that it came late; step 5 gets no output from it."""
     context, add, spin_until = graph
     plant = add(FakePlant(context))
-    switch = ControllerSwitch(step=3, activate=["/cn/ipc_b"], activate_interfaces=["harmonic/1"],
-                              deactivate=["/cn/ipc_a"], deactivate_interfaces=["harmonic/1"], ramp_time=0.0)
-    plant.create_publisher(ControllerSwitch, SWITCHES, LATCHED).publish(switch)
-    outgoing = add(ControllerNode("ipc", context=context, cli_args=_arguments(active=True, lowpass_order=0) + [
-        "-r", "__node:=ipc_a"]))
-    spin_until(lambda: outgoing.switches is not None and outgoing.switches.pending, "ipc_a configured, switch known")
+    outgoing = _ipc_in_handover_at_step_3(graph, plant, "ipc_a")
     for step in (0, 1, 2, 5):
         plant.send(step)
         spin_until(lambda: outgoing.answer.last is not None and outgoing.answer.last.step == step, f"step {step}")
