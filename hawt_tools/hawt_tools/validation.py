@@ -27,10 +27,11 @@ from hawt_analysis.summary import summarize
 from hawt_tools.openfast_case import CaseInputs, WrittenCase, deck_hub_height, output_of, run_openfast, write_case
 
 if TYPE_CHECKING:
+    from hawt_plant.turbine import Turbine
     from hawt_tools.in_process import InProcessRun
 
 __all__ = ["Check", "Figure", "DEFAULT_CASES", "FIGURES", "LOAD_PATHS", "STEADY_CHECKS", "TURBULENT_CHECKS", "ValidationCase", "CaseResult",
-           "case_figures", "compare_figures", "parse_case", "run_case", "write_report"]
+           "case_figures", "compare_figures", "not_like_for_like", "parse_case", "run_case", "write_report"]
 
 
 @dataclass(frozen=True)
@@ -348,6 +349,7 @@ def run_case(case: ValidationCase, turbine: str, graph_path: Path, deck: Path, o
     rows = compare_figures(case_figures(hawt_channels), case_figures(openfast_channels), checks)
     settings = {"plant": f"{aerodynamics_line(run.turbine, run.plant_values)}, dt {run.plant_values['dt']} s",
                 "hub_height_openfast": written.hub_height, "hub_height_hawt": run.turbine.hub_height,
+                "not_like_for_like": not_like_for_like(run.turbine),
                 "initial": {"rotor_speed_rpm": float(output.rotor_speed) * 30 / math.pi,
                             "pitch_deg": [math.degrees(p) for p in output.pitch],
                             "tower_top_m": (float(output.tower_top_fa_disp), float(output.tower_top_ss_disp))}}
@@ -374,6 +376,19 @@ def case_table(result: CaseResult) -> List[str]:
     return lines
 
 
+def not_like_for_like(turbine: Turbine) -> List[str]:
+    """What the two sides model differently by construction, as sentences for the report: a tower on a flexible base
+    (its substructure's sections in the plant's tower mode) against OpenFAST's deck, which a case runs on a rigid base
+    (:data:`hawt_tools.openfast_case.FIXED_BOTTOM`)."""
+    tower = turbine.tower
+    if tower.base_kind != "flexible":
+        return []
+    return [f"The plant's tower stands on its flexible substructure (the beam clamped at {tower.clamp_height:g} m, "
+            f"the tower's base at {tower.base_height:g} m); OpenFAST runs the deck on a rigid base (no substructure, "
+            "waves or soil), so the tower's mode, and with it the tower's figures (its 3P above all), are not like "
+            "for like."]
+
+
 def report_text(turbine: str, openfast: Path, results: Sequence[CaseResult]) -> str:
     """``validation.md``: what was run and every case's table."""
     within = sum(row["within"] for r in results for row in r.rows)
@@ -384,6 +399,9 @@ def report_text(turbine: str, openfast: Path, results: Sequence[CaseResult]) -> 
              "pitch, azimuth, tower-top displacements); each figure is computed by hawt's analysis over the last part "
              "of the run, the same window on both sides.", "",
              f"**{within} of {total} figures within tolerance.**", ""]
+    notes = results[0].settings.get("not_like_for_like", []) if results else []
+    if notes:
+        lines += [" ".join(notes), ""]
     for result in results:
         case = result.case
         wind = (f"IEC class {case.turbulence_class} turbulence, seed {case.seed}, the plant's field as a TurbSim .bts"

@@ -11,7 +11,7 @@ import pytest
 from hawt_analysis.synthetic_run import synthetic_channels
 from hawt_tools.cli import main
 from hawt_tools.validation import (DEFAULT_CASES, STEADY_CHECKS, TURBULENT_CHECKS, Check, case_figures,
-                                   compare_figures, parse_case)
+                                   compare_figures, not_like_for_like, parse_case)
 
 
 def test_the_default_cases_are_issue_29s():
@@ -50,6 +50,21 @@ def test_a_difference_is_relative_to_openfast_or_absolute_in_degrees():
     assert (power["hawt"], power["openfast"], power["difference"], power["within"]) == pytest.approx(
         (5.1, 5.0, 0.02, True))
     assert pitch["unit"] == "deg" and pitch["difference"] == pytest.approx(0.4) and not pitch["within"]
+
+
+def test_the_report_says_when_the_towers_are_not_like_for_like():
+    """A tower on the ground is; one on a flexible substructure is not, against OpenFAST's deck on a rigid base: the
+    report says so, naming the clamp and the base."""
+    from dataclasses import replace
+
+    from hawt_plant.turbine import nrel_5mw
+
+    turbine = nrel_5mw()
+    assert not_like_for_like(turbine) == []
+    monopile = replace(turbine, tower=replace(turbine.tower, base_height=15.0, clamp_height=-30.0))
+    [note] = not_like_for_like(monopile)
+    assert "flexible substructure (the beam clamped at -30 m, the tower's base at 15 m)" in note
+    assert "rigid base" in note
 
 
 def test_a_runs_figures_are_hawts_analysis_of_its_channels():
