@@ -144,12 +144,13 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                    drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, drag_loads: np.ndarray) -> None:
     """The wind at every element with the tower shadow (:func:`hawt_plant.tower_shadow.shadow`, at the element
     relative to the tower top's position) into ``wind`` (3, B, N), and the inflow without induction into ``inflow``
-    (2, B, N): vx = V . e_n' - (the element's velocity along e_n), vy = -V . e_t + (its velocity along e_t), the element
-    moving with the tower, its blade's modes and the rotation (omega r, r = s_abs cos cone). e_n' = cos gamma e_n -
-    sin gamma e_z is the normal the deflected blade's out-of-plane slope turns towards the span, as AeroDyn's BEM frame
-    keeps the node's out-of-plane rotation (its "cant"; ``AeroDyn.f90``, Calculate_MeshOrientation_NoSweepPitchTwist);
-    tan gamma = d(deflection along e_n)/ds from ``deflection`` (:func:`place_elements`) and ``mode_slopes`` (2, N),
-    the flap and edgewise shapes' slopes d phi/ds [1/m] at the elements.
+    (2, B, N): vx = (V - the element's velocity) . e_n' (its velocity along e_z taken as 0), vy = -V . e_t + (its
+    velocity along e_t), the element moving with the tower, its blade's modes and the rotation (omega r, r = s_abs cos
+    cone). e_n' = cos gamma e_n - sin gamma e_z is the normal the deflected blade's out-of-plane slope turns towards
+    the span, as AeroDyn's BEM frame keeps the node's out-of-plane rotation (its "cant"; ``AeroDyn.f90``,
+    Calculate_MeshOrientation_NoSweepPitchTwist); tan gamma = d(deflection along e_n)/ds from ``deflection``
+    (:func:`place_elements`) and ``mode_slopes`` (2, N), the flap and edgewise shapes' slopes d phi/ds [1/m] at the
+    elements.
 
     ``velocity`` is the wind at ``samples`` (:func:`place_elements`); ``rates`` the structural rates (as
     ``displacement``). With tower drag nodes (``drag_constants`` (4, K): :class:`~hawt_plant.tower_drag.TowerDrag`'s
