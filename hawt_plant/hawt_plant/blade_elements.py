@@ -52,7 +52,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         skew_angle: float,
                         cos_azimuth: np.ndarray, unsteady: bool, pitch_rate: np.ndarray,
                         unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray,
-                        sums: np.ndarray) -> None:
+                        slopes: np.ndarray, sums: np.ndarray) -> None:
     """One step of every blade element (module notes); updates the induction when ``update``.
 
     Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
@@ -66,8 +66,10 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     ``unsteady_*`` arguments :attr:`~hawt_plant.unsteady_airfoil.UnsteadyAirfoil.kernel_arrays` and
     ``pitch_rate`` (B,), each blade's pitch rate [rad/s], its sections turning nose-up at minus it (used when
     ``unsteady``). Without
-    ``update`` the static polars give the loads (the dynamic stall states are settled at this state). Writes
-    ``sums`` (2, B, F): each blade's dF_n and dF_t summed against each span function.
+    ``update`` the static polars give the loads (the dynamic stall states are settled at this state). The normal force
+    acts along the normal that the deflected blade's out-of-plane slope turns, cos g e_n - sin g e_z (``slopes`` (B,
+    N), tan g; :func:`hawt_plant.model_step.element_inflow`), as AeroDyn applies it in its BEM frame. Writes ``sums``
+    (3, B, F): each blade's loads along e_n, e_t and e_z summed against each span function.
     """
     blades, elements = pitch_twist.shape
     sums[:] = 0.0
@@ -114,9 +116,12 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
             q = (un * un + ut * ut) * pressure_to_load[i, j]
             normal = q * (cl * cos_phi + cd * sin_phi)
             tangential = q * (cl * sin_phi - cd * cos_phi)
+            cos_gamma = 1.0 / math.sqrt(1.0 + slopes[i, j] * slopes[i, j])
+            along_n, along_z = normal * cos_gamma, -normal * slopes[i, j] * cos_gamma
             for m in range(span_functions.shape[1]):
-                sums[0, i, m] += normal * span_functions[j, m]
+                sums[0, i, m] += along_n * span_functions[j, m]
                 sums[1, i, m] += tangential * span_functions[j, m]
+                sums[2, i, m] += along_z * span_functions[j, m]
 
 
 def disk_weights(tip_ratio: np.ndarray) -> np.ndarray:

@@ -36,7 +36,8 @@ Aerodynamics: blade-element momentum (:mod:`hawt_plant.bem`) on every element of
 at its own azimuth, the inflow sampled from the wind field at the element's position (shear,
 turbulence and tower shadow are seen by the rotating blade), the element's own motion (flap,
 tower) in the relative velocity, its normal turned by the deflected blade's out-of-plane slope as AeroDyn's BEM frame
-is (:func:`~hawt_plant.model_step.element_inflow`), and the induction carried from step to step: a few relaxed
+is (the axial inflow taken and the normal force applied along it: :func:`~hawt_plant.model_step.element_inflow`,
+:func:`~hawt_plant.blade_elements.blade_element_loads`), and the induction carried from step to step: a few relaxed
 fixed-point iterations per step from the previous step's induction, or Øye's dynamic inflow.
 
 Structure: assumed modes with Kane-style generalized forces. Every blade element's load
@@ -863,7 +864,8 @@ class TurbineModel:
         self._twist = bem.twist
         self._blade_constants = (bem.polars.table, *bem.polars.grid_constants, bem.loss_exponents, bem.local_solidity,
                                  self._induction_bounds, self._pressure_to_load, self._span_functions)
-        self._aero_sums = np.empty((2, b, len(self._element_basis)))
+        self._aero_sums = np.empty((3, b, len(self._element_basis)))
+        self._element_slopes = np.zeros((b, n))  # tan of the deflected blade's out-of-plane slope at the elements
         # What the other kernels write (model_step).
         self._loads = np.empty((len(LOAD_ROWS), b))
         self._mode_stiffness_now, self._mode_residual, self._scaled_residual = (np.empty(2 * b) for _ in range(3))
@@ -909,7 +911,8 @@ class TurbineModel:
             self._apex_wind = velocity[:, 0, n].tolist()
         element_inflow(velocity, samples, displacement, self._velocity, self._rotor_speed, constants, features,
                        directions, self._point_basis, self._deflection_parts, self._mode_slopes, *self._shadow,
-                       self._drag_constants, self._element_wind, self._inflow, self._drag_loads)
+                       self._drag_constants, self._element_wind, self._inflow, self._element_slopes,
+                       self._drag_loads)
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix
@@ -922,7 +925,7 @@ class TurbineModel:
                             config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
                             self._tip_ratio, self._disk_weights, skewed, skew_angle, cos_azimuth, unsteady is not None,
                             self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
-                            aero)
+                            self._element_slopes, aero)
         generalized_forces(aero, self._trig, self._features, self._mode_directions, self._deflection_parts,
                            self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,
                            self._drag_loads, self._constants, self._load_operator, self._mode_constants, self._loads,

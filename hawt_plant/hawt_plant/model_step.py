@@ -39,6 +39,7 @@ LOAD_ROWS = (("n", 0), ("n", 1), ("n", 2), ("n", 3), ("t", 0), ("t", 1), ("t", 2
 summed against 1, s (from the root), phi_flap and phi_edge (0..3); the e_n and e_t rows first, four each, as the
 aerodynamic sums come."""
 _N0, _N1, _N2, _N3, _T0, _T1, _T2, _T3, _Z0, _Z2, _Z3 = range(len(LOAD_ROWS))
+_Z_FUNCTIONS = tuple(f for d, f in LOAD_ROWS if d == "z")  # the span functions of the e_z rows
 
 FEATURE_BLOCKS = (("basis", 9), ("tower_fa", len(LOAD_ROWS)), ("tower_ss", len(LOAD_ROWS)), ("coupling", 8),
                   ("inertia_fa", len(LOAD_ROWS)), ("inertia_ss", len(LOAD_ROWS)), ("fa_mass", 2),
@@ -141,7 +142,8 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                    rotor_speed: float, constants: np.ndarray, features: np.ndarray, directions: np.ndarray,
                    point_basis: np.ndarray, deflection: np.ndarray, mode_slopes: np.ndarray, shadow_on: bool,
                    downwind: bool, shadow_drag: float, shadow_elevation: np.ndarray, shadow_outline: np.ndarray,
-                   drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, drag_loads: np.ndarray) -> None:
+                   drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, slopes: np.ndarray,
+                   drag_loads: np.ndarray) -> None:
     """The wind at every element with the tower shadow (:func:`hawt_plant.tower_shadow.shadow`, at the element
     relative to the tower top's position) into ``wind`` (3, B, N), and the inflow without induction into ``inflow``
     (2, B, N): vx = (V - the element's velocity) . e_n' (its velocity along e_z taken as 0), vy = -V . e_t + (its
@@ -150,7 +152,8 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
     the span, as AeroDyn's BEM frame keeps the node's out-of-plane rotation (its "cant"; ``AeroDyn.f90``,
     Calculate_MeshOrientation_NoSweepPitchTwist); tan gamma = d(deflection along e_n)/ds from ``deflection``
     (:func:`place_elements`) and ``mode_slopes`` (2, N), the flap and edgewise shapes' slopes d phi/ds [1/m] at the
-    elements.
+    elements; it goes to ``slopes`` (B, N) too, for the element forces' directions
+    (:func:`hawt_plant.blade_elements.blade_element_loads`).
 
     ``velocity`` is the wind at ``samples`` (:func:`place_elements`); ``rates`` the structural rates (as
     ``displacement``). With tower drag nodes (``drag_constants`` (4, K): :class:`~hawt_plant.tower_drag.TowerDrag`'s
@@ -187,6 +190,7 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                                      + motion[row, 0] * point_basis[0, j] + motion[row, 1] * point_basis[1, j]
                                      + motion[row, 2] * point_basis[2, j] + motion[row, 3] * point_basis[3, j])
             slope = flap_n * mode_slopes[0, j] + edge_n * mode_slopes[1, j]  # tan gamma
+            slopes[i, j] = slope
             cos_gamma = 1.0 / math.sqrt(1.0 + slope * slope)
             inflow[0, i, j] = cos_gamma * (inflow[0, i, j] - slope * (features[BASIS + 6, i] * u
                                                                       + features[BASIS + 7, i] * v
@@ -222,7 +226,8 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
     """The loads without the inertia of the accelerations (unknown yet), the generalized forces and the mass matrix
     reduced to the tower and the rotor (model notes).
 
-    ``aero`` (2, B, 4): each blade's aerodynamic load sums (:func:`~hawt_plant.blade_elements.blade_element_loads`);
+    ``aero`` (3, B, 4): each blade's aerodynamic load sums along e_n, e_t and e_z
+    (:func:`~hawt_plant.blade_elements.blade_element_loads`);
     ``load_operator`` (11, 6): the gravity and centrifugal load rows, linear in cos psi, sin psi, 1, omega^2 and
     omega^2 times each mode's deflection along e_t; ``mode_constants`` (5, 2B): the modes' stiffness, centrifugal
     stiffening, damping, 1/sqrt(generalized mass) (0 for a mode that does not move) and arm in the rotor's rotation.
@@ -232,14 +237,15 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
     """
     blades = aero.shape[1]
     modes = 2 * blades
-    normal = tangential_0 = tangential_1 = gravity = 0.0
+    normal = tangential_0 = tangential_1 = gravity = spanwise = 0.0
     for i in range(blades):
         normal += aero[0, i, 0]
+        spanwise += aero[2, i, 0]
         tangential_0 += aero[1, i, 0]
         tangential_1 += aero[1, i, 1]
         gravity += features[BASIS + 5, i]  # e_t's z
     cone = constants[_COS_CONE]
-    forces[_THRUST] = cone * normal
+    forces[_THRUST] = cone * normal - constants[_SIN_CONE] * spanwise
     aero_torque = cone * (tangential_1 + constants[_HUB_RADIUS] * tangential_0)
     gravity_torque = -constants[_GRAVITY] * constants[_MASS_RADIUS] * gravity
     shaft = constants[_TORSIONAL_STIFFNESS] * torsion + constants[_TORSIONAL_DAMPING] * (rotor_speed - generator_speed)
@@ -252,8 +258,7 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
         for r in range(loads.shape[0]):
             load = (load_operator[r, 0] * trig[0, i] + load_operator[r, 1] * trig[1, i] + load_operator[r, 2]
                     + load_operator[r, 3] * omega2 + load_operator[r, 4] * flap_t + load_operator[r, 5] * edge_t)
-            if r < 8:
-                load += aero[r // 4, i, r % 4]
+            load += aero[r // 4, i, r % 4] if r < 8 else aero[2, i, _Z_FUNCTIONS[r - 8]]
             loads[r, i] = load
             tower_fa += features[TOWER_FA + r, i] * load
             tower_ss += features[TOWER_SS + r, i] * load

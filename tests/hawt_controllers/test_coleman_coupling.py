@@ -120,7 +120,7 @@ def test_the_project_transforms_around_three_first_order_blades_give_this_plant(
 
 def test_on_the_nrel_5mw_the_measured_offset_is_the_ipc_designs_and_decouples_tilt_from_yaw():
     """hawt coupling's survey at 18 m/s, 1P: the offset is the phase the IPC design measured
-    (data/ipc_nrel5mw.yaml, ipc_h1), 24.6 deg (Disario: 19 deg for FAST's NREL 5 MW, pitch angle in; here the
+    (data/ipc_nrel5mw.yaml, ipc_h1), 24.5 deg (Disario: 19 deg for FAST's NREL 5 MW, pitch angle in; here the
     pitch actuator's 7.9 deg lag at 1P and a step's delay are inside); without it tilt leaks into yaw."""
     import yaml
 
@@ -130,7 +130,7 @@ def test_on_the_nrel_5mw_the_measured_offset_is_the_ipc_designs_and_decouples_ti
     point, = coupling_survey(nrel_5mw(), [18.0], [1])
     designed = yaml.safe_load(DEFAULT_FILE.read_text())["/**/ipc_h1"]["ros__parameters"]["phase_offset"]
     assert point.offset == pytest.approx(designed, abs=1e-9)
-    assert math.degrees(point.offset) == pytest.approx(24.6, abs=0.1)
+    assert math.degrees(point.offset) == pytest.approx(24.5, abs=0.1)
     assert point.cross_gain == pytest.approx(math.tan(point.offset)) and point.rga < 0.85
 
 
