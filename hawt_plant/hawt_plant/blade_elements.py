@@ -52,7 +52,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                         skew_angle: float,
                         cos_azimuth: np.ndarray, unsteady: bool, pitch_rate: np.ndarray,
                         unsteady_states: np.ndarray, unsteady_table: np.ndarray, unsteady_constants: np.ndarray,
-                        slopes: np.ndarray, sums: np.ndarray) -> None:
+                        normals: np.ndarray, sums: np.ndarray) -> None:
     """One step of every blade element (module notes); updates the induction when ``update``.
 
     Shapes: ``inflow`` (vx, vy), ``induction_factors`` (a, a'): (2, B, N);
@@ -67,8 +67,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     ``pitch_rate`` (B,), each blade's pitch rate [rad/s], its sections turning nose-up at minus it (used when
     ``unsteady``). Without
     ``update`` the static polars give the loads (the dynamic stall states are settled at this state). The normal force
-    acts along the normal that the deflected blade's out-of-plane slope turns, cos g e_n - sin g e_z (``slopes`` (B,
-    N), tan g; :func:`hawt_plant.model_step.element_inflow`), as AeroDyn applies it in its BEM frame. Writes ``sums``
+    acts along the normal that the deflected blade's out-of-plane slope turns, cos g e_n - sin g e_z (``normals`` (2,
+    B, N), tan g and cos g; :func:`hawt_plant.model_step.element_inflow`), as AeroDyn applies it in its BEM frame. Writes ``sums``
     (3, B, F): each blade's loads along e_n, e_t and e_z summed against each span function.
     """
     blades, elements = pitch_twist.shape
@@ -116,8 +116,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
             q = (un * un + ut * ut) * pressure_to_load[i, j]
             normal = q * (cl * cos_phi + cd * sin_phi)
             tangential = q * (cl * sin_phi - cd * cos_phi)
-            cos_gamma = 1.0 / math.sqrt(1.0 + slopes[i, j] * slopes[i, j])
-            along_n, along_z = normal * cos_gamma, -normal * slopes[i, j] * cos_gamma
+            slope, cos_gamma = normals[0, i, j], normals[1, i, j]
+            along_n, along_z = normal * cos_gamma, -normal * slope * cos_gamma
             for m in range(span_functions.shape[1]):
                 sums[0, i, m] += along_n * span_functions[j, m]
                 sums[1, i, m] += tangential * span_functions[j, m]

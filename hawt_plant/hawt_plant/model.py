@@ -724,7 +724,7 @@ class TurbineModel:
         edge = edge_mode or BladeMode(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # rigid: no coupling, never advanced
         edge_arms = (edge.modal_first_moment, edge.modal_moment_arm + rh * edge.modal_first_moment)
         # The structural twist turns each mode's deflection from the pitch's direction (modal.twisted_tip_angle).
-        self._flap_twist, self._edge_twist = blade.twist_angle, edge.twist_angle
+        flap_twist, edge_twist = blade.twist_angle, edge.twist_angle
         # The blades' modes as one array [flap 1..B, edge 1..B]: generalized mass, stiffness, centrifugal stiffening,
         # damping; a mode that does not move (the blades of a shut-down rotor, a blade rigid edgewise) has 0 as its
         # 1/sqrt(mass), which takes it out of the mass matrix and gives it no acceleration.
@@ -865,7 +865,7 @@ class TurbineModel:
         self._blade_constants = (bem.polars.table, *bem.polars.grid_constants, bem.loss_exponents, bem.local_solidity,
                                  self._induction_bounds, self._pressure_to_load, self._span_functions)
         self._aero_sums = np.empty((3, b, len(self._element_basis)))
-        self._element_slopes = np.zeros((b, n))  # tan of the deflected blade's out-of-plane slope at the elements
+        self._element_normals = np.zeros((2, b, n))  # tan and cos of the deflected blade's slope at the elements
         # What the other kernels write (model_step).
         self._loads = np.empty((len(LOAD_ROWS), b))
         self._mode_stiffness_now, self._mode_residual, self._scaled_residual = (np.empty(2 * b) for _ in range(3))
@@ -890,7 +890,7 @@ class TurbineModel:
             fa_gravity_moment=fa.modal_first_moment - fa.base_shape * fa.mass_above_base,
             ss_gravity_moment=ss.modal_first_moment - ss.base_shape * ss.mass_above_base,
             nacelle_mass=nacelle.mass, nacelle_x=xn, nacelle_z=zn, hub_mass=rotor.hub_mass,
-            flap_twist=self._flap_twist, edge_twist=self._edge_twist)
+            flap_twist=flap_twist, edge_twist=edge_twist)
 
     # ------------------------------------------------------------------ loads (model_step's kernels)
 
@@ -911,7 +911,7 @@ class TurbineModel:
             self._apex_wind = velocity[:, 0, n].tolist()
         element_inflow(velocity, samples, displacement, self._velocity, self._rotor_speed, constants, features,
                        directions, self._point_basis, self._deflection_parts, self._mode_slopes, *self._shadow,
-                       self._drag_constants, self._element_wind, self._inflow, self._element_slopes,
+                       self._drag_constants, self._element_wind, self._inflow, self._element_normals,
                        self._drag_loads)
 
     def _evaluate_loads(self, update_induction: bool) -> None:
@@ -925,7 +925,7 @@ class TurbineModel:
                             config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
                             self._tip_ratio, self._disk_weights, skewed, skew_angle, cos_azimuth, unsteady is not None,
                             self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
-                            self._element_slopes, aero)
+                            self._element_normals, aero)
         generalized_forces(aero, self._trig, self._features, self._mode_directions, self._deflection_parts,
                            self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,
                            self._drag_loads, self._constants, self._load_operator, self._mode_constants, self._loads,

@@ -142,7 +142,7 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                    rotor_speed: float, constants: np.ndarray, features: np.ndarray, directions: np.ndarray,
                    point_basis: np.ndarray, deflection: np.ndarray, mode_slopes: np.ndarray, shadow_on: bool,
                    downwind: bool, shadow_drag: float, shadow_elevation: np.ndarray, shadow_outline: np.ndarray,
-                   drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, slopes: np.ndarray,
+                   drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, normals: np.ndarray,
                    drag_loads: np.ndarray) -> None:
     """The wind at every element with the tower shadow (:func:`hawt_plant.tower_shadow.shadow`, at the element
     relative to the tower top's position) into ``wind`` (3, B, N), and the inflow without induction into ``inflow``
@@ -152,7 +152,7 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
     the span, as AeroDyn's BEM frame keeps the node's out-of-plane rotation (its "cant"; ``AeroDyn.f90``,
     Calculate_MeshOrientation_NoSweepPitchTwist); tan gamma = d(deflection along e_n)/ds from ``deflection``
     (:func:`place_elements`) and ``mode_slopes`` (2, N), the flap and edgewise shapes' slopes d phi/ds [1/m] at the
-    elements; it goes to ``slopes`` (B, N) too, for the element forces' directions
+    elements; tan gamma and cos gamma go to ``normals`` (2, B, N), for the element forces' directions
     (:func:`hawt_plant.blade_elements.blade_element_loads`).
 
     ``velocity`` is the wind at ``samples`` (:func:`place_elements`); ``rates`` the structural rates (as
@@ -190,8 +190,8 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                                      + motion[row, 0] * point_basis[0, j] + motion[row, 1] * point_basis[1, j]
                                      + motion[row, 2] * point_basis[2, j] + motion[row, 3] * point_basis[3, j])
             slope = flap_n * mode_slopes[0, j] + edge_n * mode_slopes[1, j]  # tan gamma
-            slopes[i, j] = slope
             cos_gamma = 1.0 / math.sqrt(1.0 + slope * slope)
+            normals[0, i, j], normals[1, i, j] = slope, cos_gamma
             inflow[0, i, j] = cos_gamma * (inflow[0, i, j] - slope * (features[BASIS + 6, i] * u
                                                                       + features[BASIS + 7, i] * v
                                                                       + features[BASIS + 8, i] * w))
