@@ -46,7 +46,8 @@ deflection moves the mass off the radius, softens the edgewise one) is projected
 motion each coordinate gives it; the tower-top rotation of the fore-aft mode nods the rotor (the loads' arms
 through the blades' deflections included, as the hub tilt moment has them), the side-side mode translates it, rolls
 it (the part about the tilted shaft's vertical axis yaws the rotor; the part about the shaft is the drivetrain's roll
-reaction). The mass matrix
+reaction, and twists the shaft through the gearbox that rolls with the nacelle; the rotor and generator speeds stay
+inertial, where ElastoDyn's sensors read them relative to the nacelle: they differ by the roll rate). The mass matrix
 follows the azimuth and the pitch: the blades' modes couple with the tower and, by their part along e_t, with the
 rotor's rotation (the drivetrain's torsion takes the blades' collective edgewise bending with it); each step solves it
 by eliminating every blade's modes (their blocks are diagonal) and then the rotor from a 3 x 3 system with the
@@ -79,7 +80,8 @@ from hawt_plant.blade_elements import MIN_INFLOW, blade_element_loads, disk_weig
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
 from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance_structure,
-                                   constant_array, element_inflow, generalized_forces, measured_loads, place_elements)
+                                   constant_array, element_inflow, generalized_forces, measured_loads, place_elements,
+                                   torsion_rate)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.rotor_state import ROTOR_STATES
@@ -544,7 +546,7 @@ class TurbineModel:
         self._rotor_speed += dt * acceleration[-1]
         if not self._parked:
             self._generator_speed += dt * self._generator_acceleration(acting)
-        self._torsion += dt * (self._rotor_speed - self._generator_speed)
+        self._torsion += dt * torsion_rate(self._rotor_speed, self._generator_speed, self._velocity[1], self._constants)
         self._azimuth = (self._azimuth + dt * self._rotor_speed) % (2.0 * math.pi)
         self._pitch, self._pitch_rate = self._pitch_actuator.step(self._pitch, self._pitch_rate, command)
         self._step_index += 1
@@ -620,7 +622,8 @@ class TurbineModel:
             - 2.0 * zeta * w * self._pitch_rate
         kept = self._structural_states
         derivative = np.concatenate(((acceleration[-1], self._generator_acceleration(acting),
-                                      self._rotor_speed - self._generator_speed), self._velocity[kept],
+                                      torsion_rate(self._rotor_speed, self._generator_speed, self._velocity[1],
+                                                   self._constants)), self._velocity[kept],
                                      acceleration[:-1][kept], self._pitch_rate, pitch_acceleration))
         return derivative, self._make_output(acceleration)
 

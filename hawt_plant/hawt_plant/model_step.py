@@ -216,6 +216,19 @@ def deflection_moments(rows: np.ndarray, deflection: np.ndarray, i: int) -> tupl
 
 
 @njit
+def torsion_rate(rotor_speed: float, generator_speed: float, side_side_rate: float, constants: np.ndarray) -> float:
+    """The shaft's rate of twist [rad/s]: the rotor's spin less the generator's (both inertial, the generator's
+    referred to the low-speed shaft), less the gearbox's share of the nacelle's roll about the shaft, (1 - 1/N) times
+    the roll rate -slope_ss cos(tilt) y' of the side-side mode. The gearbox turns with the nacelle, so a roll with the
+    rotor and generator still twists the shaft, as in ElastoDyn, whose drivetrain azimuths are relative to the
+    nacelle (Jonkman 2005, the FAST theory's DOF_DrTr and DOF_GeAz); the shaft torque's roll reaction on the
+    side-side mode (:func:`generalized_forces`: -slope_ss cos(tilt) (1 - 1/N) times the shaft torque) is the force
+    of this kinematics."""
+    roll_twist = constants[_SLOPE_SS] * constants[_COS_TILT] * (1.0 - 1.0 / constants[_GEARBOX_RATIO])
+    return rotor_speed - generator_speed + roll_twist * side_side_rate
+
+
+@njit
 def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray,
                        deflection: np.ndarray, displacement: np.ndarray, rates: np.ndarray, rotor_speed: float,
                        generator_speed: float, torsion: float, drag_loads: np.ndarray, constants: np.ndarray,
@@ -248,7 +261,8 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
     forces[_THRUST] = cone * normal - constants[_SIN_CONE] * spanwise
     aero_torque = cone * (tangential_1 + constants[_HUB_RADIUS] * tangential_0)
     gravity_torque = -constants[_GRAVITY] * constants[_MASS_RADIUS] * gravity
-    shaft = constants[_TORSIONAL_STIFFNESS] * torsion + constants[_TORSIONAL_DAMPING] * (rotor_speed - generator_speed)
+    shaft = constants[_TORSIONAL_STIFFNESS] * torsion + constants[_TORSIONAL_DAMPING] * torsion_rate(
+        rotor_speed, generator_speed, rates[1], constants)
     forces[_AERO_TORQUE], forces[_GRAVITY_TORQUE], forces[_SHAFT_TORQUE] = aero_torque, gravity_torque, shaft
     omega2 = rotor_speed * rotor_speed
     cone_s = constants[_SIN_CONE]

@@ -41,15 +41,16 @@ def shipped():
     return {m.wind_speed: m for m in load_models(DEFAULT_MODELS)}
 
 
-@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.44, 21.9), (18.0, 2.94, 38.2),
-                                                              (24.0, 3.17, 57.4)])
+@pytest.mark.parametrize("speed, gain_margin, phase_margin", [(13.0, 2.43, 21.9), (18.0, 2.92, 38.1),
+                                                              (24.0, 3.12, 57.4)])
 def test_check_12_the_baseline_collective_loop_has_selvam_s_gain_margin_and_his_phase_margin_only_at_24_m_s(
         shipped, speed, gain_margin, phase_margin):
     """Check 12 asks GM >= 2 and PM >= 45 deg of the collective PI. This project's is Jonkman's baseline (PI on the
     0.25 Hz low-passed generator speed, gain-scheduled at the operating pitch), here on the model's collective pitch
     command -> generator speed (pitch actuator, drivetrain, blades' edgewise modes and tower included) with the torque
-    held: GM 2.44, 2.94, 3.17 and PM 21.9, 38.2, 57.4 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
-    only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (Before the elements' inflow took the
+    held: GM 2.43, 2.92, 3.12 and PM 21.9, 38.1, 57.4 deg at 13, 18, 24 m/s. A finding: Selvam's GM is met, his PM
+    only at 24 m/s (the speed filter alone takes 20-24 deg at the crossovers). (Before the nacelle's roll twisted the
+    shaft: GM 2.44, 2.94, 3.17, PM 21.9, 38.2, 57.4 deg; before the elements' inflow took the
     deflected blade's slope: GM 2.34, 2.92, 3.17; before the blade modes took the structural twist: GM 2.37, 2.96, 3.23,
     PM 21.2, 37.9, 57.3 deg. With the tower damped at the deck's
     ratio of the mode with the rotor on top rather than ElastoDyn's of the tower alone: GM 2.37, 2.98, 3.27. With the
