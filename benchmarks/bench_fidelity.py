@@ -268,9 +268,9 @@ def surfaces_section(turbine: Turbine, out: Path) -> tuple[list[str], bool]:
 
 def structural_modes(turbine: Turbine) -> dict[str, float]:
     """Natural frequencies [Hz] of the plant's coupled structural model at standstill with the generator
-    locked (held still: locked to the rolling nacelle within 1/N of the roll) and no air: eigenvalues of the Jacobian of :meth:`TurbineModel.continuous_dynamics` over the
-    rotor speed, shaft torsion, tower, flap and edgewise coordinates and their rates, each mode named by its largest
-    displacement share, one mode per name."""
+    locked (held still: locked to the rolling nacelle within 1/N of the roll) and no air: eigenvalues of the Jacobian
+    of :meth:`TurbineModel.continuous_dynamics` over the rotor speed, shaft torsion, tower, flap and edgewise
+    coordinates and their rates, each mode named by its largest displacement share, one mode per name."""
     still = replace(turbine, environment=replace(turbine.environment, air_density=0.0))
     model = TurbineModel(still, make_wind(InflowSettings(kind="steady", wind_speed=5.0, shear_exponent=0.0)),
                          ModelConfig(tower_shadow=False))

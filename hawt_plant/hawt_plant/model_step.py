@@ -220,10 +220,9 @@ def torsion_rate(rotor_speed: float, generator_speed: float, side_side_rate: flo
     """The shaft's rate of twist [rad/s]: the rotor's spin less the generator's (both inertial, the generator's
     referred to the low-speed shaft), less the gearbox's share of the nacelle's roll about the shaft, (1 - 1/N) times
     the roll rate -slope_ss cos(tilt) y' of the side-side mode. The gearbox turns with the nacelle, so a roll with the
-    rotor and generator still twists the shaft, as in ElastoDyn, whose drivetrain azimuths are relative to the
-    nacelle (Jonkman 2005, the FAST theory's DOF_DrTr and DOF_GeAz); the shaft torque's roll reaction on the
-    side-side mode (:func:`generalized_forces`: -slope_ss cos(tilt) (1 - 1/N) times the shaft torque) is the force
-    of this kinematics."""
+    rotor and generator still twists the shaft, as in ElastoDyn, whose drivetrain coordinates (DOF_GeAz, DOF_DrTr) are
+    relative to the nacelle; the shaft torque's roll reaction on the side-side mode (:func:`generalized_forces`:
+    -slope_ss cos(tilt) (1 - 1/N) times the shaft torque) is the force of this kinematics."""
     roll_twist = constants[_SLOPE_SS] * constants[_COS_TILT] * (1.0 - 1.0 / constants[_GEARBOX_RATIO])
     return rotor_speed - generator_speed + roll_twist * side_side_rate
 
