@@ -110,11 +110,12 @@ build_discon_bridge() {
 # The plant's compiled kernels (numba, hawt_plant/compiled.py): compiled once into a cache folder keyed by the
 # content of hawt_plant's sources, so that no run pays for compiling and no run uses code older than its source.
 # The folder's key is a hash of the sources' content (hawt_plant.kernel_cache); asking Python for it costs a tenth of a
-# second, so the answer is kept beside the sources' sizes and times and asked again only when one of them changes.
+# second, so the answer is kept beside the sources' sizes, inodes and times and asked again when one of them changes.
 # (A run finds its folder by the content itself, so a change this misses costs a compile on first use, never stale
 # kernels.)
 compile_plant_kernels() {
-  local folder sources memo="$WS/.hawt-kernels" python=("env" "PYTHONPATH=$ROOT/hawt_plant:$ROOT/hawt_core" "$VENV/bin/python")
+  local folder sources memo="$WS/.hawt-kernels"
+  local python=("env" "PYTHONPATH=$ROOT/hawt_plant:$ROOT/hawt_core" "$VENV/bin/python")
   sources="${NUMBA_CACHE_DIR:-}|${XDG_CACHE_HOME:-}|$HOME|$(stat -c '%n %s %i %.9Y' "$ROOT"/hawt_plant/hawt_plant/*.py)"
   if [ -f "$memo" ] && [ "$(head -n -1 "$memo")" = "$sources" ]; then
     folder="$(tail -n 1 "$memo")"

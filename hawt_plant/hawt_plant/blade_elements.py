@@ -68,8 +68,8 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     ``unsteady``). Without
     ``update`` the static polars give the loads (the dynamic stall states are settled at this state). The normal force
     acts along the normal that the deflected blade's out-of-plane slope turns, cos g e_n - sin g e_z (``normals`` (2,
-    B, N), tan g and cos g; :func:`hawt_plant.model_step.element_inflow`), as AeroDyn applies it in its BEM frame. Writes ``sums``
-    (3, B, F): each blade's loads along e_n, e_t and e_z summed against each span function.
+    B, N), tan g and cos g; :func:`hawt_plant.model_step.element_inflow`), as AeroDyn applies it in its BEM frame.
+    Writes ``sums`` (3, B, F): each blade's loads along e_n, e_t and e_z summed against each span function.
     """
     blades, elements = pitch_twist.shape
     sums[:] = 0.0

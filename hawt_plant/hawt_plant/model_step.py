@@ -256,15 +256,14 @@ def generalized_forces(aero: np.ndarray, trig: np.ndarray, features: np.ndarray,
         tangential_0 += aero[1, i, 0]
         tangential_1 += aero[1, i, 1]
         gravity += features[BASIS + 5, i]  # e_t's z
-    cone = constants[_COS_CONE]
-    forces[_THRUST] = cone * normal - constants[_SIN_CONE] * spanwise
+    cone, cone_s = constants[_COS_CONE], constants[_SIN_CONE]
+    forces[_THRUST] = cone * normal - cone_s * spanwise
     aero_torque = cone * (tangential_1 + constants[_HUB_RADIUS] * tangential_0)
     gravity_torque = -constants[_GRAVITY] * constants[_MASS_RADIUS] * gravity
     shaft = constants[_TORSIONAL_STIFFNESS] * torsion + constants[_TORSIONAL_DAMPING] * torsion_rate(
         rotor_speed, generator_speed, rates[1], constants)
     forces[_AERO_TORQUE], forces[_GRAVITY_TORQUE], forces[_SHAFT_TORQUE] = aero_torque, gravity_torque, shaft
     omega2 = rotor_speed * rotor_speed
-    cone_s = constants[_SIN_CONE]
     tower_fa = tower_ss = deflected_tilt = deflected_yaw = 0.0
     for i in range(blades):
         flap_t, edge_t = omega2 * deflection[1, i], omega2 * deflection[3, i]
