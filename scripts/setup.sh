@@ -108,7 +108,9 @@ build_discon_bridge() {
 }
 
 # The plant's compiled kernels (numba, hawt_plant/compiled.py): compiled once into a cache folder keyed by the
-# content of hawt_plant's sources, so that no run pays for compiling and no run uses code older than its source.
+# content of hawt_plant's sources, just in time into numba's cache and ahead of time into an extension module
+# (hawt_plant/kernel_export.py), so that no run pays for compiling or for importing numba, and no run uses code older
+# than its source.
 # The folder's key is a hash of the sources' content (hawt_plant.kernel_cache); asking Python for it costs a tenth of a
 # second, so the answer is kept beside the sources' sizes, inodes and times and asked again when one of them changes.
 # (A run finds its folder by the content itself, so a change this misses costs a compile on first use, never stale
@@ -125,9 +127,9 @@ compile_plant_kernels() {
     || fail "could not find the folder of the plant's kernels (see the error above)"
   printf '%s\n%s\n' "$sources" "$folder" > "$memo"
   [ -f "$folder/.hawt-complete" ] && return 0
-  say "compiling the plant's kernels with numba (once per change of hawt_plant's sources, into $folder)"
+  say "compiling the plant's kernels with numba, about a minute (once per change of hawt_plant's sources, into $folder)"
   mkdir -p "$folder"
-  "${python[@]}" -m hawt_plant.compiled > "$folder/compile.log" 2>&1 \
+  "${python[@]}" -m hawt_plant.kernel_export > "$folder/compile.log" 2>&1 \
     || fail "numba could not compile the plant's kernels: $(grep -m1 -iE 'error|exception' "$folder/compile.log" || echo "see $folder/compile.log") (full log: $folder/compile.log)"
   touch "$folder/.hawt-complete"
 }

@@ -77,6 +77,7 @@ import numpy as np
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
 from hawt_plant.blade_elements import MIN_INFLOW, blade_element_loads, disk_weights
+from hawt_plant.compiled import unchecked
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
 from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance_structure,
@@ -90,6 +91,12 @@ from hawt_plant.tower_drag import TowerDrag
 from hawt_plant.turbine import Turbine
 from hawt_plant.unsteady_airfoil import UnsteadyAirfoil
 from hawt_plant.wind_field import WindChange, WindField
+
+# The step's kernels without the check of their arguments' types (hawt_plant.compiled.unchecked): the model passes them
+# only arrays it allocated itself (float64, C-contiguous), the wind's samples made so, and floats.
+(accelerations, advance_structure, blade_element_loads, element_inflow, generalized_forces, measured_loads,
+ place_elements, torsion_rate) = map(unchecked, (accelerations, advance_structure, blade_element_loads, element_inflow,
+                                                 generalized_forces, measured_loads, place_elements, torsion_rate))
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hawt_plant.compiled import njit
+from hawt_plant.compiled import njit, unchecked
 from hawt_plant.disk_cache import kept
 from hawt_plant.turbine import PitchActuator
 
@@ -74,8 +74,9 @@ class DiscretePitchActuator:
             At the end of the step.
         """
         new_angle, new_rate = np.empty(len(angle)), np.empty(len(angle))
-        _limited_step(self._transition, self._limits, np.asarray(angle, dtype=float), np.asarray(rate, dtype=float),
-                      np.asarray(command, dtype=float), new_angle, new_rate)
+        _step_unchecked(self._transition, self._limits, np.ascontiguousarray(angle, dtype=float),
+                        np.ascontiguousarray(rate, dtype=float), np.ascontiguousarray(command, dtype=float), new_angle,
+                        new_rate)
         return new_angle, new_rate
 
 
@@ -91,3 +92,6 @@ def _limited_step(transition, limits, angle, rate, command, new_angle, new_rate)
         limited = min(max(moved, angle_low), angle_high)
         new_angle[i] = limited
         new_rate[i] = min(max(linear_rate, rate_low), rate_high) if limited == moved else 0.0
+
+
+_step_unchecked = unchecked(_limited_step)  # its arguments are the actuator's own arrays and float64 C-contiguous ones

@@ -352,9 +352,11 @@ class TurbulentWind:
         corners = np.array([(it, iz, iy) for it in (0, 1) for iz in (0, 1) for iy in (0, 1)])
         neighbour_strides = self._strides * (upper > 0)  # no neighbour on a 1-node axis
         self._corner_offsets = corners @ neighbour_strides  # (8,)
-        from hawt_plant.grid_sampling import trilinear  # compiled: numba's import is not part of this module's
+        from hawt_plant.compiled import unchecked  # compiled: numba's import is not part of this module's
+        from hawt_plant.grid_sampling import trilinear
 
-        self._trilinear = trilinear
+        # without the check of its arguments' types: the field's own arrays, and the points made flat float64 (velocity)
+        self._trilinear = unchecked(trilinear)
 
     @property
     def mean_speed(self) -> float:
