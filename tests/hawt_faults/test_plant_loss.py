@@ -38,8 +38,12 @@ def test_cpc_and_ipc_publish_nothing_after_the_plant_dies_so_nothing_winds_up(la
         steps = columns.fields["step"]
         # A SIGKILLed plant's last messages may reach the controllers but not the recorder.
         assert steps.max() <= last_step + IN_FLIGHT, f"{columns.topic} answered a step the plant never sent"
+        # Recorded after the plant's last message: at most the answers in flight. Which steps they answer is not
+        # checked: the recorder takes each topic from its own queue, so on a busy machine an answer published in time
+        # can be logged after later messages of other topics (a fresh-clone run logged IPC's answer to step 254 after
+        # the plant's step 273, and nothing else late).
         late = steps[columns.log_time > last_sent]
-        assert len(late) <= IN_FLIGHT and np.all(late >= last_step - IN_FLIGHT), \
+        assert len(late) <= IN_FLIGHT, \
             f"{columns.topic} published steps {late.tolist()} after the plant's last step {last_step}"
     collective = recording.collective.fields
     assert np.isfinite(collective["pitch"][-1]) and ACTUATOR.min_angle <= collective["pitch"][-1] <= ACTUATOR.max_angle
