@@ -18,7 +18,7 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
     """Realtime baseline: three refusals (invalid_input), two stale bursts (one stale_input each); pitch undisturbed."""
     namespace = "bad_commands"
     injector = probe(namespace)
-    run = launch("baseline", namespace, "mode:=realtime", "duration:=12",  # the probe may command (a source)
+    run = launch("baseline", namespace, "mode:=realtime", "duration:=20",  # the probe may command (a source)
                  "-p", "plant.command_sources:=['mbc', '/fault_probe']")
     injector.wait_until_recorded(run.launcher)
     injector.wait_for_step(300, run.launcher)  # the injected commands are numbered from the plant's step
@@ -59,6 +59,6 @@ def test_nan_wrong_length_future_and_stale_commands_are_refused_and_never_applie
     with_nan = [row for row in recording.commands.fields["pitch"] if not np.all(np.isfinite(row))]
     assert with_nan and all(list(row[1:]) == [0.26, 0.26] for row in with_nan), "every NaN command is the injected one"
     assert not recording.events_of("watchdog")
-    assert_plant_finished(recording, 12.0)
+    assert_plant_finished(recording, 20.0)
     assert_plant_published_no_nan(recording)
     assert_pitch_within_limits(recording)
