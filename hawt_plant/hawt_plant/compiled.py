@@ -48,7 +48,8 @@ __all__ = ["EXTENSION", "Kernel", "cache_folder", "flat", "load_numba", "njit", 
 EXTENSION = "hawt_plant_kernels"  # the ahead-of-time module's name, and its manifest's (``.json``) in the folder
 _MODE = os.environ.get("HAWT_KERNELS", "")  # "jit": numba only; "checked": every ahead-of-time call checked
 if _MODE not in ("", "jit", "checked"):
-    sys.exit(f"HAWT_KERNELS={_MODE!r}: expected 'jit', 'checked' or unset")
+    print(f"HAWT_KERNELS={_MODE!r}: expected 'jit', 'checked' or unset", file=sys.stderr)
+    sys.exit(2)
 
 os.environ["NUMBA_CACHE_DIR"] = str(cache_folder())  # read by numba when it is first imported, and inherited by the
 # processes this one starts
