@@ -70,10 +70,8 @@ def pytest_collection_modifyitems(items):
 
     The order the files run in is xdist's: ``--dist loadfile`` hands out whole files, those with the most tests
     first, which spreads the files that start ROS graphs among the cores' files. Handing out the graph files first
-    (``--no-loadscope-reorder`` and a sort here) was measured once at 822 against 883 s in one working tree, but
-    with four graphs starting at once a recorded run's bag lacked control/pitch_command (test_back_pressure, fresh
-    clone; a plant starts without the recorder on a topic discovery has not matched within 10 s) and a probe raced a
-    realtime run's end (test_bad_commands): the suite's robustness under load comes first."""
+    was faster but started four graphs at once, whose discovery and realtime runs then raced the tests' probes on a
+    2-core machine: the suite's robustness under load comes first."""
     for item in items:
         if "hawt_cli" in getattr(item, "fixturenames", ()) and item.get_closest_marker("ros") is None:
             item.add_marker(pytest.mark.processes)

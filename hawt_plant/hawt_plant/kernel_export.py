@@ -18,7 +18,6 @@ from __future__ import annotations
 import json
 import os
 import sys
-import tempfile
 from pathlib import Path
 from typing import Optional
 
@@ -27,6 +26,7 @@ os.environ["HAWT_KERNELS"] = "jit"  # noqa: E402  (this process compiles every k
 import numpy as np  # noqa: E402
 
 from hawt_plant.compiled import EXTENSION, cache_folder, load_numba  # noqa: E402
+from hawt_plant.disk_cache import store  # noqa: E402
 
 __all__ = ["exercise", "export"]
 
@@ -66,7 +66,7 @@ def _argument(numba_type) -> Optional[list]:
 
 def export(folder: Path) -> int:
     """Compile every kernel's signatures seen so far into the extension in ``folder`` and write its manifest; the
-    number of functions exported."""
+    number of functions exported (one per signature)."""
     numba = load_numba()
     from llvmlite import binding
     from numba.core.compiler import Flags
@@ -103,9 +103,7 @@ def export(folder: Path) -> int:
         extension.compile()
     finally:
         compiler.Flags = pycc_flags
-    with tempfile.NamedTemporaryFile("w", dir=folder, delete=False, suffix=".tmp") as written:
-        json.dump(manifest, written, indent=1)
-    os.replace(written.name, folder / f"{EXTENSION}.json")
+    store(folder / f"{EXTENSION}.json", lambda handle: handle.write(json.dumps(manifest, indent=1).encode()))
     return len(manifest)
 
 
@@ -113,4 +111,4 @@ if __name__ == "__main__":
     exercise()
     folder = cache_folder()
     count = export(folder)
-    print(f"hawt: compiled the plant's kernels, {count} of them also ahead of time ({folder})")
+    print(f"hawt: compiled the plant's kernels just in time, and {count} functions of them ahead of time ({folder})")
