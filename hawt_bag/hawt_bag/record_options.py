@@ -40,8 +40,11 @@ class RecorderOptions:
     depth : int
         Subscription queue depth (keep-last): how many messages of a topic the recorder may be behind
         before the oldest are lost. A lockstep plant holds back on the recorder's progress (its
-        ``recorder_window``, 500 steps by default), so this bounds only a realtime recording's backlog:
-        100 s of a 100 Hz plant.
+        ``recorder_window``, 500 steps by default), so this bounds only a realtime recording's backlog.
+        Fast DDS (the default middleware) holds at most 5000 samples per subscription whatever the depth
+        (its default resource limit; measured: a reliable publisher's 5001st message waits unacknowledged
+        until the recorder takes one), so 50 s of a 100 Hz plant; a reliable publisher keeps the rest in
+        its own history (its depth), a best-effort publisher's are lost.
     """
 
     output: str
