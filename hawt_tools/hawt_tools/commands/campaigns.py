@@ -14,10 +14,6 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
     """Every case of a campaign file on Dask workers; tables, lifetime loads and a report in the output folder. A
     file of several DLCs runs each into its folder ``dlc-N.N`` and prints the design loads over them all, which
     ``ultimate.csv`` in the output folder keeps."""
-    import pandas
-
-    from hawt_analysis.campaign_report import ultimate_text, write_design_load_report
-    from hawt_analysis.ultimate import governing_loads
     from hawt_tools.campaign_file import load_campaigns
 
     if args.workers is not None and args.workers < 1:
@@ -37,6 +33,11 @@ def _cmd_campaign(args: argparse.Namespace) -> int:
         failed = failed or status
         tables.append(ultimate)
     if several and any(tables):
+        import pandas
+
+        from hawt_analysis.campaign_report import ultimate_text, write_design_load_report
+        from hawt_analysis.ultimate import governing_loads
+
         governing = governing_loads(tables)
         over = [campaign.dlc for campaign in campaigns]
         pandas.DataFrame(governing).to_csv(output / "ultimate.csv", index=False)
