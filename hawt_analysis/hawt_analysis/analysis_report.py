@@ -131,25 +131,22 @@ def analysis_text(summary: Mapping) -> str:
 
 def _segment_lines(segments: list, n_blades: int) -> list:
     """Loads between controller switches: M_oop 1P-3P (mean of the blades) and hub tilt/yaw B·P per segment (the
-    fixed frame's blade-passing harmonic: 3P for three blades, 2P for two)."""
+    fixed frame's blade-passing harmonic: 3P for three blades, 2P for two), a `text_table`; a segment under one
+    revolution has no harmonics ("-")."""
     if not segments:
         return []
-    lines = ["", "loads between controller switches (harmonic amplitudes in MN·m; M_oop: mean of the blades):",
-             f"{'steps':<16}{'from':>9}{'M_oop 1P':>10}{'2P':>8}{'3P':>8}"
-             f"{f'tilt {n_blades}P':>9}{f'yaw {n_blades}P':>8}"]
+    table = [["steps", "from [s]", "M_oop 1P", "2P", "3P", f"tilt {n_blades}P", f"yaw {n_blades}P"]]
     for segment in segments:
-        span = f"{segment['first_step']}..{segment['last_step']}"
-        harmonics = segment["harmonics"]
-        if harmonics is None:
-            lines.append(f"{span:<16}{segment['start_s']:>8.1f}s  (under one revolution)")
-            continue
-        amplitude = {name: dict(zip(h["n"], h["amplitude"])) for name, h in harmonics.items()}
-        blades = [a for name, a in amplitude.items() if name.startswith("root_moment_oop")]
-        oop = [sum(a[n] for a in blades) / len(blades) if blades else None for n in (1, 2, 3)]
-        hub = [amplitude.get(name, {}).get(n_blades) for name in ("hub_tilt_moment", "hub_yaw_moment")]
-        lines.append(f"{span:<16}{segment['start_s']:>8.1f}s{_fmt(oop[0], _MN):>10}{_fmt(oop[1], _MN):>8}"
-                     f"{_fmt(oop[2], _MN):>8}{_fmt(hub[0], _MN):>9}{_fmt(hub[1], _MN):>8}")
-    return lines
+        values = [None] * 5
+        if segment["harmonics"] is not None:
+            amplitude = {name: dict(zip(h["n"], h["amplitude"])) for name, h in segment["harmonics"].items()}
+            blades = [a for name, a in amplitude.items() if name.startswith("root_moment_oop")]
+            values = [sum(a[n] for a in blades) / len(blades) if blades else None for n in (1, 2, 3)]
+            values += [amplitude.get(name, {}).get(n_blades) for name in ("hub_tilt_moment", "hub_yaw_moment")]
+        table.append([f"{segment['first_step']}..{segment['last_step']}", f"{segment['start_s']:.1f}",
+                      *(_fmt(value, _MN) for value in values)])
+    return ["", "loads between controller switches (harmonic amplitudes in MN·m; M_oop: mean of the blades; - under "
+                "one revolution):", *text_table(table)]
 
 
 def comparison_text(comparison: Mapping) -> str:

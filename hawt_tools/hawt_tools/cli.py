@@ -30,7 +30,10 @@ COMMANDS = ((graphs, ("launch", "run", "bridge")), (live, ("record", "view")), (
 def _parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="hawt", description="ROS 2 toolkit for wind-turbine load alleviation: run node graphs of a "
-                                 "simulated turbine and its pitch controllers.")
+                                 "simulated turbine and its pitch controllers.",
+        epilog="The ./hawt script in the repository also runs: ./hawt test [PYTEST ARGS] (the test suite; --quick "
+               "the cores' tests only, --stress beside two busy CPU loops) and ./hawt bench NAME (a benchmark of "
+               "benchmarks/bench_NAME.py).")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for group, names in COMMANDS:
         group.add_parsers(commands, names)

@@ -132,3 +132,22 @@ def test_a_record_of_less_than_one_revolution_has_no_harmonics_and_says_how_far_
     summary = summarize(synthetic_channels(duration=3.0))
     assert summary["harmonics"] == {} and 0.6 < summary["revolutions"] < 0.61 and summary["del"]
     assert "no harmonics (the rotor turned 0.61 revolutions, less than one)" in analysis_text(summary)
+
+
+def test_the_segments_table_keeps_its_columns_apart_whatever_the_values_width():
+    """The loads between switches are a table of fixed-width columns: an amplitude printed in 8 characters
+    (0.008228) stays apart from its neighbour (a new user read "0.017440.008228"), and a segment under one
+    revolution shows "-" in each column."""
+    from hawt_analysis.analysis_report import analysis_text
+
+    summary = summarize(synthetic_channels(duration=3.0))
+    harmonics = {name: {"n": [1, 2, 3], "amplitude": [17440.0, 8228.0, 1234.5]}
+                 for name in ("root_moment_oop_1", "root_moment_oop_2", "root_moment_oop_3", "hub_tilt_moment",
+                              "hub_yaw_moment")}
+    summary["segments"] = [{"first_step": 0, "last_step": 999, "start_s": 0.0, "harmonics": harmonics},
+                           {"first_step": 1000, "last_step": 1050, "start_s": 10.0, "harmonics": None}]
+    lines = analysis_text(summary).splitlines()
+    header = lines.index(next(line for line in lines if line.startswith("steps")))
+    assert lines[header].split() == ["steps", "from", "[s]", "M_oop", "1P", "2P", "3P", "tilt", "3P", "yaw", "3P"]
+    assert lines[header + 1].split() == ["0..999", "0.0", "0.01744", "0.008228", "0.001234", "0.001234", "0.001234"]
+    assert lines[header + 2].split() == ["1000..1050", "10.0", "-", "-", "-", "-", "-"]

@@ -106,7 +106,8 @@ def _add_analyze(commands: argparse._SubParsersAction) -> None:
                                   description="Analyse one turbine's run in a bag: plant/blade_loads and "
                                               "plant/state (required), control/pitch_command and control/events.")
     analyze.add_argument("bag", metavar="FILE.mcap")
-    analyze.add_argument("--json", action="store_true", help="print the JSON object of DESIGN §8")
+    analyze.add_argument("--json", action="store_true",
+                         help="print the summary as one JSON object (the text's quantities, in SI units)")
     analyze.add_argument("--report", metavar="DIR", help="write index.html, plots and summary.json into DIR")
     analyze.add_argument("--namespace", metavar="NS", help="the turbine (e.g. /wt1) when the bag holds several")
     analyze.set_defaults(run=_cmd_analyze)
