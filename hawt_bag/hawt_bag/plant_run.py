@@ -198,6 +198,9 @@ def load_plant_run(reader: BagReader, namespace: Optional[str] = None,
     command, flag_names, refused, command_warnings = _pitch_command(
         reader, topic_in(namespace, PITCH_COMMAND), counts, progress, channels["pitch"].shape[1], _refused(events))
     warnings += command_warnings
+    missed = "" if command is None else step_coverage(topic_in(namespace, PITCH_COMMAND), command["step"]).gap_text()
+    if missed:  # a recorder that fell behind, or an assembler that answered late (realtime): say so, as verify does
+        warnings += (f"{missed}; the command's pitch activity is over the steps it holds",)
     channels, steps, cut = _before_nan(channels, steps)
     if cut:
         warnings += (cut,)

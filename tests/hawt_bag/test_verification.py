@@ -222,3 +222,16 @@ def test_analyze_warns_of_the_gap_verify_reports_and_analyses_the_longest_run(tm
     assert summary["warnings"] == [warning]
     assert out.err == f"hawt analyze: warning: {warning}\n"
     assert (summary["bag"]["first_step"], summary["bag"]["last_step"]) == (310, 1000)
+
+
+def test_analyze_warns_of_steps_the_pitch_command_misses_as_verify_names_them(tmp_path, topics, capsys):
+    """analyze on a bag whose control/pitch_command misses steps 400-409 (a realtime loop assembler that answered
+    late, a recorder that fell behind): a warning naming the gap as verify does, since the command's pitch activity
+    is then over the steps the bag holds."""
+    path = _bag(tmp_path / "gap.mcap", _replaced(topics, _without_steps(_named(topics, "control/pitch_command"),
+                                                                        list(range(400, 410)))))
+    gap = next(t.coverage for t in verify_bag(path).topics if t.coverage.topic.endswith("pitch_command")).gap_text()
+    assert gap == "/wt1/control/pitch_command misses 10 steps in 1 gap, the first after step 399"
+    assert main(["analyze", str(path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["warnings"] == [f"{gap}; the command's pitch activity is over the steps it holds"]
