@@ -139,7 +139,7 @@ def compare_bags(paths: Sequence[os.PathLike], namespace: Optional[str] = None,
         The analyses, and the comparison dict.
     """
     if len(paths) < 2:
-        raise BagError(f"compare: expected at least two bags, found {len(paths)}")
+        raise BagError(f"expected at least two bags, found {len(paths)}")
     analyses = []
     for number, path in enumerate(paths, 1):
         progress(f"[{number}/{len(paths)}] {path}")

@@ -149,3 +149,16 @@ def test_hawt_bag_recover_prints_the_recovery_and_the_damaged_span(intact, tmp_p
     assert out[0].startswith(f"recovered {len(_without(intact, 12))} messages into {tmp_path / 'run.recovered.mcap'}")
     assert out[1].startswith(f"skipped damaged bytes {_chunks(intact)[12][0]}-{_chunks(intact)[12][1]} ")
     assert len(out) == 2
+
+
+def test_hawt_bag_recover_of_a_file_with_no_readable_message_says_so_in_one_line_and_writes_nothing(intact, tmp_path,
+                                                                                                     capsys):
+    """A recording killed before its first chunk was written (its first 5000 bytes, as a new user cut one) holds
+    no message to rescue: exit 2, one line saying so and where reading stopped, and no empty bag beside it."""
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(intact.read_bytes()[:_chunks(intact)[0][0] + 100])
+    assert main(["bag", "recover", str(cut)]) == 2
+    out = capsys.readouterr()
+    assert out.out == "" and out.err.count("\n") == 1
+    assert out.err.startswith(f"hawt bag: {cut}: nothing to recover, no readable message (reading stopped at: ")
+    assert not (tmp_path / "cut.recovered.mcap").exists()

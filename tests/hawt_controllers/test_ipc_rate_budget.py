@@ -75,3 +75,14 @@ def test_with_a_slow_actuator_the_design_writes_the_harmonics_past_the_budget_in
         "rate budget: h1 takes 64 %, within 70 % of the actuator's 3.0 deg/s; h2 would bring it to 80 %: h2, h3 "
         "written inactive (active: false, which the graphs' ipc_hN arguments do not override; -p "
         "ipc_h2.active:=true starts one active, hawt switch --activate ipc_h2 brings one in)")
+
+
+def test_hawt_design_ipc_s_help_says_the_budget_the_design_keeps(capsys):
+    """The help of ``hawt design ipc`` names the share of the rate limit the design leaves the harmonics (it once
+    said 85 % where the design kept 70 %)."""
+    from hawt_controllers.design.ipc_design import RATE_BUDGET_LIMIT
+    from hawt_tools.cli import main
+
+    with pytest.raises(SystemExit, match="0"):
+        main(["design", "ipc", "--help"])
+    assert f"up to {100 * RATE_BUDGET_LIMIT:g} % of the rate limit" in " ".join(capsys.readouterr().out.split())

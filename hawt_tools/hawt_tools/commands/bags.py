@@ -37,10 +37,17 @@ def _cmd_bag_verify(args: argparse.Namespace) -> int:
 
 
 def _cmd_bag_recover(args: argparse.Namespace) -> int:
-    from hawt_bag.writer import new_bag_path
+    from hawt_bag.errors import BagError
     from hawt_bag.recover import recover_bag
+    from hawt_bag.writer import new_bag_path
 
-    print(recover_bag(args.bag, new_bag_path(args.output, "-o") if args.output else None).text())
+    recovery = recover_bag(args.bag, new_bag_path(args.output, "-o") if args.output else None)
+    if not recovery.message_count:  # an empty bag rescues nothing: say so rather than leave one
+        recovery.output.unlink()
+        lost = f"; {recovery.orphans} messages whose channel record was lost" if recovery.orphans else ""
+        raise BagError(f"{args.bag}: nothing to recover, no readable message (reading stopped at: {recovery.stopped}"
+                       f"{lost}); nothing written")
+    print(recovery.text())
     return 0
 
 
