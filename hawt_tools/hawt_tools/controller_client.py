@@ -9,12 +9,20 @@ from rclpy.node import Node
 
 from hawt_core.topics import LIST_CONTROLLERS, SWITCH_CONTROLLERS
 
-__all__ = ["ControllerRow", "SwitchResult", "ControllerManagerError", "find_managers", "list_controllers",
-           "manager_namespace", "switch_controllers"]
+__all__ = ["ControllerRow", "SwitchResult", "ControllerManagerError", "NoSuchController", "find_managers",
+           "lifecycle_transition", "list_controllers", "manager_namespace", "switch_controllers"]
 
 
 class ControllerManagerError(RuntimeError):
     """No controller manager answered, or the one to use is not clear."""
+
+
+class NoSuchController(ControllerManagerError):
+    """The graph's controller manager does not know the controller named (a typo): bad input."""
+
+
+DISCOVERY_TIMEOUT = 10.0
+"""[s] How long ``hawt lifecycle`` waits for the graph's controller manager to appear (discovery on a busy machine)."""
 
 
 @dataclass(frozen=True)
@@ -116,7 +124,13 @@ def lifecycle_transition(name: str, transition: Optional[str] = None, namespace:
     with rclpy.init():
         node = Node("_hawt_lifecycle", start_parameter_services=False, enable_rosout=False)
         try:
-            full = name if name.startswith("/") else f"{_manager(node, namespace, timeout)}/{name}"
+            full = name
+            if not name.startswith("/"):  # a controller of the graph's manager: one it knows (a typo is refused)
+                manager = _manager(node, namespace, min(timeout, DISCOVERY_TIMEOUT))
+                full = f"{manager}/{name}"
+                known = [row.name for row in list_controllers(node, manager, timeout)]
+                if full not in known:
+                    raise NoSuchController(f"{name}: no such controller (known: {', '.join(known)})")
             ok = True
             if transition is not None:
                 request = ChangeState.Request(transition=Transition(label=transition))

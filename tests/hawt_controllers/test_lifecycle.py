@@ -83,3 +83,11 @@ def test_cleanup_and_configure_from_a_shell(graph):
     _until(lambda: _listed("blade_sine") == "active", "blade_sine active after its reconfiguration")
     assert _hawt("switch", "--deactivate", "blade_sine").returncode == 0
     _until(lambda: _listed("blade_sine") == "inactive", "blade_sine inactive again")
+
+
+def test_a_controller_the_manager_does_not_know_is_refused_in_one_line_naming_those_it_knows(graph):
+    """hawt lifecycle ipc_h9 activate (a typo): exit 2 and one line naming the graph's controllers, as hawt switch
+    answers a typo (it waited 30 s for the typo's services, then asked whether the graph was running)."""
+    result = _hawt("lifecycle", "ipc_h9", "activate")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
+    assert result.stderr.startswith(f"hawt lifecycle: ipc_h9: no such controller (known: /{NS}/blade_sine, /{NS}/cpc, ")

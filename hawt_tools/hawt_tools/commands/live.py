@@ -59,10 +59,12 @@ def _cmd_switch(args: argparse.Namespace) -> int:
 
 
 def _cmd_lifecycle(args: argparse.Namespace) -> int:
-    from hawt_tools.controller_client import ControllerManagerError, lifecycle_transition
+    from hawt_tools.controller_client import ControllerManagerError, NoSuchController, lifecycle_transition
 
     try:
         ok, state = lifecycle_transition(args.node, args.transition, args.namespace)
+    except NoSuchController as error:
+        raise GraphError(str(error)) from None
     except ControllerManagerError as error:
         raise RuntimeError(str(error)) from None
     if not ok:
