@@ -4,7 +4,10 @@
 a file that starts as MCAP but whose writer never finished it.
 """
 
-__all__ = ["BagError", "UnfinishedBagError"]
+import os
+from pathlib import Path
+
+__all__ = ["BagError", "UnfinishedBagError", "not_a_file"]
 
 
 class BagError(ValueError):
@@ -17,3 +20,9 @@ class BagError(ValueError):
 
 class UnfinishedBagError(BagError):
     """An MCAP file cut off or never finished (no footer or summary to read): ``hawt bag recover`` rescues it."""
+
+
+def not_a_file(path: os.PathLike) -> BagError:
+    """The error for a bag path that is no file: a folder (a user's runs folder), or nothing there."""
+    what = "a folder; expected an MCAP file (FILE.mcap)" if Path(path).is_dir() else "no such file"
+    return BagError(f"{path}: {what}")

@@ -15,7 +15,7 @@ from mcap.reader import NonSeekingReader, SeekingReader
 from mcap.records import Schema, Statistics
 from mcap.summary import Summary
 
-from .errors import BagError, UnfinishedBagError
+from .errors import BagError, UnfinishedBagError, not_a_file
 from .qos_profiles import QosOffer, parse_offered_qos
 
 __all__ = ["PUBLISHER", "BagInfo", "BagMessage", "BagReader", "TopicInfo"]
@@ -127,7 +127,7 @@ class BagReader:
     Raises
     ------
     BagError
-        ``"<path>: no such file"``, ``"<path>: not an MCAP file"``, or
+        ``"<path>: no such file"`` (or ``"a folder; …"``), ``"<path>: not an MCAP file"``, or
         ``"<path>: truncated or unfinished MCAP (…); hawt bag recover <path> rescues its chunks"``
         (an `UnfinishedBagError`).
     """
@@ -135,7 +135,7 @@ class BagReader:
     def __init__(self, path: os.PathLike) -> None:
         self.path = Path(path)
         if not self.path.is_file():
-            raise BagError(f"{self.path}: no such file")
+            raise not_a_file(self.path)
         self._file = open(self.path, "rb")
         try:
             if self._file.read(len(_MAGIC)) != _MAGIC:

@@ -43,7 +43,7 @@ from mcap.stream_reader import breakup_chunk
 from mcap.writer import Writer
 from zstandard import ZstdError
 
-from .errors import BagError
+from .errors import BagError, not_a_file
 
 __all__ = ["DamagedSpan", "Recovery", "recover_bag", "recovered_path"]
 
@@ -252,7 +252,7 @@ def recover_bag(path: os.PathLike, output: Optional[os.PathLike] = None) -> Reco
     path = Path(path)
     output = Path(output) if output is not None else recovered_path(path)
     if not path.is_file():
-        raise BagError(f"{path}: no such file")
+        raise not_a_file(path)
     with open(path, "rb") as source:
         if source.read(len(_MAGIC)) != _MAGIC:
             raise BagError(f"{path}: not an MCAP file (no MCAP magic at the start)")

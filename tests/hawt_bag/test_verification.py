@@ -198,11 +198,15 @@ def test_verify_json_is_one_object_with_the_same_facts(tmp_path, topics, capsys)
                      "problems": [report["verdict"].removeprefix("verify: ")]}
 
 
-@pytest.mark.parametrize("content, message", [(None, "no such file"), (b"launch: []\n", "not an MCAP file")])
+@pytest.mark.parametrize("content, message", [(None, "no such file"), (b"launch: []\n", "not an MCAP file"),
+                                              ("folder", "a folder; expected an MCAP file (FILE.mcap)")])
 def test_verify_exits_2_with_one_line_naming_a_missing_or_foreign_file(tmp_path, capsys, content, message):
-    """A missing file or one that is not MCAP is bad input: exit 2, one line on stderr naming the file."""
+    """A missing file, one that is not MCAP or a folder (a user's runs folder) is bad input: exit 2, one line on
+    stderr naming the file and what it is."""
     path = tmp_path / "bad.mcap"
-    if content is not None:
+    if content == "folder":
+        path.mkdir()
+    elif content is not None:
         path.write_bytes(content)
     assert main(["bag", "verify", str(path)]) == 2
     out = capsys.readouterr()
