@@ -1,5 +1,6 @@
 """What a running graph holds: its nodes, topics with their types, and controllers with their states (``hawt list``)."""
 import time
+from collections import Counter
 from dataclasses import dataclass
 from typing import List, Tuple
 
@@ -26,8 +27,12 @@ class GraphSnapshot:
     controllers: Tuple[Tuple[str, Tuple[ControllerRow, ...]], ...] = ()
 
     def text(self) -> str:
-        """The human-readable listing."""
-        lines = [f"nodes ({len(self.nodes)}):"] + [f"  {name}" for name in self.nodes]
+        """The human-readable listing; a name that several nodes share (two graphs in one ROS_DOMAIN_ID, whose
+        topics then mix) once, with their count."""
+        counts = Counter(self.nodes)
+        lines = [f"nodes ({len(self.nodes)}):"] + [
+            f"  {name}" + (f"  ({count} nodes of this name: several graphs in this ROS_DOMAIN_ID? their topics mix)"
+                           if count > 1 else "") for name, count in counts.items()]
         lines.append(f"topics ({len(self.topics)}):")
         width = max((len(t.name) for t in self.topics), default=0)
         for topic in self.topics:
