@@ -335,7 +335,9 @@ def run_openfast(executable: Path, fst: Path, progress: Callable[[float, float],
     text = tail.decode(errors="replace")
     if code != 0 or "terminated normally" not in text:
         last = [line.strip() for line in text.replace("\r", "\n").splitlines() if line.strip()][-6:]
-        raise OpenFastFailed(f"OpenFAST failed on {fst} (exit {code}; its output: {log}): " + " | ".join(last))
+        said = " | ".join(last) if last else (f"it printed nothing: is {executable} OpenFAST?" if code == 0
+                                               else "it printed nothing")
+        raise OpenFastFailed(f"OpenFAST failed on {fst} (exit {code}; its output: {log}): {said}")
     return time.monotonic() - start
 
 

@@ -185,3 +185,12 @@ def test_a_failed_openfast_is_one_error_with_its_last_lines(tmp_path):
                                              r"FAST_InitializeAll.*boundaries violated \| Aborting OpenFAST."):
         run_openfast(executable, tmp_path / "case.fst")
     assert os.path.getsize(tmp_path / "case.log") > 0
+
+
+def test_a_program_that_exits_0_saying_nothing_is_asked_whether_it_is_openfast(tmp_path):
+    """--openfast /bin/true (a new user's slip): the error says the program printed nothing and asks whether it is
+    OpenFAST, where it ended on an empty colon."""
+    (tmp_path / "case.fst").write_text("")
+    with pytest.raises(OpenFastFailed, match=r"\(exit 0; its output: .*case.log\): it printed nothing: is /bin/true "
+                                             r"OpenFAST\?$"):
+        run_openfast(Path("/bin/true"), tmp_path / "case.fst")
