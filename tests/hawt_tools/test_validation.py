@@ -86,6 +86,8 @@ def test_a_runs_figures_are_hawts_analysis_of_its_channels():
     (["validate", "nrel_5mw", "--openfast", "/bin/true", "--case", "windy-9"], "expected steady-V or turbulent-V"),
     (["validate", "nrel_5mw_two_bladed", "--openfast", "/bin/true"], "nrel_5mw_two_bladed: no OpenFAST deck"),
     (["validate", "/nonexistent/turbine", "--openfast", "/bin/true"], "/nonexistent/turbine"),
+    (["validate", "nrel_5mx", "--openfast", "/bin/true"], "turbine 'nrel_5mx': no packaged turbine of that name "
+                                                          "(packaged: nrel_5mw, "),
 ])
 def test_bad_input_is_one_line_and_exit_2_before_anything_runs(arguments, message, capsys, monkeypatch, tmp_path):
     monkeypatch.delenv("HAWT_OPENFAST", raising=False)

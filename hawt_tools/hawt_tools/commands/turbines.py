@@ -18,7 +18,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         openfast = openfast_executable(args.openfast)
         cases = [parse_case(text, args.duration) for text in args.case] if args.case else \
             [with_duration(case, args.duration) if args.duration is not None else case for case in DEFAULT_CASES]
-        turbine_from(args.turbine)
+        turbine_from(resolve_turbine(args.turbine, "T"))
         deck = deck_of(args.turbine)
     except (ValueError, TurbineDefinitionError) as error:
         raise GraphError(str(error)) from None
