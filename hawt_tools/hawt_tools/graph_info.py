@@ -52,11 +52,15 @@ def controllers_text(manager: str, rows: Tuple[ControllerRow, ...]) -> List[str]
 
 def controllers_in(namespace: str, timeout: float = 5.0) -> Tuple[ControllerRow, ...]:
     """The controllers of the manager in ``namespace``, asked directly: no wait for the rest of the graph's discovery
-    (``hawt list --namespace``)."""
+    (``hawt list --namespace``). Where none answers, the error names the namespaces whose managers the graph has."""
     with rclpy.init():
         node = Node("_hawt_list", start_parameter_services=False, enable_rosout=False)
         try:
             return list_controllers(node, namespace, timeout)
+        except ControllerManagerError as error:
+            managers = [manager or "/" for manager in find_managers(node, timeout=1.0)]
+            raise ControllerManagerError(f"{error}; the graph's controller managers: {', '.join(managers)}" if managers
+                                         else str(error)) from None
         finally:
             node.destroy_node()
 

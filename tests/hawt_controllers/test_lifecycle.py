@@ -91,3 +91,11 @@ def test_a_controller_the_manager_does_not_know_is_refused_in_one_line_naming_th
     result = _hawt("lifecycle", "ipc_h9", "activate")
     assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
     assert result.stderr.startswith(f"hawt lifecycle: ipc_h9: no such controller (known: /{NS}/blade_sine, /{NS}/cpc, ")
+
+
+def test_hawt_list_of_a_namespace_without_a_manager_names_the_namespaces_that_have_one(graph):
+    """hawt list --namespace /wt2 while the graph runs in /lc: the error names /lc (it only asked whether the
+    graph was running)."""
+    result = subprocess.run([*CLI, "list", "--namespace", "/wt2"], capture_output=True, text=True, timeout=90)
+    assert result.returncode == 1 and result.stderr.count("\n") == 1, result.stderr
+    assert result.stderr.rstrip().endswith(f"the graph's controller managers: /{NS}"), result.stderr
