@@ -706,11 +706,17 @@ def find_graph(name: str) -> Path:
 
 
 def graph_summary(path: Path) -> str:
-    """What a graph file says it is: the first sentence of its leading comment ('' without one)."""
+    """What a graph file says it is: the first sentence of its leading comment after its title ('' without one); a
+    sentence ends at a full stop outside parentheses (an "e.g. " inside them does not end it)."""
     lines = []
     for line in Path(path).read_text().splitlines():
         if not line.startswith("#") or line.startswith("#  "):
             break
         lines.append(line.lstrip("# ").strip())
-    text = " ".join(lines)
-    return text.split(". ")[0].split(": ", 1)[-1].rstrip(".").strip()
+    text, depth = " ".join(lines) + " ", 0
+    for end, character in enumerate(text):
+        depth += {"(": 1, ")": -1}.get(character, 0)
+        if character == "." and depth == 0 and text[end + 1] == " ":
+            text = text[:end]
+            break
+    return text.split(": ", 1)[-1].rstrip(".").strip()

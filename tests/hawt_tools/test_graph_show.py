@@ -53,6 +53,9 @@ def test_graph_summary_is_the_first_sentence_of_the_leading_comment_after_its_ti
     graph.write_text("# Relay graph: two nodes passing loads. The second doubles them;\n# more text.\n"
                      "#   ./hawt launch graph.yaml\nlaunch: []\n")
     assert graph_summary(graph) == "two nodes passing loads"
+    graph.write_text("# Tuned graph: the relay (gain 2, from its tuning; another turbine needs its own, e.g.\n"
+                     "# gain:=3). More text.\nlaunch: []\n")
+    assert graph_summary(graph) == "the relay (gain 2, from its tuning; another turbine needs its own, e.g. gain:=3)"
     graph.write_text("launch: []\n")
     assert graph_summary(graph) == ""
 
