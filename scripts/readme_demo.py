@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Write the README's demo figures from a run of the demo, never by hand.
 
-Runs ``./hawt demo --duration 30`` (into a temporary folder), times it, and replaces the README's block between
-the ``<!-- readme_demo: begin -->`` and ``<!-- readme_demo: end -->`` markers with the command, its wall time and
-the headline the demo printed. Prints the new block. Exit 1 if the demo fails, prints no headline or cautions that
-a run did not go as meant (a contribution lost, a recorder given up: its numbers are not the demo's).
+Runs ``./hawt demo --duration 60`` (its default; into a temporary folder), times it, and replaces the README's
+block between the ``<!-- readme_demo: begin -->`` and ``<!-- readme_demo: end -->`` markers with the command, its
+wall time and the headline the demo printed. Prints the new block. Exit 1 if the demo fails, prints no headline or
+cautions that a run did not go as meant (a contribution lost, a recorder given up: its numbers are not the demo's).
 
 Usage: source scripts/env.sh; python scripts/readme_demo.py [--duration S] [--readme PATH]
 """
@@ -68,7 +68,8 @@ def replace_block(readme: str, block: str) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=30.0, help="simulated seconds of each run (default 30)")
+    parser.add_argument("--duration", type=float, default=60.0, help="simulated seconds of each run (default 60, the "
+                                                                    "demo's own)")
     parser.add_argument("--readme", type=Path, default=ROOT / "README.md", help="the README to rewrite")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
