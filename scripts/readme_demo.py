@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write the README's demo figures from a run of the demo, never by hand.
 
-Runs ``./hawt demo --duration 60`` (its default; into a temporary folder), times it, and replaces the README's
+Runs ``./hawt demo`` for its default duration (into a temporary folder), times it, and replaces the README's
 block between the ``<!-- readme_demo: begin -->`` and ``<!-- readme_demo: end -->`` markers with the command, its
 wall time and the headline the demo printed. Prints the new block. Exit 1 if the demo fails, prints no headline or
 cautions that a run did not go as meant (a contribution lost, a recorder given up: its numbers are not the demo's).
@@ -18,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from hawt_tools.commands.demo import CAUTION
+from hawt_tools.commands.demo import CAUTION, DEFAULT_DURATION
 
 ROOT = Path(__file__).resolve().parents[1]
 BEGIN, END = "<!-- readme_demo: begin -->", "<!-- readme_demo: end -->"
@@ -68,8 +68,8 @@ def replace_block(readme: str, block: str) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=60.0, help="simulated seconds of each run (default 60, the "
-                                                                    "demo's own)")
+    parser.add_argument("--duration", type=float, default=DEFAULT_DURATION,
+                        help=f"simulated seconds of each run (default {DEFAULT_DURATION:g}, the demo's own)")
     parser.add_argument("--readme", type=Path, default=ROOT / "README.md", help="the README to rewrite")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:

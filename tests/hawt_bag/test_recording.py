@@ -147,9 +147,10 @@ def test_a_stopped_recorder_first_takes_everything_queued_for_it(processes, prob
     of its own (slow: rclpy's executor hands it one message in a few hundred µs): it is stopped (SIGINT) as soon as
     its subscriptions have acknowledged the last, with thousands still to take and write. The bag holds all 18 000,
     in order. (A lockstep plant may be its recorder_window ahead when a wall-clock --duration stops a graph; a drain
-    limited to 1 s once cut the last 488 steps of such a run.) The acknowledgements come as fast as the recorder
-    takes (the middleware holds a bounded number of samples per reader), so on a busy machine the test waits as long
-    as the recorder goes on writing, and fails if it writes nothing for a minute."""
+    limited to 1 s once cut the last 488 steps of such a run.) 3000 per topic stay under Fast DDS's 5000 samples
+    per reader, so all are acknowledged without the recorder taking any (beyond it, acknowledgements come only as
+    fast as it takes); on a busy machine the test waits as long as the recorder goes on writing, and fails if it
+    writes nothing for a minute."""
     count, topics = 3000, [f"/backlog/t{k}" for k in range(6)]
     bag = tmp_path / "backlog.mcap"
     recorder = processes.hawt("record", "-o", str(bag), "--regex", "^/backlog/", "--chunk-size", "1")

@@ -13,6 +13,8 @@ from hawt_tools.graph_file import find_graph, load_graph, package_prefix
 
 CAUTION = "hawt demo: caution:"
 """How a line about a run that did not go as meant begins (scripts/readme_demo.py refuses output with one)."""
+DEFAULT_DURATION = 60.0
+"""[s] Simulated time of each of the demo's runs unless ``--duration`` says otherwise."""
 
 
 def cautions(events: Mapping[str, Sequence[Dict]]) -> List[str]:
@@ -84,7 +86,7 @@ def _add_demo(commands: argparse._SubParsersAction) -> None:
                     "one process per node, in lockstep on the same IEC turbulent wind, records both to MCAP and "
                     "prints the headline of the load comparison (blade, hub and tower DEL changes, pitch activity, "
                     "speed and power held) and the report with every number.")
-    demo.add_argument("--duration", type=POSITIVE, default=60.0, metavar="S", help="simulated seconds per run")
+    demo.add_argument("--duration", type=POSITIVE, default=DEFAULT_DURATION, metavar="S", help="simulated seconds per run")
     demo.add_argument("--wind-speed", type=float, default=18.0, metavar="M_PER_S", help="mean hub wind speed")
     demo.add_argument("--seed", type=int, default=1, help="turbulence seed")
     demo.add_argument("--output", default="bags", metavar="DIR", help="folder for the run's bags and report")

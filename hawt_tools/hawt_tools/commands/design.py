@@ -311,9 +311,9 @@ def _add_design(commands: argparse._SubParsersAction) -> None:
                     "Engelen's integral gain for a 0.1 Hz crossover at --reference-speed, gain-scheduled over the "
                     "operating points. Print each harmonic's rate budget (the pitch rate that cancelling its moment of "
                     "steady wind with shear 0.2 takes, against the actuator's limit), leave active only the harmonics "
-                    "that fit it together (1P first, up to 70 % of the rate limit), and write the ipc graph's parameter file "
-                    "(the turbine's ipc tuning) with the others inactive, and the switching graph's retuned 1P "
-                    "controller derived from it.")
+                    "that fit it together (1P first, up to 70 % of the rate limit), and write the ipc graph's "
+                    "parameter file (the turbine's ipc tuning) with the others inactive, and the switching graph's "
+                    "retuned 1P controller derived from it.")
     ipc.add_argument("--turbine", default="nrel_5mw", metavar="T",
                      help="a turbine.yaml, its folder, or a packaged turbine's name (default nrel_5mw); a folder's "
                           "tunings go beside it")
