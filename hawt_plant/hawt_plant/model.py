@@ -76,13 +76,13 @@ import numpy as np
 
 from hawt_plant.bem import (BemBlade, induction_factors, prandtl_loss, rotor_performance, skewed_wake_factor,
                             solve_inflow_angle)
-from hawt_plant.blade_elements import MIN_INFLOW, blade_element_loads, disk_weights
+from hawt_plant.blade_elements import MIN_INFLOW, disk_weights
 from hawt_plant.compiled import unchecked
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
-from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance_structure,
-                                   constant_array, element_inflow, generalized_forces, measured_loads, place_elements,
-                                   torsion_rate)
+from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance,
+                                   aerodynamic_loads, constant_array, element_inflow, measured_loads, place_elements,
+                                   skew_geometry, torsion_rate)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.rotor_state import ROTOR_STATES
@@ -94,9 +94,9 @@ from hawt_plant.wind_field import WindChange, WindField
 
 # The step's kernels without the check of their arguments' types (hawt_plant.compiled.unchecked): the model passes them
 # only arrays it allocated itself (float64, C-contiguous), the wind's samples made so, and floats.
-(accelerations, advance_structure, blade_element_loads, element_inflow, generalized_forces, measured_loads,
- place_elements, torsion_rate) = map(unchecked, (accelerations, advance_structure, blade_element_loads, element_inflow,
-                                                 generalized_forces, measured_loads, place_elements, torsion_rate))
+(accelerations, advance, aerodynamic_loads, element_inflow, measured_loads, place_elements, skew_geometry,
+ torsion_rate) = map(unchecked, (accelerations, advance, aerodynamic_loads, element_inflow, measured_loads,
+                                 place_elements, skew_geometry, torsion_rate))
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 
@@ -463,9 +463,11 @@ class TurbineModel:
         # Øye's filter holds BEM's induced velocities, before the skew's correction
         self._inflow_filter[0] = self._induction[0] * np.maximum(vx, MIN_INFLOW)
         self._inflow_filter[1] = self._induction[1] * np.maximum(vy, MIN_INFLOW)
-        skewed, angle, cos_azimuth = self._skew() if self._config.skewed_wake else (False, 0.0, None)
-        if skewed:
-            self._induction[0] *= skewed_wake_factor(self._induction[0], angle, self._tip_ratio, cos_azimuth[:, None])
+        if self._config.skewed_wake:
+            angle = skew_geometry(self._apex_wind, self._trig, self._constants, self._cos_azimuth)
+            if angle != 0.0:
+                self._induction[0] *= skewed_wake_factor(self._induction[0], angle, self._tip_ratio,
+                                                         self._cos_azimuth[:, None])
 
     def _passage_mean_loads(self) -> tuple[float, np.ndarray]:
         """Shaft torque and tower residual (without the generator torque) averaged over one
@@ -547,15 +549,12 @@ class TurbineModel:
             self._generator_torque += min(max(torque_command - self._generator_torque, -limit), limit)
         else:
             self._generator_torque = 0.0
-        acting = self._acting_torque()
-        acceleration = self._accelerations(acting)
-        advance_structure(acceleration, dt, self._velocity, self._displacement)
-        self._rotor_speed += dt * acceleration[-1]
-        if not self._parked:
-            self._generator_speed += dt * self._generator_acceleration(acting)
-        self._torsion += dt * torsion_rate(self._rotor_speed, self._generator_speed, self._velocity[1], self._constants)
-        self._azimuth = (self._azimuth + dt * self._rotor_speed) % (2.0 * math.pi)
-        self._pitch, self._pitch_rate = self._pitch_actuator.step(self._pitch, self._pitch_rate, command)
+        drive = self._drive
+        drive[0], drive[1], drive[2], drive[3] = self._rotor_speed, self._generator_speed, self._torsion, self._azimuth
+        advance(dt, self._acting_torque(), self._parked, command, *self._pitch_actuator.kernel_arrays, self._schur,
+                self._constants, self._modal_matrix, self._scaled_residual, self._mode_scale, self._forces,
+                self._acceleration, self._velocity, self._displacement, self._pitch, self._pitch_rate, drive)
+        self._rotor_speed, self._generator_speed, self._torsion, self._azimuth = drive.tolist()
         self._step_index += 1
         self._time = self._step_index * dt
         self._sample_inflow()
@@ -691,7 +690,7 @@ class TurbineModel:
         side = -1.0 if rotor.downwind else 1.0
         cone, tilt = side * rotor.cone_angle, side * rotor.shaft_tilt
         cb, sb, ct, st = math.cos(cone), math.sin(cone), math.cos(tilt), math.sin(tilt)
-        self._cos_tilt, self._sin_tilt = ct, st
+        self._cos_tilt = ct
         span = aero.span
         rh = rotor.hub_radius
         s_abs = rh + span
@@ -875,12 +874,16 @@ class TurbineModel:
         self._blade_constants = (bem.polars.table, *bem.polars.grid_constants, bem.loss_exponents, bem.local_solidity,
                                  self._induction_bounds, self._pressure_to_load, self._span_functions)
         self._aero_sums = np.empty((3, b, len(self._element_basis)))
+        self._apex_wind = np.zeros(3)  # the undisturbed wind at the rotor apex (element_inflow)
+        self._cos_azimuth = np.zeros(b)  # each blade's from the skewed wake's most downwind azimuth (skew_geometry)
         self._element_normals = np.zeros((2, b, n))  # tan and cos of the deflected blade's slope at the elements
         # What the other kernels write (model_step).
         self._loads = np.empty((len(LOAD_ROWS), b))
         self._mode_stiffness_now, self._mode_residual, self._scaled_residual = (np.empty(2 * b) for _ in range(3))
         self._modal_matrix = np.empty((3, 2 * b))  # the modes' scaled couplings with the tower and the rotor
         self._schur = np.empty(9)
+        self._acceleration = np.empty(3 + 2 * b)  # what advance accelerates the state with
+        self._drive = np.empty(4)  # rotor and generator speed, torsion and azimuth, for advance
         self._forces = np.zeros(len(FORCES))
         self._drag_loads = np.zeros(4)
         self._root_moments = np.empty((2, b))
@@ -915,46 +918,26 @@ class TurbineModel:
                        self._apex, samples)
         velocity = np.ascontiguousarray(self._wind.velocity(self._time, samples[0], samples[1], samples[2]),
                                         dtype=float)
-        n = self._n
-        self._hub_wind_speed = float(velocity[0, 0, n])
-        if self._config.skewed_wake:
-            self._apex_wind = velocity[:, 0, n].tolist()
         element_inflow(velocity, samples, displacement, self._velocity, self._rotor_speed, constants, features,
                        directions, self._point_basis, self._deflection_parts, self._mode_slopes, *self._shadow,
                        self._drag_constants, self._element_wind, self._inflow, self._element_normals,
-                       self._drag_loads)
+                       self._drag_loads, self._apex_wind)
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix
-        (:func:`~hawt_plant.blade_elements.blade_element_loads`, :func:`~hawt_plant.model_step.generalized_forces`)."""
+        (:func:`~hawt_plant.model_step.aerodynamic_loads`: the skewed wake's geometry,
+        :func:`~hawt_plant.blade_elements.blade_element_loads`, :func:`~hawt_plant.model_step.generalized_forces`)."""
         config, unsteady = self._config, self._unsteady
-        skewed, skew_angle, cos_azimuth = self._skew() if config.skewed_wake else (False, 0.0, self._trig[0])
-        aero = self._aero_sums
-        blade_element_loads(self._inflow, self._induction, self._inflow_filter, self._pitch[:, None] + self._twist,
-                            *self._blade_constants, update_induction, config.bem_iterations,
-                            config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
-                            self._tip_ratio, self._disk_weights, skewed, skew_angle, cos_azimuth, unsteady is not None,
-                            self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
-                            self._element_normals, aero)
-        generalized_forces(aero, self._trig, self._features, self._mode_directions, self._deflection_parts,
-                           self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,
-                           self._drag_loads, self._constants, self._load_operator, self._mode_constants, self._loads,
-                           self._mode_stiffness_now, self._mode_residual, self._modal_matrix, self._scaled_residual,
-                           self._schur, self._forces)
-
-    def _skew(self) -> tuple[bool, float, np.ndarray]:
-        """Pitt & Peters's skewed wake for the wind at the rotor apex: whether it is skewed, its angle χ_0 to the
-        shaft axis x_s = (ct, 0, -st), and each blade's cos of its azimuth from the most downwind one, where the
-        wind's in-plane part (along e_zs = (st, 0, ct) and e_ys) points; a blade's radial unit vector is
-        cos ψ e_zs - sin ψ e_ys."""
-        u, v, w = self._apex_wind
-        ct, st = self._cos_tilt, self._sin_tilt
-        along_z, along_y = u * st + w * ct, v
-        in_plane = math.hypot(along_z, along_y)
-        if in_plane == 0.0:
-            return False, 0.0, self._trig[0]
-        return (True, math.atan2(in_plane, u * ct - w * st),
-                (self._trig[0] * along_z - self._trig[1] * along_y) / in_plane)
+        aerodynamic_loads(update_induction, config.skewed_wake, self._apex_wind, self._cos_azimuth, self._inflow,
+                          self._induction, self._inflow_filter, self._pitch, self._twist, *self._blade_constants,
+                          config.bem_iterations, config.bem_relaxation, config.dynamic_inflow, config.dt,
+                          self._bem.tip_radius, self._tip_ratio, self._disk_weights, unsteady is not None,
+                          self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
+                          self._element_normals, self._aero_sums, self._trig, self._features, self._mode_directions,
+                          self._deflection_parts, self._displacement, self._velocity, self._rotor_speed,
+                          self._generator_speed, self._torsion, self._drag_loads, self._constants, self._load_operator,
+                          self._mode_constants, self._loads, self._mode_stiffness_now, self._mode_residual,
+                          self._modal_matrix, self._scaled_residual, self._schur, self._forces)
 
     @property
     def _shaft_torque(self) -> float:
@@ -999,7 +982,7 @@ class TurbineModel:
             electrical_power=self._turbine.generator.efficiency * self._generator_torque * generator_speed,
             aero_torque=float(forces[_AERO_TORQUE]),
             rotor_thrust=float(forces[_THRUST]),
-            hub_wind_speed=self._hub_wind_speed,
+            hub_wind_speed=float(self._apex_wind[0]),
             tower_top_fa_accel=x_acc,
             tower_top_ss_accel=y_acc,
             tower_top_fa_disp=x_top,

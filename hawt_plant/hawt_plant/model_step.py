@@ -4,16 +4,19 @@ reduced mass matrix, the accelerations and the measured loads.
 :class:`hawt_plant.model.TurbineModel` holds the physics' description (its module notes: frames, degrees of freedom,
 the mass matrix's reduction); these kernels are its per-step arithmetic, written once as loops over the blades and
 their elements, so that a step is a handful of compiled calls instead of a hundred numpy calls on arrays of three
-(numpy's per-call cost was most of the step). The model calls them in this order each step and for each state it
-evaluates (the initial equilibrium, the linearisation):
+(numpy's per-call cost was most of the step). The model calls them in this order each step (0 only there) and for each
+state it evaluates (the initial equilibrium, the linearisation):
 
+0. :func:`advance`: the state over the step, the loads held from its start: the structure and the drivetrain by
+   semi-implicit Euler, the pitch actuators;
 1. :func:`place_elements`: each blade's unit vectors at its azimuth, the modes' directions at its pitch, the rotor apex
    and the points where the wind is sampled (the elements, the apex, the tower's drag nodes);
 2. the wind field at those points (a Python object: steady, turbulent, gusts);
 3. :func:`element_inflow`: the tower shadow, the inflow (vx, vy) of every element without induction, the tower drag;
-4. :func:`hawt_plant.blade_elements.blade_element_loads`: the aerodynamic load sums per blade;
-5. :func:`generalized_forces`: gravity and centrifugal load sums, the generalized forces, the reduced mass matrix;
-6. :func:`accelerations` and :func:`measured_loads`.
+4. :func:`aerodynamic_loads`: the skewed wake's geometry (:func:`skew_geometry`), the aerodynamic load sums per blade
+   (:func:`hawt_plant.blade_elements.blade_element_loads`), then :func:`generalized_forces`: gravity and centrifugal
+   load sums, the generalized forces, the reduced mass matrix;
+5. :func:`accelerations` and :func:`measured_loads`.
 
 Per-blade quantities that are linear in (cos psi_i, sin psi_i, 1) are rows of a ``feature_matrix`` (R, 3), evaluated
 once per step into ``features`` (R, B); :data:`FEATURE_BLOCKS` names their rows. The model's scalar constants travel in
@@ -26,13 +29,15 @@ import math
 
 import numpy as np
 
+from hawt_plant.blade_elements import blade_element_loads
 from hawt_plant.compiled import njit
+from hawt_plant.pitch_actuator import limited_step
 from hawt_plant.tower_drag import node_drag
 from hawt_plant.tower_shadow import shadow
 
-__all__ = ["CONSTANTS", "FEATURE_BLOCKS", "FORCES", "LOAD_ROWS", "MEASURED", "accelerations", "advance_structure",
-           "constant_array",
-           "element_inflow", "generalized_forces", "measured_loads", "place_elements"]
+__all__ = ["CONSTANTS", "FEATURE_BLOCKS", "FORCES", "LOAD_ROWS", "MEASURED", "accelerations", "advance",
+           "advance_structure", "aerodynamic_loads", "constant_array", "element_inflow", "generalized_forces",
+           "measured_loads", "place_elements", "skew_geometry"]
 
 LOAD_ROWS = (("n", 0), ("n", 1), ("n", 2), ("n", 3), ("t", 0), ("t", 1), ("t", 2), ("t", 3), ("z", 0), ("z", 2), ("z", 3))
 """The per-blade load sums the model keeps, as (direction, span function): the element loads along e_n, e_t and e_z
@@ -143,7 +148,7 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
                    point_basis: np.ndarray, deflection: np.ndarray, mode_slopes: np.ndarray, shadow_on: bool,
                    downwind: bool, shadow_drag: float, shadow_elevation: np.ndarray, shadow_outline: np.ndarray,
                    drag_constants: np.ndarray, wind: np.ndarray, inflow: np.ndarray, normals: np.ndarray,
-                   drag_loads: np.ndarray) -> None:
+                   drag_loads: np.ndarray, apex_wind: np.ndarray) -> None:
     """The wind at every element with the tower shadow (:func:`hawt_plant.tower_shadow.shadow`, at the element
     relative to the tower top's position) into ``wind`` (3, B, N), and the inflow without induction into ``inflow``
     (2, B, N): vx = (V - the element's velocity) . e_n' (its velocity along e_z taken as 0), vy = -V . e_t + (its
@@ -158,9 +163,12 @@ def element_inflow(velocity: np.ndarray, samples: np.ndarray, displacement: np.n
     ``velocity`` is the wind at ``samples`` (:func:`place_elements`); ``rates`` the structural rates (as
     ``displacement``). With tower drag nodes (``drag_constants`` (4, K): :class:`~hawt_plant.tower_drag.TowerDrag`'s
     coefficient, fore-aft and side-side shapes, lever) their loads go to ``drag_loads`` (fa force, ss force, base fa
-    and ss moments, :func:`hawt_plant.tower_drag.node_drag`); without, it is left alone.
+    and ss moments, :func:`hawt_plant.tower_drag.node_drag`); without, it is left alone. The undisturbed wind at the
+    rotor apex (``velocity`` after blade 1's elements) goes to ``apex_wind`` (3,).
     """
     blades, elements = wind.shape[1], wind.shape[2]
+    for axis in range(3):
+        apex_wind[axis] = velocity[axis, 0, elements]
     x_top, y_top, rate_fa, rate_ss = displacement[0], displacement[1], rates[0], rates[1]
     spin = rotor_speed * constants[_COS_CONE]
     motion = np.empty((2, 4))  # vx, vy per unit of 1, s_abs, phi_flap, phi_edge
@@ -459,3 +467,78 @@ def advance_structure(acc: np.ndarray, dt: float, velocity: np.ndarray, displace
     for k in range(velocity.size):
         velocity[k] += dt * acc[k]
         displacement[k] += dt * velocity[k]
+
+
+@njit
+def advance(dt: float, acting_torque: float, parked: bool, command: np.ndarray, transition: np.ndarray,
+            limits: np.ndarray, schur: np.ndarray, constants: np.ndarray, scaled: np.ndarray,
+            scaled_residual: np.ndarray, mode_scale: np.ndarray, forces: np.ndarray, acc: np.ndarray,
+            velocity: np.ndarray, displacement: np.ndarray, pitch: np.ndarray, pitch_rate: np.ndarray,
+            drive: np.ndarray) -> None:
+    """The state over one step by semi-implicit (symplectic) Euler, the loads held from its start (model notes): the
+    accelerations with ``acting_torque`` on the drivetrain (:func:`accelerations`, into ``acc``), the structure
+    (:func:`advance_structure`), the rotor's and the generator's speed by their accelerations (a parked generator's
+    stays at rest), the shaft's torsion by the new speeds (:func:`torsion_rate`), the azimuth by the new rotor speed,
+    wrapped to [0, 2 pi); then each blade's pitch actuator towards ``command``
+    (:func:`hawt_plant.pitch_actuator.limited_step` with the actuator's ``transition`` and ``limits``, in place).
+    ``drive`` (4,): rotor speed, generator speed (low-speed shaft), torsion and azimuth, updated."""
+    accelerations(schur, acting_torque, constants, scaled, scaled_residual, mode_scale, acc)
+    advance_structure(acc, dt, velocity, displacement)
+    rotor_speed, generator_speed = drive[0] + dt * acc[acc.size - 1], drive[1]
+    if not parked:
+        ratio = constants[_GEARBOX_RATIO]
+        generator_speed += dt * ((forces[_SHAFT_TORQUE] - ratio * acting_torque)
+                                 / (constants[_GENERATOR_INERTIA] * ratio * ratio))
+    drive[0], drive[1] = rotor_speed, generator_speed
+    drive[2] += dt * torsion_rate(rotor_speed, generator_speed, velocity[1], constants)
+    drive[3] = (drive[3] + dt * rotor_speed) % (2.0 * math.pi)
+    limited_step(transition, limits, pitch, pitch_rate, command, pitch, pitch_rate)
+
+
+@njit
+def skew_geometry(apex_wind: np.ndarray, trig: np.ndarray, constants: np.ndarray, cos_azimuth: np.ndarray) -> float:
+    """Pitt & Peters's skewed wake for the wind ``apex_wind`` at the rotor apex: returns its angle chi_0 to the shaft
+    axis x_s = (ct, 0, -st), 0 when the wind has no part in the rotor plane (no skew), and writes each blade's cos of
+    its azimuth from the most downwind one into ``cos_azimuth`` (B,), where the wind's in-plane part (along
+    e_zs = (st, 0, ct) and e_ys) points; a blade's radial unit vector is cos psi e_zs - sin psi e_ys."""
+    u, v, w = apex_wind[0], apex_wind[1], apex_wind[2]
+    ct, st = constants[_COS_TILT], constants[_SIN_TILT]
+    along_z, along_y = u * st + w * ct, v
+    in_plane = math.hypot(along_z, along_y)
+    for i in range(cos_azimuth.size):
+        cos_azimuth[i] = trig[0, i] if in_plane == 0.0 else (trig[0, i] * along_z - trig[1, i] * along_y) / in_plane
+    return 0.0 if in_plane == 0.0 else math.atan2(in_plane, u * ct - w * st)
+
+
+@njit
+def aerodynamic_loads(update: bool, skewed_wake: bool, apex_wind: np.ndarray, cos_azimuth: np.ndarray,
+                      inflow: np.ndarray, induction_factors: np.ndarray, inflow_filter: np.ndarray, pitch: np.ndarray,
+                      twist: np.ndarray, polar_table: np.ndarray, scale: float, intervals: float, offsets: np.ndarray,
+                      loss_exponents: np.ndarray, local_solidity: np.ndarray, bounds: np.ndarray,
+                      pressure_to_load: np.ndarray, span_functions: np.ndarray, iterations: int, relaxation: float,
+                      dynamic_inflow: bool, dt: float, tip_radius: float, tip_ratio: np.ndarray,
+                      disk_weights: np.ndarray, unsteady: bool, pitch_rate: np.ndarray, unsteady_states: np.ndarray,
+                      unsteady_table: np.ndarray, unsteady_constants: np.ndarray, normals: np.ndarray,
+                      aero: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray,
+                      deflection: np.ndarray, displacement: np.ndarray, rates: np.ndarray, rotor_speed: float,
+                      generator_speed: float, torsion: float, drag_loads: np.ndarray, constants: np.ndarray,
+                      load_operator: np.ndarray, mode_constants: np.ndarray, loads: np.ndarray,
+                      mode_stiffness: np.ndarray, mode_residual: np.ndarray, scaled: np.ndarray,
+                      scaled_residual: np.ndarray, schur: np.ndarray, forces: np.ndarray) -> None:
+    """Step 4 of the module notes: with ``skewed_wake``, the skewed wake's angle and azimuths
+    (:func:`skew_geometry`, into ``cos_azimuth``), the blades' aerodynamic load sums into ``aero``
+    (:func:`hawt_plant.blade_elements.blade_element_loads`, its arguments in its order; ``pitch`` (B,) and ``twist``
+    (B, N) make its ``pitch_twist``), then :func:`generalized_forces` (its arguments in its order after ``aero``)."""
+    skew_angle = skew_geometry(apex_wind, trig, constants, cos_azimuth) if skewed_wake else 0.0
+    pitch_twist = np.empty_like(twist)
+    for i in range(twist.shape[0]):
+        for j in range(twist.shape[1]):
+            pitch_twist[i, j] = pitch[i] + twist[i, j]
+    blade_element_loads(inflow, induction_factors, inflow_filter, pitch_twist, polar_table, scale, intervals, offsets,
+                        loss_exponents, local_solidity, bounds, pressure_to_load, span_functions, update, iterations,
+                        relaxation, dynamic_inflow, dt, tip_radius, tip_ratio, disk_weights, skew_angle != 0.0,
+                        skew_angle, cos_azimuth, unsteady, pitch_rate, unsteady_states, unsteady_table,
+                        unsteady_constants, normals, aero)
+    generalized_forces(aero, trig, features, directions, deflection, displacement, rates, rotor_speed, generator_speed,
+                       torsion, drag_loads, constants, load_operator, mode_constants, loads, mode_stiffness,
+                       mode_residual, scaled, scaled_residual, schur, forces)

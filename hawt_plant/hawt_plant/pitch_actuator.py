@@ -7,7 +7,7 @@ from hawt_plant.compiled import njit, unchecked
 from hawt_plant.disk_cache import kept
 from hawt_plant.turbine import PitchActuator
 
-__all__ = ["DiscretePitchActuator"]
+__all__ = ["DiscretePitchActuator", "limited_step"]
 
 
 def _transition(parameters: PitchActuator, dt: float) -> np.ndarray:
@@ -58,6 +58,11 @@ class DiscretePitchActuator:
         """The actuator's parameters."""
         return self._parameters
 
+    @property
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """What :func:`limited_step` takes of the actuator: its transition matrix (2, 3) and limits (6,)."""
+        return self._transition, self._limits
+
     def step(self, angle: np.ndarray, rate: np.ndarray, command: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Advance all blades one step.
 
@@ -81,8 +86,11 @@ class DiscretePitchActuator:
 
 
 @njit
-def _limited_step(transition, limits, angle, rate, command, new_angle, new_rate):
-    """:meth:`DiscretePitchActuator.step` per blade: the exact linear step, then the limits (class notes)."""
+def limited_step(transition: np.ndarray, limits: np.ndarray, angle: np.ndarray, rate: np.ndarray,
+                 command: np.ndarray, new_angle: np.ndarray, new_rate: np.ndarray) -> None:
+    """:meth:`DiscretePitchActuator.step` per blade: the exact linear step, then the limits (class notes). Each
+    blade's angle and rate are read before its new ones are written, so ``new_angle`` and ``new_rate`` may be
+    ``angle`` and ``rate`` (a step in place)."""
     step_low, step_high, angle_low, angle_high, rate_low, rate_high = (limits[0], limits[1], limits[2], limits[3],
                                                                        limits[4], limits[5])
     for i in range(angle.size):
@@ -94,4 +102,4 @@ def _limited_step(transition, limits, angle, rate, command, new_angle, new_rate)
         new_rate[i] = min(max(linear_rate, rate_low), rate_high) if limited == moved else 0.0
 
 
-_step_unchecked = unchecked(_limited_step)  # its arguments are the actuator's own arrays and float64 C-contiguous ones
+_step_unchecked = unchecked(limited_step)  # its arguments are the actuator's own arrays and float64 C-contiguous ones

@@ -6,7 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PowerLawWind"]
+from hawt_plant.compiled import njit, unchecked
+
+__all__ = ["PowerLawWind", "power_law"]
 
 _MIN_HEIGHT = 1e-3  # [m] heights at or below ground are evaluated here (the profile is 0 at z = 0)
 
@@ -51,10 +53,24 @@ class PowerLawWind:
 
     def velocity(self, t: float, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
         """Wind velocity (u, v, w) [m/s] at the points (x, y, z) [m]; shape ``(3,) + x.shape``."""
-        z = np.asarray(z, dtype=float)
-        out = np.zeros((3,) + z.shape)
-        if self.shear_exponent == 0.0:
-            out[0] = self.mean_speed
-        else:
-            out[0] = self.mean_speed * (np.maximum(z, _MIN_HEIGHT) / self.hub_height) ** self.shear_exponent
+        z = np.ascontiguousarray(z, dtype=float)
+        out = np.empty((3,) + z.shape)
+        _power_law(z.reshape(-1), float(self.mean_speed), float(self.hub_height), float(self.shear_exponent),
+                   out.reshape(3, -1))
         return out
+
+
+@njit
+def power_law(z: np.ndarray, mean_speed: float, hub_height: float, shear_exponent: float, out: np.ndarray) -> None:
+    """:class:`PowerLawWind`'s velocity at the heights ``z`` (M,) into ``out`` (3, M): U(z_r) (z / z_r)^alpha along x,
+    z at least 1 mm (the profile is 0 at the ground), 0 across (compiled: the plant samples the wind every step)."""
+    for j in range(z.size):
+        if shear_exponent == 0.0:
+            out[0, j] = mean_speed
+        else:
+            out[0, j] = mean_speed * (max(z[j], _MIN_HEIGHT) / hub_height) ** shear_exponent
+        out[1, j] = 0.0
+        out[2, j] = 0.0
+
+
+_power_law = unchecked(power_law)  # called with arrays the wind allocated (float64, C-contiguous) and floats

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import hawt_plant
-from hawt_plant import (airfoil_table, bem, blade_elements, grid_sampling, model_step, pitch_actuator, tower_drag,
-                        tower_shadow, unsteady_airfoil)
+from hawt_plant import (airfoil_table, bem, blade_elements, grid_sampling, model_step, pitch_actuator, shear_wind,
+                        tower_drag, tower_shadow, unsteady_airfoil)
 from hawt_plant.compiled import Kernel, cache_folder, source_hash
 from hawt_plant.model import ModelConfig, TurbineModel
 from hawt_plant.shear_wind import PowerLawWind
@@ -26,7 +26,8 @@ def test_the_per_step_formulas_are_compiled_ahead_of_time_by_set_up():
                      bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, grid_sampling.trilinear,
                      model_step.place_elements, model_step.element_inflow, model_step.generalized_forces,
                      model_step.accelerations, model_step.advance_structure, model_step.measured_loads,
-                     tower_shadow.shadow, tower_drag.node_drag, pitch_actuator._limited_step):
+                     model_step.advance, model_step.aerodynamic_loads, model_step.skew_geometry, shear_wind.power_law,
+                     tower_shadow.shadow, tower_drag.node_drag, pitch_actuator.limited_step):
         assert isinstance(function, Kernel) and function.unchecked() is not function, function
 
 
