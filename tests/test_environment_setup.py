@@ -42,3 +42,15 @@ def test_setup_names_the_kernel_folder_python_names():
                            env={**os.environ, "PYTHONPATH": f"{ROOT / 'hawt_plant'}:{ROOT / 'hawt_core'}"})
     assert kept == asked.stdout.strip()
     assert (Path(kept) / ".hawt-complete").is_file()
+
+
+def test_setup_with_nothing_changed_stops_at_the_digest_the_completed_steps_kept():
+    """scripts/setup.sh keeps one digest of everything its steps read when they all complete; a digest that differs
+    (here one made stale by hand) sends it through the steps, which find nothing to do and keep the same digest."""
+    stamp = ROOT / "ros2_ws" / ".hawt-setup"
+    subprocess.run(["bash", str(ROOT / "scripts" / "setup.sh")], check=True, capture_output=True)
+    kept = stamp.read_text()
+    stamp.write_text("stale\n")
+    done = subprocess.run(["bash", str(ROOT / "scripts" / "setup.sh")], check=True, capture_output=True, text=True)
+    assert stamp.read_text() == kept
+    assert done.stderr == ""  # every step found its own part done

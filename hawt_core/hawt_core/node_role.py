@@ -8,13 +8,15 @@ aliases, one per type, register the function that makes a controller's role from
 parameter check, the in-process engine and campaigns read the roles (hawt_tools.node_registry); the ROS nodes
 declare the same tables.
 """
+import sys
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Callable, Mapping, Optional, Tuple
 
 from hawt_core.parameter_table import ParameterSpec
 from hawt_core.topics import RECORDER_NODE
 
-__all__ = ["AWAIT_SCHEDULE", "HOLD_LIMIT", "KINDS", "NODES_GROUP", "NodeRole", "WAIT_FOR_RECORDER"]
+__all__ = ["AWAIT_SCHEDULE", "HOLD_LIMIT", "KINDS", "NODES_GROUP", "NodeRole", "WAIT_FOR_RECORDER", "entry_points"]
 
 NODES_GROUP = "hawt.nodes"
 """The entry-point group of node roles: executable name -> NodeRole (or, for controllers, type -> NodeRole)."""
@@ -22,6 +24,20 @@ NODES_GROUP = "hawt.nodes"
 KINDS = ("plant", "description", "assembler", "manager", "controller", "other")
 """What an engine can step or must know of: the plant, the description publisher, the loop assembler (mbc), the
 controller manager, a controller; ``other`` for a node only ``hawt launch`` starts (its table read off its class)."""
+
+
+def entry_points(group: str) -> Tuple[Any, ...]:
+    """The ``importlib.metadata`` entry points of ``group`` in the distributions on ``sys.path``. Every group is read
+    in one pass over the distributions (a pass reads each one's metadata: tens of milliseconds), kept while
+    ``sys.path`` stays the same."""
+    return tuple(_every_group(tuple(sys.path)).select(group=group))
+
+
+@lru_cache(maxsize=4)
+def _every_group(path: Tuple[str, ...]) -> Any:
+    import importlib.metadata  # here: the ROS nodes that import this module never read entry points
+
+    return importlib.metadata.entry_points()
 
 
 @dataclass(frozen=True)

@@ -9,12 +9,10 @@ role: ``hawt launch`` starts it with its values unchecked beyond its own table, 
 The launcher also gives each node what the graph implies (:func:`implied_parameters`): an alias its type, and the
 loop assembler the names of the graph's controllers in its namespace, which it waits for before the first step.
 """
-import importlib.metadata
-import sys
 from functools import lru_cache
 from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
 
-from hawt_core.node_role import NODES_GROUP, NodeRole
+from hawt_core.node_role import NODES_GROUP, NodeRole, entry_points
 from hawt_core.parameter_table import ParameterError
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec
 from hawt_tools.node_parameters import node_parameters
@@ -25,9 +23,8 @@ Overrides = Mapping[str, Sequence[Tuple[str, Any]]]
 
 
 @lru_cache(maxsize=4)
-def _entries(path: Tuple[str, ...]) -> Dict[Tuple[str, str], importlib.metadata.EntryPoint]:
-    return {(_package(entry.dist.name), entry.name): entry
-            for entry in importlib.metadata.entry_points(group=NODES_GROUP)}
+def _by_executable(entries: Tuple[Any, ...]) -> Dict[Tuple[str, str], Any]:
+    return {(_package(entry.dist.name), entry.name): entry for entry in entries}
 
 
 def _package(name: str) -> str:
@@ -43,7 +40,7 @@ def node_role(graph: Graph, spec: NodeSpec, overrides: Overrides = ()) -> Option
         A controller node whose type is not registered (naming the registered ones), or the generic ``controller``
         executable without a ``type``.
     """
-    entry = _entries(tuple(sys.path)).get((_package(spec.package), spec.executable))
+    entry = _by_executable(entry_points(NODES_GROUP)).get((_package(spec.package), spec.executable))
     if entry is None:
         return None
     role = entry.load()

@@ -17,12 +17,10 @@ from __future__ import annotations
 
 import difflib
 import importlib.metadata
-import sys
-from functools import lru_cache
 from typing import Dict, Tuple
 
 from hawt_controllers.plugins.controller import Controller, controller_parameters
-from hawt_core.node_role import AWAIT_SCHEDULE, WAIT_FOR_RECORDER, NodeRole
+from hawt_core.node_role import AWAIT_SCHEDULE, WAIT_FOR_RECORDER, NodeRole, entry_points
 from hawt_core.parameter_table import ParameterError, ParameterSpec
 
 __all__ = ["CONTROLLERS_GROUP", "TYPE", "controller_class", "controller_role", "controller_types", "node_parameters"]
@@ -35,14 +33,9 @@ TYPE = ParameterSpec("type", "", "the controller type: an entry point of hawt.co
 """The parameter that names a controller node's type."""
 
 
-@lru_cache(maxsize=4)
-def _registered(path: Tuple[str, ...]) -> Dict[str, importlib.metadata.EntryPoint]:
-    return {entry.name: entry for entry in importlib.metadata.entry_points(group=CONTROLLERS_GROUP)}
-
-
 def controller_types() -> Dict[str, importlib.metadata.EntryPoint]:
     """Every registered controller type and its entry point (the distributions on ``sys.path``)."""
-    return _registered(tuple(sys.path))
+    return {entry.name: entry for entry in entry_points(CONTROLLERS_GROUP)}
 
 
 def controller_class(type_name: str) -> type:
