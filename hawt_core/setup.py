@@ -14,6 +14,7 @@ setup(
     # requirements-lock.txt's: pip install -c requirements-lock.txt ./hawt_core ...).
     install_requires=[
         'numpy',
+        'pyyaml',
     ],
     zip_safe=True,
     maintainer='hawt developers',

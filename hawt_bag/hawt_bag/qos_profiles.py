@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import yaml
 
+from hawt_core.yaml_text import safe_load
+
 from .errors import BagError
 
 __all__ = ["INFINITE_NS", "QosOffer", "parse_offered_qos", "offered_qos_yaml"]
@@ -100,7 +102,7 @@ def parse_offered_qos(text: str) -> list[QosOffer]:
     if not text.strip():
         return []
     try:
-        entries = yaml.safe_load(text)
+        entries = safe_load(text)
     except yaml.YAMLError as error:
         raise BagError(f"offered_qos_profiles: not YAML ({str(error).splitlines()[0]})") from None
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):

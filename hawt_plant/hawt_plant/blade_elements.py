@@ -75,6 +75,7 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
     sums[:] = 0.0
     passes = iterations if update and not dynamic_inflow else 1
     tau_1 = _rotor_time_constant(inflow, inflow_filter, disk_weights, tip_radius) if dynamic_inflow else 0.0
+    decay_1 = math.exp(-dt / tau_1) if dynamic_inflow else 0.0  # Øye's first lag over a step, the same everywhere
     for i in range(blades):
         for j in range(elements):
             vx, vy = inflow[0, i, j], inflow[1, i, j]
@@ -102,8 +103,9 @@ def blade_element_loads(inflow: np.ndarray, induction_factors: np.ndarray, inflo
                     a_prime = np.minimum(np.maximum(a_prime, bounds[0, 1, i, j]), bounds[1, 1, i, j])
                     if dynamic_inflow:
                         tau_2 = (0.39 - 0.26 * tip_ratio[i, j] * tip_ratio[i, j]) * tau_1
-                        a = _oye(inflow_filter[0, :, i, j], a, vx, dt, tau_1, tau_2)
-                        a_prime = _oye(inflow_filter[1, :, i, j], a_prime, vy, dt, tau_1, tau_2)
+                        decay_2 = math.exp(-dt / tau_2)
+                        a = _oye(inflow_filter[0, :, i, j], a, vx, dt, tau_1, decay_1, decay_2)
+                        a_prime = _oye(inflow_filter[1, :, i, j], a_prime, vy, dt, tau_1, decay_1, decay_2)
                     if skewed:
                         a *= skew_factor(a, skew_angle, tip_ratio[i, j], cos_azimuth[i])
                     if dynamic_inflow:
@@ -150,17 +152,19 @@ def _rotor_time_constant(inflow: np.ndarray, inflow_filter: np.ndarray, weights:
 
 
 @njit
-def _oye(states: np.ndarray, factor: float, speed: float, dt: float, tau_1: float, tau_2: float) -> float:
+def _oye(states: np.ndarray, factor: float, speed: float, dt: float, tau_1: float, decay_1: float,
+         decay_2: float) -> float:
     """Øye's dynamic inflow filter of one element's induced velocity, axial or tangential as AeroDyn's DBEMT
     filters both (Hansen 2008 §10.2; ``DBEMT_UpdateStates``, eqs. 1.17-1.25 of its manual): the induced velocity
     ``factor`` x ``speed`` (a vx or a' vy) follows the quasi-steady one through two first-order lags, the rotor's
     tau_1 (:func:`_rotor_time_constant`) and the element's tau_2 = (0.39 - 0.26 (r/R)^2) tau_1, the first with a
-    lead 0.6 tau_1. ``states`` (3,): the intermediate and the filtered induced velocity, and the last quasi-steady
-    one, updated. Returns the filtered induction factor."""
+    lead 0.6 tau_1; ``decay_1`` and ``decay_2`` are exp(-dt / tau) of each (the caller's: the first is the rotor's,
+    the second the same for the axial and the tangential filter). ``states`` (3,): the intermediate and the filtered
+    induced velocity, and the last quasi-steady one, updated. Returns the filtered induction factor."""
     speed = np.maximum(speed, MIN_INFLOW)
     quasi_steady = factor * speed
     forcing = quasi_steady + 0.6 * tau_1 * (quasi_steady - states[2]) / dt
-    intermediate = forcing + (states[0] - forcing) * math.exp(-dt / tau_1)
-    induced = intermediate + (states[1] - intermediate) * math.exp(-dt / tau_2)
+    intermediate = forcing + (states[0] - forcing) * decay_1
+    induced = intermediate + (states[1] - intermediate) * decay_2
     states[0], states[1], states[2] = intermediate, induced, quasi_steady
     return induced / speed

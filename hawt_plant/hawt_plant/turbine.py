@@ -28,6 +28,7 @@ import numpy as np
 import yaml
 
 from hawt_core.plant_description import PlantDescription
+from hawt_core.yaml_text import safe_load
 from hawt_plant.disk_cache import cache_root, kept_at
 from hawt_plant.kernel_cache import sources_key
 
@@ -734,16 +735,13 @@ def _derived(path: Path, data: Any, seen: tuple[str, ...] = ()) -> Any:
     return merged(base, {key: value for key, value in data.items() if key != "derived_from"})
 
 
-_YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml's: an imported turbine's polars load ~10x faster
-
-
 def _read_yaml(path: Path) -> Any:
     try:
         text = path.read_text()
     except OSError as err:
         raise TurbineDefinitionError(f"{path}: cannot read the file ({err.strerror})") from err
     try:
-        return yaml.load(text, Loader=_YAML_LOADER)
+        return safe_load(text)
     except yaml.YAMLError as err:
         raise TurbineDefinitionError(f"{path.name}: not valid YAML ({err})") from err
 

@@ -35,10 +35,10 @@ from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
-import yaml
 
 from hawt_analysis.record import PER_BLADE_CHANNELS, SCALAR_CHANNELS, make_record
 from hawt_analysis.summary import load_channels, summarize
+from hawt_core.yaml_text import safe_load
 from hawt_tools.campaign_file import DLCS, Campaign, CampaignError, ControllerConfig, case_overrides, graph_arguments
 from hawt_tools.graph_file import Graph, GraphError, ParameterFile, load_graph
 
@@ -127,7 +127,7 @@ def turbine_digest(turbine: str) -> str:
     while definition.is_file() and definition not in seen:
         seen.append(definition)
         digest.update(definition.read_bytes())
-        data = yaml.safe_load(definition.read_text())
+        data = safe_load(definition.read_text())
         base = data.get("derived_from") if isinstance(data, dict) else None
         if not isinstance(base, str):
             break

@@ -45,6 +45,8 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import yaml
 
+from hawt_core.yaml_text import SAFE_LOADER, safe_load
+
 __all__ = [
     "GraphError",
     "NodeSpec",
@@ -207,10 +209,10 @@ def yaml_value(text: str) -> Any:
         if isinstance(value, str) and _EXPONENT_FLOAT.match(value):
             return float(value)
         return [number(item) for item in value] if isinstance(value, list) else value
-    return number(yaml.safe_load(text))
+    return number(safe_load(text))
 
 
-class _LineLoader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):
+class _LineLoader(SAFE_LOADER):
     """SafeLoader whose mappings remember their lines and refuse duplicate keys (libyaml's parser where PyYAML has
     it: a graph's files parse several times faster)."""
 

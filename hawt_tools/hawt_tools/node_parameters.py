@@ -10,8 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
-import yaml
 
+from hawt_core.yaml_text import safe_load
 from hawt_tools.graph_file import Graph, GraphError, NodeSpec, ParameterFile, ParameterValues, yaml_value
 
 __all__ = ["Origin", "node_parameters", "node_parameter_sources", "parse_overrides", "typed_override"]
@@ -79,7 +79,7 @@ def node_parameter_sources(spec: NodeSpec, overrides: Overrides = (),
         if isinstance(source, ParameterValues):
             add("/**", dict(source.values), Origin("graph"))
         elif isinstance(source, ParameterFile):
-            for key, body in (yaml.safe_load(source.path.read_text()) or {}).items():
+            for key, body in (safe_load(source.path.read_text()) or {}).items():
                 add(key, _flatten(body.get("ros__parameters", {})), Origin("file", source.path))
     overridden = dict(overrides).get(spec.label, ())
     if overridden:

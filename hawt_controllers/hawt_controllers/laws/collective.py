@@ -41,10 +41,10 @@ from dataclasses import MISSING, dataclass, fields
 from pathlib import Path
 from typing import NamedTuple
 
-import yaml
 
 from hawt_core.validation import finite_array, finite_floats, require_finite, require_positive, require_time_step
 from hawt_core.exceptions import ConfigurationError
+from hawt_core.yaml_text import safe_load
 from hawt_controllers.laws.filters import ExponentialLowPass
 from hawt_controllers.laws.limits import PitchLimits, limit_pitch
 from hawt_controllers.laws.pi import PIController
@@ -259,7 +259,7 @@ def load_baseline_config(path: str | Path = DEFAULT_BASELINE_FILE) -> BaselineCo
         Naming a missing or unknown parameter, or the file if it lacks ``parameters``.
     """
     with open(path, encoding="utf-8") as stream:
-        document = yaml.safe_load(stream)
+        document = safe_load(stream)
     if not isinstance(document, dict) or not isinstance(document.get("parameters"), dict):
         raise ConfigurationError(str(path), "expected a mapping with a 'parameters' mapping")
     values = document["parameters"]
