@@ -42,11 +42,11 @@ from pathlib import Path
 from typing import NamedTuple
 
 
-from hawt_core.validation import finite_array, finite_floats, require_finite, require_positive, require_time_step
+from hawt_core.validation import finite_array, finite_float, require_finite, require_positive, require_time_step
 from hawt_core.exceptions import ConfigurationError
 from hawt_core.yaml_text import safe_load
 from hawt_controllers.laws.filters import ExponentialLowPass
-from hawt_controllers.laws.limits import PitchLimits, limit_pitch
+from hawt_controllers.laws.limits import PitchLimits, limit_angle
 from hawt_controllers.laws.pi import PIController
 from hawt_controllers.laws.saturation import BoxSaturation
 from hawt_controllers.packaged import PACKAGED
@@ -454,8 +454,8 @@ class BaselineCollectiveController:
         CollectiveOutput
         """
         c = self.config
-        generator_speed, = finite_floats("generator_speed", (generator_speed,))
-        measured_pitch, = finite_floats("measured_pitch", (measured_pitch,))
+        generator_speed = finite_float("generator_speed", generator_speed)
+        measured_pitch = finite_float("measured_pitch", measured_pitch)
         dt = require_time_step(dt)
         if self.pitch_command is None:
             self.reset(generator_speed, measured_pitch)
@@ -482,8 +482,10 @@ class BaselineCollectiveController:
         # pitch as Jonkman's DISCON does: with B blades, IPC of harmonics n = B, 2B, … moves every
         # blade alike, so the measured mean carries it and the collective would follow it (that
         # feedback made 3P IPC unstable on the NREL 5 MW, measured in this project).
-        limited = limit_pitch([demand], [self.pitch_command], dt, self.pitch_limits)
-        self.pitch_command = float(limited.pitch[0])
+        limits = self.pitch_limits
+        self.pitch_command, angle_saturated, rate_saturated = limit_angle(
+            finite_float("demand", demand), self.pitch_command, limits.min_angle, limits.max_angle,
+            limits.max_rate * dt)
         # positional (a named tuple's keywords cost more than its arithmetic): the fields in CollectiveOutput's order
         return CollectiveOutput(self.pitch_command, torque, speed, region, math.nan, gain,
-                                bool(self.pitch_integrator.saturated or limited.flags), torque_saturated)
+                                self.pitch_integrator.saturated or angle_saturated or rate_saturated, torque_saturated)

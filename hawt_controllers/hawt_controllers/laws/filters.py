@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike
 
 from hawt_core.validation import (
     finite_array,
-    finite_floats,
+    finite_float,
     require_below_nyquist,
     require_nonnegative,
     require_positive,
@@ -350,7 +350,7 @@ class ExponentialLowPass:
 
     def step(self, sample: float, dt: float) -> float:
         """Filter one sample taken ``dt`` [s] after the previous one; return the output."""
-        sample, = finite_floats("sample", (sample,))
+        sample = finite_float("sample", sample)
         dt = require_time_step(dt)
         if self.output is None:
             self.output = sample

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 from hawt_core.validation import finite_floats, require_finite, require_positive, require_time_step
 from hawt_core.exceptions import ConfigurationError, InputError
 
-__all__ = ["LimitFlag", "LimitedPitch", "NO_NARROWING", "PitchLimits", "limit_pitch"]
+__all__ = ["LimitFlag", "LimitedPitch", "NO_NARROWING", "PitchLimits", "limit_angle", "limit_pitch"]
 
 
 class LimitFlag(enum.IntFlag):
@@ -138,12 +138,19 @@ def limit_pitch(demand: ArrayLike, previous: ArrayLike, dt: float, limits: Pitch
     low, high, step = limits.min_angle, limits.max_angle, limits.max_rate * dt
     pitch, angle_saturated, rate_saturated = [], [], []
     for wanted, last in zip(demand, previous):  # per blade on floats: numpy's per-call cost on B values is larger
-        clamped = low if wanted < low else high if wanted > high else wanted
-        wanted_change = clamped - last
-        change = -step if wanted_change < -step else step if wanted_change > step else wanted_change
-        value = last + change
-        pitch.append(low if value < low else high if value > high else value)
-        angle_saturated.append(clamped != wanted)
-        rate_saturated.append(change != wanted_change)
+        value, angle, rate = limit_angle(wanted, last, low, high, step)
+        pitch.append(value)
+        angle_saturated.append(angle)
+        rate_saturated.append(rate)
     flags = _FLAGS[any(angle_saturated) | any(rate_saturated) << 1]
     return LimitedPitch(np.array(pitch), tuple(angle_saturated), tuple(rate_saturated), flags)
+
+
+def limit_angle(wanted: float, last: float, low: float, high: float, step: float) -> tuple[float, bool, bool]:
+    """:func:`limit_pitch` of one blade on plain floats, already checked: ``wanted`` clamped to [low, high], moved at
+    most ``step`` [rad] from ``last``, clamped again; with whether the angle and the rate limit acted."""
+    clamped = low if wanted < low else high if wanted > high else wanted
+    wanted_change = clamped - last
+    change = -step if wanted_change < -step else step if wanted_change > step else wanted_change
+    value = last + change
+    return low if value < low else high if value > high else value, clamped != wanted, change != wanted_change
