@@ -4,17 +4,20 @@ Measured one after the other on this machine (nothing else of hawt's running):
 - the plant core alone: real-time factor of the step (the ipc graph's plant, commands held, 18 m/s turbulence);
 - ``hawt run baseline duration:=1``: the wall time of a whole command, most of it start-up;
 - case A, ``hawt run baseline`` and ``hawt run ipc`` on 120 s of steady 18 m/s wind with shear 0.2, start-up
-  included (wall time of the command);
+  included (wall time of the command): the median of ``--repeat`` runs of each, taken in turns, with their range (a
+  2-core VM's speed drifts by tens of percent from one run of a few seconds to the next; OpenFAST's one run of a
+  minute averages over that drift);
 - a 600 s IEC class B turbulent field for the NREL 5 MW, generated into an empty cache;
 - a small campaign: baseline at 13 and 18 m/s, one seed, 60 s + 10 s transient, on two local Dask workers;
 - OpenFAST + ROSCO on case A, when ``$HAWT_OPENFAST`` names an OpenFAST executable (``../shared/tools/openfast/``
   has one; its README says how to install it): the inputs ``hawt validate`` writes for ``steady-18`` over 120 s.
 Prints each as a real-time factor (simulated time / wall time) and the ratios of case A against OpenFAST.
 
-Usage: ./hawt bench speed [--case-duration S] [--skip-campaign]
+Usage: ./hawt bench speed [--case-duration S] [--repeat N] [--skip-campaign]
 """
 import argparse
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -76,18 +79,25 @@ def openfast_case_a(executable: Path, duration: float, folder: Path) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--case-duration", type=float, default=120.0, help="simulated time of case A [s]")
+    parser.add_argument("--repeat", type=int, default=5, help="runs of each hawt case A, in turns (median) [5]")
     parser.add_argument("--skip-campaign", action="store_true", help="leave out the small campaign")
     args = parser.parse_args()
     duration = args.case_duration
+    if args.repeat < 1:
+        parser.error(f"--repeat: expected at least 1 run, found {args.repeat}")
     core = plant_core(600.0)
     print(f"plant core alone (600 s, 18 m/s turbulence):          {core:7.1f}x real time", flush=True)
     start_up = wall_of([HAWT, "run", "baseline", "duration:=1"])
     print(f"hawt run baseline duration:=1 (start-up):              {start_up:7.2f} s wall", flush=True)
-    baseline, ipc = case_a("baseline", duration), case_a("ipc", duration)
-    print(f"case A, hawt run baseline ({duration:g} s, start-up included):  {duration / baseline:7.1f}x real time "
-          f"({baseline:.1f} s wall)", flush=True)
-    print(f"case A, hawt run ipc ({duration:g} s, start-up included):       {duration / ipc:7.1f}x real time "
-          f"({ipc:.1f} s wall)", flush=True)
+    walls = {"baseline": [], "ipc": []}
+    for _ in range(args.repeat):
+        for graph, runs in walls.items():
+            runs.append(case_a(graph, duration))
+    baseline, ipc = (statistics.median(runs) for runs in walls.values())
+    for graph, runs in walls.items():
+        print(f"case A, hawt run {graph + ' (' + format(duration, 'g') + ' s, start-up included):':38s}"
+              f"{duration / statistics.median(runs):7.1f}x real time ({statistics.median(runs):.2f} s wall, median "
+              f"of {len(runs)}: {min(runs):.2f}-{max(runs):.2f} s)", flush=True)
     field = wind_field()
     print(f"600 s class B field for the NREL 5 MW, generated:      {field:7.1f} s wall ({600 / field:.0f}x real time)",
           flush=True)

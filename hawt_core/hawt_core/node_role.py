@@ -30,7 +30,12 @@ def entry_points(group: str) -> Tuple[Any, ...]:
     """The ``importlib.metadata`` entry points of ``group`` in the distributions on ``sys.path``. Every group is read
     in one pass over the distributions (a pass reads each one's metadata: tens of milliseconds), kept while
     ``sys.path`` stays the same."""
-    return tuple(_every_group(tuple(sys.path)).select(group=group))
+    return _group(tuple(sys.path), group)
+
+
+@lru_cache(maxsize=16)
+def _group(path: Tuple[str, ...], group: str) -> Tuple[Any, ...]:
+    return tuple(_every_group(path).select(group=group))
 
 
 @lru_cache(maxsize=4)
