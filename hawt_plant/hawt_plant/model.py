@@ -80,9 +80,9 @@ from hawt_plant.blade_elements import MIN_INFLOW, disk_weights
 from hawt_plant.compiled import unchecked
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
-from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, advance,
-                                   aerodynamic_loads, constant_array, element_inflow, measured_loads, place_elements,
-                                   skew_geometry, torsion_rate)
+from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, acting_torque,
+                                   advance, aerodynamic_loads, constant_array, element_inflow, loads_and_measurements,
+                                   measured_loads, place_elements, skew_geometry, torsion_rate)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.rotor_state import ROTOR_STATES
@@ -94,9 +94,10 @@ from hawt_plant.wind_field import WindChange, WindField
 
 # The step's kernels without the check of their arguments' types (hawt_plant.compiled.unchecked): the model passes them
 # only arrays it allocated itself (float64, C-contiguous), the wind's samples made so, and floats.
-(accelerations, advance, aerodynamic_loads, element_inflow, measured_loads, place_elements, skew_geometry,
- torsion_rate) = map(unchecked, (accelerations, advance, aerodynamic_loads, element_inflow, measured_loads,
-                                 place_elements, skew_geometry, torsion_rate))
+(accelerations, acting_torque, advance, aerodynamic_loads, element_inflow, loads_and_measurements, measured_loads,
+ place_elements, skew_geometry, torsion_rate) = map(unchecked, (
+    accelerations, acting_torque, advance, aerodynamic_loads, element_inflow, loads_and_measurements, measured_loads,
+    place_elements, skew_geometry, torsion_rate))
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 
@@ -271,6 +272,7 @@ class TurbineModel:
         self._config = config or ModelConfig()
         self._operating = self._config.rotor == "operating"
         self._parked = self._config.rotor == "parked"
+        self._disturbance = float(self._config.torque_disturbance)
         self._grid_connected = self._operating
         self._setup_constants()
         self._pitch_actuator = DiscretePitchActuator(turbine.pitch_actuator, self._config.dt)
@@ -551,15 +553,19 @@ class TurbineModel:
             self._generator_torque = 0.0
         drive = self._drive
         drive[0], drive[1], drive[2], drive[3] = self._rotor_speed, self._generator_speed, self._torsion, self._azimuth
-        advance(dt, self._acting_torque(), self._parked, command, *self._pitch_actuator.kernel_arrays, self._schur,
-                self._constants, self._modal_matrix, self._scaled_residual, self._mode_scale, self._forces,
-                self._acceleration, self._velocity, self._displacement, self._pitch, self._pitch_rate, drive)
+        advance(dt, self._generator_torque, self._disturbance, self._parked, command,
+                *self._pitch_actuator.kernel_arrays, self._schur, self._constants, self._modal_matrix,
+                self._scaled_residual, self._mode_scale, self._forces, self._acceleration, self._velocity,
+                self._displacement, self._pitch, self._pitch_rate, drive)
         self._rotor_speed, self._generator_speed, self._torsion, self._azimuth = drive.tolist()
         self._step_index += 1
         self._time = self._step_index * dt
         self._sample_inflow()
-        self._evaluate_loads(update_induction=True)
-        self._output = self._make_output(self._accelerations(self._acting_torque()))
+        loads_and_measurements(*self._loads_arguments(True), self._parked, self._generator_torque, self._disturbance,
+                               self._azimuth, self._mode_scale, self._acceleration, self._apex, self._element_wind,
+                               self._rotor_inertia_rows, self._mode_inertia, self._effective_weights,
+                               self._root_moments, self._measured)
+        self._output = self._output_of(self._acceleration)
         return self._output
 
     # ------------------------------------------------------------------ continuous dynamics (linearisation)
@@ -634,12 +640,9 @@ class TurbineModel:
         return derivative, self._make_output(acceleration)
 
     def _acting_torque(self) -> float:
-        """The generator torque acting on the drivetrain: the actuator's plus the periodic disturbance; parked, the
-        brake's, whatever holds the generator at rest against the shaft."""
-        if self._parked:
-            return self._shaft_torque / self._gearbox_ratio
-        disturbance = self._config.torque_disturbance
-        return self._generator_torque + disturbance * math.sin(self._azimuth) if disturbance else self._generator_torque
+        """The generator torque acting on the drivetrain now (:func:`~hawt_plant.model_step.acting_torque`)."""
+        return acting_torque(self._parked, self._generator_torque, self._disturbance, self._azimuth, self._forces,
+                             self._constants)
 
     # ------------------------------------------------------------------ boundary checks
 
@@ -927,17 +930,21 @@ class TurbineModel:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix
         (:func:`~hawt_plant.model_step.aerodynamic_loads`: the skewed wake's geometry,
         :func:`~hawt_plant.blade_elements.blade_element_loads`, :func:`~hawt_plant.model_step.generalized_forces`)."""
+        aerodynamic_loads(*self._loads_arguments(update_induction))
+
+    def _loads_arguments(self, update_induction: bool) -> tuple:
+        """:func:`~hawt_plant.model_step.aerodynamic_loads`' arguments, in its order."""
         config, unsteady = self._config, self._unsteady
-        aerodynamic_loads(update_induction, config.skewed_wake, self._apex_wind, self._cos_azimuth, self._inflow,
-                          self._induction, self._inflow_filter, self._pitch, self._twist, *self._blade_constants,
-                          config.bem_iterations, config.bem_relaxation, config.dynamic_inflow, config.dt,
-                          self._bem.tip_radius, self._tip_ratio, self._disk_weights, unsteady is not None,
-                          self._pitch_rate, *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays),
-                          self._element_normals, self._aero_sums, self._trig, self._features, self._mode_directions,
-                          self._deflection_parts, self._displacement, self._velocity, self._rotor_speed,
-                          self._generator_speed, self._torsion, self._drag_loads, self._constants, self._load_operator,
-                          self._mode_constants, self._loads, self._mode_stiffness_now, self._mode_residual,
-                          self._modal_matrix, self._scaled_residual, self._schur, self._forces)
+        return (update_induction, config.skewed_wake, self._apex_wind, self._cos_azimuth, self._inflow,
+                self._induction, self._inflow_filter, self._pitch, self._twist, *self._blade_constants,
+                config.bem_iterations, config.bem_relaxation, config.dynamic_inflow, config.dt, self._bem.tip_radius,
+                self._tip_ratio, self._disk_weights, unsteady is not None, self._pitch_rate,
+                *(_NO_UNSTEADY if unsteady is None else unsteady.kernel_arrays), self._element_normals,
+                self._aero_sums, self._trig, self._features, self._mode_directions, self._deflection_parts,
+                self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,
+                self._drag_loads, self._constants, self._load_operator, self._mode_constants, self._loads,
+                self._mode_stiffness_now, self._mode_residual, self._modal_matrix, self._scaled_residual, self._schur,
+                self._forces)
 
     @property
     def _shaft_torque(self) -> float:
@@ -959,11 +966,20 @@ class TurbineModel:
 
     def _make_output(self, acc: np.ndarray) -> TurbineOutput:
         """The measurements with the accelerations ``acc`` (:func:`~hawt_plant.model_step.measured_loads`)."""
-        root, measured = self._root_moments, self._measured
         measured_loads(acc, float(self._acting_torque()), self._trig, self._features, self._mode_directions,
-                       self._deflection_parts, self._loads, self._apex, self._displacement, self._element_wind,
-                       self._constants, self._rotor_inertia_rows, self._mode_inertia, self._effective_weights,
-                       self._forces, self._drag_loads, root, measured)
+                       self._deflection_parts, self._loads, *self._measurement_arguments())
+        return self._output_of(acc)
+
+    def _measurement_arguments(self) -> tuple:
+        """:func:`~hawt_plant.model_step.measured_loads`' arguments from ``apex`` on, in its order."""
+        return (self._apex, self._displacement, self._element_wind, self._constants, self._rotor_inertia_rows,
+                self._mode_inertia, self._effective_weights, self._forces, self._drag_loads, self._root_moments,
+                self._measured)
+
+    def _output_of(self, acc: np.ndarray) -> TurbineOutput:
+        """The step's output from the model's state, the accelerations ``acc`` and the measured loads
+        (:func:`~hawt_plant.model_step.measured_loads`' arrays, written)."""
+        root, measured = self._root_moments, self._measured
         (tilt, yaw, bearing_tilt, bearing_yaw, base_fa, base_ss, wind_mean, wind_cos, wind_sin) = measured.tolist()
         x_acc, y_acc = acc[:2].tolist()
         x_top, y_top = self._tower.tolist()

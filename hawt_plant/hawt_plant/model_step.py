@@ -16,7 +16,10 @@ state it evaluates (the initial equilibrium, the linearisation):
 4. :func:`aerodynamic_loads`: the skewed wake's geometry (:func:`skew_geometry`), the aerodynamic load sums per blade
    (:func:`hawt_plant.blade_elements.blade_element_loads`), then :func:`generalized_forces`: gravity and centrifugal
    load sums, the generalized forces, the reduced mass matrix;
-5. :func:`accelerations` and :func:`measured_loads`.
+5. :func:`accelerations` and :func:`measured_loads` with the generator torque acting (:func:`acting_torque`).
+
+A step calls 4 and 5 as one kernel, :func:`loads_and_measurements`: a call from Python costs about 0.1 us per array
+it passes, and the two share most of theirs.
 
 Per-blade quantities that are linear in (cos psi_i, sin psi_i, 1) are rows of a ``feature_matrix`` (R, 3), evaluated
 once per step into ``features`` (R, B); :data:`FEATURE_BLOCKS` names their rows. The model's scalar constants travel in
@@ -35,9 +38,9 @@ from hawt_plant.pitch_actuator import limited_step
 from hawt_plant.tower_drag import node_drag
 from hawt_plant.tower_shadow import shadow
 
-__all__ = ["CONSTANTS", "FEATURE_BLOCKS", "FORCES", "LOAD_ROWS", "MEASURED", "accelerations", "advance",
-           "advance_structure", "aerodynamic_loads", "constant_array", "element_inflow", "generalized_forces",
-           "measured_loads", "place_elements", "skew_geometry"]
+__all__ = ["CONSTANTS", "FEATURE_BLOCKS", "FORCES", "LOAD_ROWS", "MEASURED", "accelerations", "acting_torque",
+           "advance", "advance_structure", "aerodynamic_loads", "constant_array", "element_inflow", "generalized_forces",
+           "loads_and_measurements", "measured_loads", "place_elements", "skew_geometry"]
 
 LOAD_ROWS = (("n", 0), ("n", 1), ("n", 2), ("n", 3), ("t", 0), ("t", 1), ("t", 2), ("t", 3), ("z", 0), ("z", 2), ("z", 3))
 """The per-blade load sums the model keeps, as (direction, span function): the element loads along e_n, e_t and e_z
@@ -470,24 +473,37 @@ def advance_structure(acc: np.ndarray, dt: float, velocity: np.ndarray, displace
 
 
 @njit
-def advance(dt: float, acting_torque: float, parked: bool, command: np.ndarray, transition: np.ndarray,
-            limits: np.ndarray, schur: np.ndarray, constants: np.ndarray, scaled: np.ndarray,
+def acting_torque(parked: bool, generator_torque: float, disturbance: float, azimuth: float, forces: np.ndarray,
+                  constants: np.ndarray) -> float:
+    """The generator torque acting on the drivetrain [N m, high-speed shaft]: the actuator's ``generator_torque`` plus
+    the periodic disturbance ``disturbance`` sin(azimuth); parked, the brake's, whatever holds the generator at rest
+    against the shaft (the shaft torque of ``forces`` over the gearbox ratio)."""
+    if parked:
+        return forces[_SHAFT_TORQUE] / constants[_GEARBOX_RATIO]
+    return generator_torque + disturbance * math.sin(azimuth) if disturbance != 0.0 else generator_torque
+
+
+@njit
+def advance(dt: float, generator_torque: float, disturbance: float, parked: bool, command: np.ndarray,
+            transition: np.ndarray, limits: np.ndarray, schur: np.ndarray, constants: np.ndarray, scaled: np.ndarray,
             scaled_residual: np.ndarray, mode_scale: np.ndarray, forces: np.ndarray, acc: np.ndarray,
             velocity: np.ndarray, displacement: np.ndarray, pitch: np.ndarray, pitch_rate: np.ndarray,
             drive: np.ndarray) -> None:
     """The state over one step by semi-implicit (symplectic) Euler, the loads held from its start (model notes): the
-    accelerations with ``acting_torque`` on the drivetrain (:func:`accelerations`, into ``acc``), the structure
+    accelerations with the generator torque acting at its start (:func:`acting_torque`) on the drivetrain
+    (:func:`accelerations`, into ``acc``), the structure
     (:func:`advance_structure`), the rotor's and the generator's speed by their accelerations (a parked generator's
     stays at rest), the shaft's torsion by the new speeds (:func:`torsion_rate`), the azimuth by the new rotor speed,
     wrapped to [0, 2 pi); then each blade's pitch actuator towards ``command``
     (:func:`hawt_plant.pitch_actuator.limited_step` with the actuator's ``transition`` and ``limits``, in place).
     ``drive`` (4,): rotor speed, generator speed (low-speed shaft), torsion and azimuth, updated."""
-    accelerations(schur, acting_torque, constants, scaled, scaled_residual, mode_scale, acc)
+    acting = acting_torque(parked, generator_torque, disturbance, drive[3], forces, constants)
+    accelerations(schur, acting, constants, scaled, scaled_residual, mode_scale, acc)
     advance_structure(acc, dt, velocity, displacement)
     rotor_speed, generator_speed = drive[0] + dt * acc[acc.size - 1], drive[1]
     if not parked:
         ratio = constants[_GEARBOX_RATIO]
-        generator_speed += dt * ((forces[_SHAFT_TORQUE] - ratio * acting_torque)
+        generator_speed += dt * ((forces[_SHAFT_TORQUE] - ratio * acting)
                                  / (constants[_GENERATOR_INERTIA] * ratio * ratio))
     drive[0], drive[1] = rotor_speed, generator_speed
     drive[2] += dt * torsion_rate(rotor_speed, generator_speed, velocity[1], constants)
@@ -542,3 +558,40 @@ def aerodynamic_loads(update: bool, skewed_wake: bool, apex_wind: np.ndarray, co
     generalized_forces(aero, trig, features, directions, deflection, displacement, rates, rotor_speed, generator_speed,
                        torsion, drag_loads, constants, load_operator, mode_constants, loads, mode_stiffness,
                        mode_residual, scaled, scaled_residual, schur, forces)
+
+
+@njit
+def loads_and_measurements(update: bool, skewed_wake: bool, apex_wind: np.ndarray, cos_azimuth: np.ndarray,
+                           inflow: np.ndarray, induction_factors: np.ndarray, inflow_filter: np.ndarray,
+                           pitch: np.ndarray, twist: np.ndarray, polar_table: np.ndarray, scale: float,
+                           intervals: float, offsets: np.ndarray, loss_exponents: np.ndarray,
+                           local_solidity: np.ndarray, bounds: np.ndarray, pressure_to_load: np.ndarray,
+                           span_functions: np.ndarray, iterations: int, relaxation: float, dynamic_inflow: bool,
+                           dt: float, tip_radius: float, tip_ratio: np.ndarray, disk_weights: np.ndarray,
+                           unsteady: bool, pitch_rate: np.ndarray, unsteady_states: np.ndarray,
+                           unsteady_table: np.ndarray, unsteady_constants: np.ndarray, normals: np.ndarray,
+                           aero: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray,
+                           deflection: np.ndarray, displacement: np.ndarray, rates: np.ndarray, rotor_speed: float,
+                           generator_speed: float, torsion: float, drag_loads: np.ndarray, constants: np.ndarray,
+                           load_operator: np.ndarray, mode_constants: np.ndarray, loads: np.ndarray,
+                           mode_stiffness: np.ndarray, mode_residual: np.ndarray, scaled: np.ndarray,
+                           scaled_residual: np.ndarray, schur: np.ndarray, forces: np.ndarray, parked: bool,
+                           generator_torque: float, disturbance: float, azimuth: float, mode_scale: np.ndarray,
+                           acc: np.ndarray, apex: np.ndarray, wind: np.ndarray, rotor_inertia_rows: np.ndarray,
+                           mode_inertia: np.ndarray, effective_weights: np.ndarray, root: np.ndarray,
+                           measured: np.ndarray) -> None:
+    """Steps 4 and 5 of the module notes in one call: :func:`aerodynamic_loads` (its arguments, in its order), then
+    with the generator torque acting (:func:`acting_torque` of ``parked``, ``generator_torque``, ``disturbance`` and
+    ``azimuth``) the accelerations into ``acc`` (:func:`accelerations`) and :func:`measured_loads` into ``root`` and
+    ``measured`` (the other arrays theirs)."""
+    aerodynamic_loads(update, skewed_wake, apex_wind, cos_azimuth, inflow, induction_factors, inflow_filter, pitch,
+                      twist, polar_table, scale, intervals, offsets, loss_exponents, local_solidity, bounds,
+                      pressure_to_load, span_functions, iterations, relaxation, dynamic_inflow, dt, tip_radius,
+                      tip_ratio, disk_weights, unsteady, pitch_rate, unsteady_states, unsteady_table,
+                      unsteady_constants, normals, aero, trig, features, directions, deflection, displacement, rates,
+                      rotor_speed, generator_speed, torsion, drag_loads, constants, load_operator, mode_constants,
+                      loads, mode_stiffness, mode_residual, scaled, scaled_residual, schur, forces)
+    acting = acting_torque(parked, generator_torque, disturbance, azimuth, forces, constants)
+    accelerations(schur, acting, constants, scaled, scaled_residual, mode_scale, acc)
+    measured_loads(acc, acting, trig, features, directions, deflection, loads, apex, displacement, wind, constants,
+                   rotor_inertia_rows, mode_inertia, effective_weights, forces, drag_loads, root, measured)
