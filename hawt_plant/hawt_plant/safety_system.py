@@ -23,6 +23,7 @@ No ROS here: times are plain seconds passed in by the caller.
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass
 from typing import Any, Optional
 
@@ -203,7 +204,7 @@ class Protection:
                                                     f"level {math.degrees(limits.pitch_asymmetry_trip):.3g} deg "
                                                     f"(pitch {[round(math.degrees(a), 2) for a in angles]} deg)")]
         if previous is not None:
-            rate = max(abs(a - b) for a, b in zip(angles, previous)) / self.dt
+            rate = max(map(abs, map(operator.sub, angles, previous))) / self.dt
             if rate > limits.pitch_rate_trip:
                 return found + [ProtectionFinding(True, f"pitch rate {math.degrees(rate):.3g} deg/s above the trip "
                                                         f"level {math.degrees(limits.pitch_rate_trip):.3g} deg/s")]
