@@ -77,14 +77,17 @@ def openfast_case_a(executable: Path, duration: float, folder: Path) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="./hawt bench speed", description=__doc__.splitlines()[0])
     parser.add_argument("--case-duration", type=float, default=120.0, help="simulated time of case A [s]")
     parser.add_argument("--repeat", type=int, default=5, help="runs of each hawt case A, in turns (median) [5]")
     parser.add_argument("--skip-campaign", action="store_true", help="leave out the small campaign")
     args = parser.parse_args()
     duration = args.case_duration
-    if args.repeat < 1:
-        parser.error(f"--repeat: expected at least 1 run, found {args.repeat}")
+    bad = (f"--repeat: expected at least 1 run, found {args.repeat}" if args.repeat < 1 else
+           f"--case-duration: expected a simulated time > 0 s, found {duration:g}" if not duration > 0.0 else None)
+    if bad:
+        print(f"hawt bench speed: {bad}", file=sys.stderr)
+        sys.exit(2)
     core = plant_core(600.0)
     print(f"plant core alone (600 s, 18 m/s turbulence):          {core:7.1f}x real time", flush=True)
     start_up = wall_of([HAWT, "run", "baseline", "duration:=1"])
