@@ -81,8 +81,8 @@ from hawt_plant.compiled import unchecked
 from hawt_plant.modal import (BladeMode, blade_edge_mode, blade_modal_properties, hub_centre_moments, polynomial_mode,
                               rotor_inertia, tower_modal_properties)
 from hawt_plant.model_step import (FEATURE_BLOCKS, FORCES, LOAD_ROWS, MEASURED, accelerations, acting_torque,
-                                   advance, aerodynamic_loads, constant_array, element_inflow, loads_and_measurements,
-                                   measured_loads, place_elements, skew_geometry, torsion_rate)
+                                   advance, constant_array, element_inflow, loads_and_measurements, measured_loads,
+                                   place_elements, skew_geometry, torsion_rate)
 from hawt_plant.operating_point import OperatingPoint, baseline_operating_point
 from hawt_plant.pitch_actuator import DiscretePitchActuator
 from hawt_plant.rotor_state import ROTOR_STATES
@@ -94,10 +94,10 @@ from hawt_plant.wind_field import WindChange, WindField
 
 # The step's kernels without the check of their arguments' types (hawt_plant.compiled.unchecked): the model passes them
 # only arrays it allocated itself (float64, C-contiguous), the wind's samples made so, and floats.
-(accelerations, acting_torque, advance, aerodynamic_loads, element_inflow, loads_and_measurements, measured_loads,
- place_elements, skew_geometry, torsion_rate) = map(unchecked, (
-    accelerations, acting_torque, advance, aerodynamic_loads, element_inflow, loads_and_measurements, measured_loads,
-    place_elements, skew_geometry, torsion_rate))
+(accelerations, acting_torque, advance, element_inflow, loads_and_measurements, measured_loads, place_elements,
+ skew_geometry, torsion_rate) = map(unchecked, (accelerations, acting_torque, advance, element_inflow,
+                                                loads_and_measurements, measured_loads, place_elements, skew_geometry,
+                                                torsion_rate))
 
 __all__ = ["STATE_FIELDS", "ModelConfig", "TurbineModel", "TurbineOutput"]
 
@@ -561,10 +561,7 @@ class TurbineModel:
         self._step_index += 1
         self._time = self._step_index * dt
         self._sample_inflow()
-        loads_and_measurements(*self._loads_arguments(True), self._parked, self._generator_torque, self._disturbance,
-                               self._azimuth, self._mode_scale, self._acceleration, self._apex, self._element_wind,
-                               self._rotor_inertia_rows, self._mode_inertia, self._effective_weights,
-                               self._root_moments, self._measured)
+        loads_and_measurements(*self._loads_arguments(True, measure=True))
         self._output = self._output_of(self._acceleration)
         return self._output
 
@@ -928,12 +925,12 @@ class TurbineModel:
 
     def _evaluate_loads(self, update_induction: bool) -> None:
         """Aerodynamic and element loads, generalized forces and the reduced mass matrix
-        (:func:`~hawt_plant.model_step.aerodynamic_loads`: the skewed wake's geometry,
+        (:func:`~hawt_plant.model_step.loads_and_measurements` without the measurements: the skewed wake's geometry,
         :func:`~hawt_plant.blade_elements.blade_element_loads`, :func:`~hawt_plant.model_step.generalized_forces`)."""
-        aerodynamic_loads(*self._loads_arguments(update_induction))
+        loads_and_measurements(*self._loads_arguments(update_induction, measure=False))
 
-    def _loads_arguments(self, update_induction: bool) -> tuple:
-        """:func:`~hawt_plant.model_step.aerodynamic_loads`' arguments, in its order."""
+    def _loads_arguments(self, update_induction: bool, measure: bool) -> tuple:
+        """:func:`~hawt_plant.model_step.loads_and_measurements`' arguments, in its order."""
         config, unsteady = self._config, self._unsteady
         return (update_induction, config.skewed_wake, self._apex_wind, self._cos_azimuth, self._inflow,
                 self._induction, self._inflow_filter, self._pitch, self._twist, *self._blade_constants,
@@ -944,7 +941,9 @@ class TurbineModel:
                 self._displacement, self._velocity, self._rotor_speed, self._generator_speed, self._torsion,
                 self._drag_loads, self._constants, self._load_operator, self._mode_constants, self._loads,
                 self._mode_stiffness_now, self._mode_residual, self._modal_matrix, self._scaled_residual, self._schur,
-                self._forces)
+                self._forces, measure, self._parked, self._generator_torque, self._disturbance, self._azimuth,
+                self._mode_scale, self._acceleration, self._apex, self._element_wind, self._rotor_inertia_rows,
+                self._mode_inertia, self._effective_weights, self._root_moments, self._measured)
 
     @property
     def _shaft_torque(self) -> float:

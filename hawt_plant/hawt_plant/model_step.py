@@ -13,13 +13,12 @@ state it evaluates (the initial equilibrium, the linearisation):
    and the points where the wind is sampled (the elements, the apex, the tower's drag nodes);
 2. the wind field at those points (a Python object: steady, turbulent, gusts);
 3. :func:`element_inflow`: the tower shadow, the inflow (vx, vy) of every element without induction, the tower drag;
-4. :func:`aerodynamic_loads`: the skewed wake's geometry (:func:`skew_geometry`), the aerodynamic load sums per blade
-   (:func:`hawt_plant.blade_elements.blade_element_loads`), then :func:`generalized_forces`: gravity and centrifugal
-   load sums, the generalized forces, the reduced mass matrix;
-5. :func:`accelerations` and :func:`measured_loads` with the generator torque acting (:func:`acting_torque`).
-
-A step calls 4 and 5 as one kernel, :func:`loads_and_measurements`: a call from Python costs about 0.1 us per array
-it passes, and the two share most of theirs.
+4. :func:`loads_and_measurements`: the skewed wake's geometry (:func:`skew_geometry`), the aerodynamic load sums per
+   blade (:func:`hawt_plant.blade_elements.blade_element_loads`), then :func:`generalized_forces`: gravity and
+   centrifugal load sums, the generalized forces, the reduced mass matrix;
+5. :func:`accelerations` and :func:`measured_loads` with the generator torque acting (:func:`acting_torque`): in the
+   step, the same call as 4 (``measure``; a call from Python costs about 0.1 us per array it passes, and the two share
+   most of theirs); elsewhere one by one, with the accelerations the caller chooses.
 
 Per-blade quantities that are linear in (cos psi_i, sin psi_i, 1) are rows of a ``feature_matrix`` (R, 3), evaluated
 once per step into ``features`` (R, B); :data:`FEATURE_BLOCKS` names their rows. The model's scalar constants travel in
@@ -39,7 +38,7 @@ from hawt_plant.tower_drag import node_drag
 from hawt_plant.tower_shadow import shadow
 
 __all__ = ["CONSTANTS", "FEATURE_BLOCKS", "FORCES", "LOAD_ROWS", "MEASURED", "accelerations", "acting_torque",
-           "advance", "advance_structure", "aerodynamic_loads", "constant_array", "element_inflow", "generalized_forces",
+           "advance", "advance_structure", "constant_array", "element_inflow", "generalized_forces",
            "loads_and_measurements", "measured_loads", "place_elements", "skew_geometry"]
 
 LOAD_ROWS = (("n", 0), ("n", 1), ("n", 2), ("n", 3), ("t", 0), ("t", 1), ("t", 2), ("t", 3), ("z", 0), ("z", 2), ("z", 3))
@@ -527,40 +526,6 @@ def skew_geometry(apex_wind: np.ndarray, trig: np.ndarray, constants: np.ndarray
 
 
 @njit
-def aerodynamic_loads(update: bool, skewed_wake: bool, apex_wind: np.ndarray, cos_azimuth: np.ndarray,
-                      inflow: np.ndarray, induction_factors: np.ndarray, inflow_filter: np.ndarray, pitch: np.ndarray,
-                      twist: np.ndarray, polar_table: np.ndarray, scale: float, intervals: float, offsets: np.ndarray,
-                      loss_exponents: np.ndarray, local_solidity: np.ndarray, bounds: np.ndarray,
-                      pressure_to_load: np.ndarray, span_functions: np.ndarray, iterations: int, relaxation: float,
-                      dynamic_inflow: bool, dt: float, tip_radius: float, tip_ratio: np.ndarray,
-                      disk_weights: np.ndarray, unsteady: bool, pitch_rate: np.ndarray, unsteady_states: np.ndarray,
-                      unsteady_table: np.ndarray, unsteady_constants: np.ndarray, normals: np.ndarray,
-                      aero: np.ndarray, trig: np.ndarray, features: np.ndarray, directions: np.ndarray,
-                      deflection: np.ndarray, displacement: np.ndarray, rates: np.ndarray, rotor_speed: float,
-                      generator_speed: float, torsion: float, drag_loads: np.ndarray, constants: np.ndarray,
-                      load_operator: np.ndarray, mode_constants: np.ndarray, loads: np.ndarray,
-                      mode_stiffness: np.ndarray, mode_residual: np.ndarray, scaled: np.ndarray,
-                      scaled_residual: np.ndarray, schur: np.ndarray, forces: np.ndarray) -> None:
-    """Step 4 of the module notes: with ``skewed_wake``, the skewed wake's angle and azimuths
-    (:func:`skew_geometry`, into ``cos_azimuth``), the blades' aerodynamic load sums into ``aero``
-    (:func:`hawt_plant.blade_elements.blade_element_loads`, its arguments in its order; ``pitch`` (B,) and ``twist``
-    (B, N) make its ``pitch_twist``), then :func:`generalized_forces` (its arguments in its order after ``aero``)."""
-    skew_angle = skew_geometry(apex_wind, trig, constants, cos_azimuth) if skewed_wake else 0.0
-    pitch_twist = np.empty_like(twist)
-    for i in range(twist.shape[0]):
-        for j in range(twist.shape[1]):
-            pitch_twist[i, j] = pitch[i] + twist[i, j]
-    blade_element_loads(inflow, induction_factors, inflow_filter, pitch_twist, polar_table, scale, intervals, offsets,
-                        loss_exponents, local_solidity, bounds, pressure_to_load, span_functions, update, iterations,
-                        relaxation, dynamic_inflow, dt, tip_radius, tip_ratio, disk_weights, skew_angle != 0.0,
-                        skew_angle, cos_azimuth, unsteady, pitch_rate, unsteady_states, unsteady_table,
-                        unsteady_constants, normals, aero)
-    generalized_forces(aero, trig, features, directions, deflection, displacement, rates, rotor_speed, generator_speed,
-                       torsion, drag_loads, constants, load_operator, mode_constants, loads, mode_stiffness,
-                       mode_residual, scaled, scaled_residual, schur, forces)
-
-
-@njit
 def loads_and_measurements(update: bool, skewed_wake: bool, apex_wind: np.ndarray, cos_azimuth: np.ndarray,
                            inflow: np.ndarray, induction_factors: np.ndarray, inflow_filter: np.ndarray,
                            pitch: np.ndarray, twist: np.ndarray, polar_table: np.ndarray, scale: float,
@@ -575,23 +540,34 @@ def loads_and_measurements(update: bool, skewed_wake: bool, apex_wind: np.ndarra
                            generator_speed: float, torsion: float, drag_loads: np.ndarray, constants: np.ndarray,
                            load_operator: np.ndarray, mode_constants: np.ndarray, loads: np.ndarray,
                            mode_stiffness: np.ndarray, mode_residual: np.ndarray, scaled: np.ndarray,
-                           scaled_residual: np.ndarray, schur: np.ndarray, forces: np.ndarray, parked: bool,
-                           generator_torque: float, disturbance: float, azimuth: float, mode_scale: np.ndarray,
+                           scaled_residual: np.ndarray, schur: np.ndarray, forces: np.ndarray, measure: bool,
+                           parked: bool, generator_torque: float, disturbance: float, azimuth: float,
+                           mode_scale: np.ndarray,
                            acc: np.ndarray, apex: np.ndarray, wind: np.ndarray, rotor_inertia_rows: np.ndarray,
                            mode_inertia: np.ndarray, effective_weights: np.ndarray, root: np.ndarray,
                            measured: np.ndarray) -> None:
-    """Steps 4 and 5 of the module notes in one call: :func:`aerodynamic_loads` (its arguments, in its order), then
-    with the generator torque acting (:func:`acting_torque` of ``parked``, ``generator_torque``, ``disturbance`` and
-    ``azimuth``) the accelerations into ``acc`` (:func:`accelerations`) and :func:`measured_loads` into ``root`` and
-    ``measured`` (the other arrays theirs)."""
-    aerodynamic_loads(update, skewed_wake, apex_wind, cos_azimuth, inflow, induction_factors, inflow_filter, pitch,
-                      twist, polar_table, scale, intervals, offsets, loss_exponents, local_solidity, bounds,
-                      pressure_to_load, span_functions, iterations, relaxation, dynamic_inflow, dt, tip_radius,
-                      tip_ratio, disk_weights, unsteady, pitch_rate, unsteady_states, unsteady_table,
-                      unsteady_constants, normals, aero, trig, features, directions, deflection, displacement, rates,
-                      rotor_speed, generator_speed, torsion, drag_loads, constants, load_operator, mode_constants,
-                      loads, mode_stiffness, mode_residual, scaled, scaled_residual, schur, forces)
-    acting = acting_torque(parked, generator_torque, disturbance, azimuth, forces, constants)
-    accelerations(schur, acting, constants, scaled, scaled_residual, mode_scale, acc)
-    measured_loads(acc, acting, trig, features, directions, deflection, loads, apex, displacement, wind, constants,
-                   rotor_inertia_rows, mode_inertia, effective_weights, forces, drag_loads, root, measured)
+    """Steps 4 and, with ``measure``, 5 of the module notes. Step 4: with ``skewed_wake``, the skewed wake's angle and
+    azimuths (:func:`skew_geometry`, into ``cos_azimuth``), the blades' aerodynamic load sums into ``aero``
+    (:func:`hawt_plant.blade_elements.blade_element_loads`, its arguments in its order; ``pitch`` (B,) and ``twist``
+    (B, N) make its ``pitch_twist``), then :func:`generalized_forces` (its arguments in its order after ``aero``).
+    Step 5: with the generator torque acting (:func:`acting_torque` of ``parked``, ``generator_torque``,
+    ``disturbance`` and ``azimuth``), the accelerations into ``acc`` (:func:`accelerations`) and :func:`measured_loads`
+    into ``root`` and ``measured`` (the other arrays theirs); without ``measure`` those arguments are not read."""
+    skew_angle = skew_geometry(apex_wind, trig, constants, cos_azimuth) if skewed_wake else 0.0
+    pitch_twist = np.empty_like(twist)
+    for i in range(twist.shape[0]):
+        for j in range(twist.shape[1]):
+            pitch_twist[i, j] = pitch[i] + twist[i, j]
+    blade_element_loads(inflow, induction_factors, inflow_filter, pitch_twist, polar_table, scale, intervals, offsets,
+                        loss_exponents, local_solidity, bounds, pressure_to_load, span_functions, update, iterations,
+                        relaxation, dynamic_inflow, dt, tip_radius, tip_ratio, disk_weights, skew_angle != 0.0,
+                        skew_angle, cos_azimuth, unsteady, pitch_rate, unsteady_states, unsteady_table,
+                        unsteady_constants, normals, aero)
+    generalized_forces(aero, trig, features, directions, deflection, displacement, rates, rotor_speed, generator_speed,
+                       torsion, drag_loads, constants, load_operator, mode_constants, loads, mode_stiffness,
+                       mode_residual, scaled, scaled_residual, schur, forces)
+    if measure:
+        acting = acting_torque(parked, generator_torque, disturbance, azimuth, forces, constants)
+        accelerations(schur, acting, constants, scaled, scaled_residual, mode_scale, acc)
+        measured_loads(acc, acting, trig, features, directions, deflection, loads, apex, displacement, wind, constants,
+                       rotor_inertia_rows, mode_inertia, effective_weights, forces, drag_loads, root, measured)

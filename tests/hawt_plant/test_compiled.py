@@ -26,7 +26,7 @@ def test_the_per_step_formulas_are_compiled_ahead_of_time_by_set_up():
                      bem.inflow_angle, airfoil_table.grid_point, unsteady_airfoil.hgm_step, grid_sampling.trilinear,
                      model_step.place_elements, model_step.element_inflow, model_step.generalized_forces,
                      model_step.accelerations, model_step.advance_structure, model_step.measured_loads,
-                     model_step.advance, model_step.aerodynamic_loads, model_step.skew_geometry, model_step.acting_torque,
+                     model_step.advance, model_step.skew_geometry, model_step.acting_torque,
                      model_step.loads_and_measurements, shear_wind.power_law,
                      tower_shadow.shadow, tower_drag.node_drag, pitch_actuator.limited_step):
         assert isinstance(function, Kernel) and function.unchecked() is not function, function
